@@ -1,0 +1,1 @@
+"""kobuki_fault_injector."""

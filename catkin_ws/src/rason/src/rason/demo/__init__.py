@@ -1,0 +1,1 @@
+"""The cooperative fault diagnosis demo (``./run.sh demo``)."""

@@ -1,0 +1,393 @@
+"""Start a private ROS master and real `rosrun` nodes, and tear them all down.
+
+One way to run ROS processes, shared by the tests, the benchmarks and the demo::
+
+    with RosHarness() as ros:                 # roscore on a free port, private ROS_HOME
+        sim = ros.rosrun("turtlebot_sim", "sim", "_world:=case_study.yaml")
+        ros.wait_for_topic("/clock")
+        agent = ros.rosrun("rason", "agent", "faulty", "agents/faulty.asl", ns="/faulty")
+        ros.wait_for_output(agent, "Moving to Destination")
+    # every node and roscore have been stopped here, even if the block raised
+
+Every process runs in its own process group (``setsid``) and is stopped as a group, so
+``rosmaster`` and ``rosout`` end with ``roscore`` and nothing is orphaned. Each process's
+stdout and stderr go to a log file under ``ros.log_dir`` and are kept in memory for
+:meth:`RosHarness.wait_for_output`; ``echo=True`` also streams them to this process's stdout.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import xmlrpc.client
+from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
+
+#: The project's root folder (holds env.sh, agents/, bags/).
+PROJECT_ROOT = Path(__file__).resolve().parents[5]
+
+
+#: The master this process's rospy node was initialised against (rospy allows only one).
+_ROSPY_MASTER: str | None = None
+
+
+class HarnessError(RuntimeError):
+    """A ROS process did not start, or something waited for did not appear in time."""
+
+
+def free_port() -> int:
+    """A TCP port on the loopback interface that was free a moment ago."""
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
+        sock.bind(("127.0.0.1", 0))
+        return sock.getsockname()[1]
+
+
+class Process:
+    """A process started by the harness, in its own process group, its output captured."""
+
+    def __init__(self, name: str, argv: Sequence[str], env: dict[str, str], log_path: Path,
+                 echo: bool | str = False, cwd: str | Path | None = None):
+        self.name = name
+        self.argv = list(argv)
+        self.log_path = log_path
+        self._lines: list[str] = []
+        self._cond = threading.Condition()
+        self._echo_prefix = echo if isinstance(echo, str) else (f"[{name}] " if echo else None)
+        self._log = open(log_path, "w", encoding="utf-8")  # noqa: SIM115 - closed by the reader
+        self.popen = subprocess.Popen(
+            self.argv, env=env, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT, start_new_session=True, text=True, bufsize=1,
+            errors="replace")
+        self._reader = threading.Thread(target=self._read, name=f"log-{name}", daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        assert self.popen.stdout is not None
+        for line in self.popen.stdout:
+            line = line.rstrip("\n")
+            self._log.write(line + "\n")
+            self._log.flush()
+            if self._echo_prefix is not None:
+                print(self._echo_prefix + line, flush=True)
+            with self._cond:
+                self._lines.append(line)
+                self._cond.notify_all()
+        self._log.close()
+        with self._cond:
+            self._cond.notify_all()
+
+    @property
+    def pid(self) -> int:
+        return self.popen.pid
+
+    def alive(self) -> bool:
+        """True while the process runs."""
+        return self.popen.poll() is None
+
+    def output(self) -> str:
+        """Everything the process printed so far (stdout and stderr)."""
+        with self._cond:
+            return "\n".join(self._lines)
+
+    def lines(self) -> list[str]:
+        """A copy of the lines printed so far."""
+        with self._cond:
+            return list(self._lines)
+
+    def wait_for_line(self, pattern: str | re.Pattern[str], timeout: float = 30.0,
+                      start: int = 0) -> re.Match[str]:
+        """Wait until a line from index `start` on matches `pattern` (re.search); return the match."""
+        regex = re.compile(pattern) if isinstance(pattern, str) else pattern
+        deadline = time.monotonic() + timeout
+        index = start
+        with self._cond:
+            while True:
+                while index < len(self._lines):
+                    match = regex.search(self._lines[index])
+                    index += 1
+                    if match:
+                        return match
+                if not self.alive() and not self._reader.is_alive():
+                    raise HarnessError(f"{self.name} exited ({self.popen.returncode}) before "
+                                       f"printing /{regex.pattern}/; output:\n{self._tail()}")
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    raise HarnessError(f"{self.name} did not print /{regex.pattern}/ within "
+                                       f"{timeout} s; output:\n{self._tail()}")
+                self._cond.wait(min(remaining, 0.5))
+
+    def _tail(self, n: int = 30) -> str:
+        return "\n".join(self._lines[-n:])
+
+    def wait(self, timeout: float | None = None) -> int:
+        """Wait for the process to exit; return its exit status."""
+        status = self.popen.wait(timeout)
+        self._reader.join(5)
+        return status
+
+    def signal_group(self, sig: int) -> None:
+        """Send `sig` to the process's whole group, if it still exists."""
+        try:
+            os.killpg(self.popen.pid, sig)
+        except ProcessLookupError:
+            pass
+
+    def group_alive(self) -> bool:
+        """True while any process of the group exists (the leader or children it left)."""
+        try:
+            os.killpg(self.popen.pid, 0)
+        except ProcessLookupError:
+            return False
+        except PermissionError:
+            return True
+        return True
+
+    def stop(self, grace: float = 5.0) -> None:
+        """Stop the whole process group: SIGINT (how ROS nodes like to stop), then SIGKILL."""
+        for sig, wait in ((signal.SIGINT, grace), (signal.SIGTERM, 2.0), (signal.SIGKILL, 2.0)):
+            if not self.group_alive():
+                break
+            self.signal_group(sig)
+            deadline = time.monotonic() + wait
+            while time.monotonic() < deadline:
+                if self.popen.poll() is not None and not self.group_alive():
+                    break
+                time.sleep(0.02)
+        try:
+            self.popen.wait(2)
+        except subprocess.TimeoutExpired:
+            pass
+        self._reader.join(2)
+
+
+class RosHarness:
+    """A private roscore on a free port plus the nodes started against it.
+
+    Args:
+        sim_time: set ``/use_sim_time`` before any node starts (the simulator publishes /clock).
+        echo: stream every process's output to stdout, each line prefixed with its name.
+        log_dir: where process logs go (default: a fresh temporary folder, kept for reading).
+    """
+
+    def __init__(self, sim_time: bool = False, echo: bool = False,
+                 log_dir: str | Path | None = None):
+        self.sim_time = sim_time
+        self.echo = echo
+        self._own_tmp = log_dir is None
+        self.log_dir = Path(log_dir) if log_dir else Path(tempfile.mkdtemp(prefix="rason-ros-"))
+        self.log_dir.mkdir(parents=True, exist_ok=True)
+        self.port = 0
+        self.master_uri = ""
+        self.env: dict[str, str] = {}
+        self.roscore: Process | None = None
+        self.processes: list[Process] = []
+        self._names: dict[str, int] = {}
+
+    # -- life cycle -------------------------------------------------------------------------
+    def start(self, timeout: float = 20.0) -> RosHarness:
+        """Start roscore on a free port and wait until the master answers."""
+        self.port = free_port()
+        self.master_uri = f"http://127.0.0.1:{self.port}"
+        ros_home = self.log_dir / "ros_home"
+        ros_home.mkdir(exist_ok=True)
+        self.env = dict(os.environ)
+        self.env.update(ROS_MASTER_URI=self.master_uri, ROS_IP="127.0.0.1",
+                        ROS_HOME=str(ros_home), ROS_LOG_DIR=str(ros_home / "log"),
+                        PYTHONUNBUFFERED="1")
+        self.env.pop("ROS_HOSTNAME", None)
+        self.roscore = Process("roscore", ["roscore", "-p", str(self.port)], self.env,
+                               self.log_dir / "roscore.log", echo=False)
+        deadline = time.monotonic() + timeout
+        while not self._master_up():
+            if not self.roscore.alive():
+                raise HarnessError(f"roscore exited:\n{self.roscore.output()}")
+            if time.monotonic() > deadline:
+                self.stop()
+                raise HarnessError(f"roscore did not answer within {timeout} s")
+            time.sleep(0.05)
+        # rosout must be up too, or the first node's log calls race it.
+        self.wait_for_node("/rosout", timeout)
+        if self.sim_time:
+            self.set_param("/use_sim_time", True)
+        return self
+
+    def stop(self) -> None:
+        """Stop every node (newest first), then roscore; leaves no process behind."""
+        for proc in reversed(self.processes):
+            proc.stop()
+        if self.roscore is not None:
+            self.roscore.stop()
+        leftovers = [p.name for p in [*self.processes, *([self.roscore] if self.roscore else [])]
+                     if p.group_alive()]
+        if leftovers:
+            raise HarnessError(f"processes survived teardown: {leftovers}")
+
+    def stop_started_since(self, mark: int) -> None:
+        """Stop the processes started after ``mark = len(ros.processes)`` (newest first)."""
+        started, self.processes = self.processes[mark:], self.processes[:mark]
+        for proc in reversed(started):
+            proc.stop()
+        leftovers = [p.name for p in started if p.group_alive()]
+        if leftovers:
+            raise HarnessError(f"processes survived teardown: {leftovers}")
+
+    def __enter__(self) -> RosHarness:
+        return self.start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop()
+
+    # -- processes ----------------------------------------------------------------------------
+    def rosrun(self, package: str, executable: str, *args: str, ns: str | None = None,
+               name: str | None = None, params: dict[str, object] | None = None,
+               echo: bool | str | None = None, cwd: str | Path | None = None) -> Process:
+        """Start ``rosrun package executable args...`` (``__ns:=ns``, ``__name:=name``, ``_k:=v``)."""
+        argv = ["rosrun", package, executable, *args]
+        if ns:
+            argv.append(f"__ns:={ns}")
+        if name:
+            argv.append(f"__name:={name}")
+        for key, value in (params or {}).items():
+            argv.append(f"_{key}:={_param_text(value)}")
+        label = f"{(ns or '').strip('/')}/{name or executable}".strip("/")
+        return self.run(argv, label=label, echo=echo, cwd=cwd)
+
+    def run(self, argv: Sequence[str], label: str | None = None, echo: bool | str | None = None,
+            cwd: str | Path | None = None, env: dict[str, str] | None = None) -> Process:
+        """Start any command against this master (e.g. ``rosbag play``), managed like a node."""
+        label = label or Path(argv[0]).name
+        count = self._names.get(label, 0)
+        self._names[label] = count + 1
+        log_name = re.sub(r"[^\w.-]+", "_", label) + (f".{count}" if count else "") + ".log"
+        proc = Process(label, argv, {**self.env, **(env or {})}, self.log_dir / log_name,
+                       echo=self.echo if echo is None else echo, cwd=cwd)
+        self.processes.append(proc)
+        return proc
+
+    def check_output(self, argv: Sequence[str], timeout: float = 30.0) -> str:
+        """Run a ROS command-line tool (rostopic, rosservice...) to completion; return stdout."""
+        done = subprocess.run(list(argv), env=self.env, capture_output=True, text=True,
+                              timeout=timeout, start_new_session=True)
+        if done.returncode != 0:
+            raise HarnessError(f"{' '.join(argv)} failed ({done.returncode}):\n"
+                               f"{done.stdout}\n{done.stderr}")
+        return done.stdout
+
+    # -- the master ---------------------------------------------------------------------------
+    def _master(self) -> xmlrpc.client.ServerProxy:
+        return xmlrpc.client.ServerProxy(self.master_uri)
+
+    def _master_up(self) -> bool:
+        try:
+            code, _, _ = self._master().getPid("/rason_harness")
+        except OSError:
+            return False
+        return code == 1
+
+    def _system_state(self) -> tuple[list, list, list]:
+        code, msg, state = self._master().getSystemState("/rason_harness")
+        if code != 1:
+            raise HarnessError(f"master: {msg}")
+        return state
+
+    def topics(self) -> dict[str, list[str]]:
+        """Published topics and their publisher node names."""
+        return {topic: nodes for topic, nodes in self._system_state()[0]}
+
+    def services(self) -> dict[str, list[str]]:
+        """Advertised services and their provider node names."""
+        return {srv: nodes for srv, nodes in self._system_state()[2]}
+
+    def nodes(self) -> set[str]:
+        """Names of the nodes the master knows."""
+        names: set[str] = set()
+        for group in self._system_state():
+            for _, providers in group:
+                names.update(providers)
+        return names
+
+    def set_param(self, key: str, value: object) -> None:
+        self._master().setParam("/rason_harness", key, value)
+
+    def get_param(self, key: str) -> object:
+        code, msg, value = self._master().getParam("/rason_harness", key)
+        if code != 1:
+            raise KeyError(f"{key}: {msg}")
+        return value
+
+    def _wait(self, what: str, ready: Callable[[], bool], timeout: float,
+              watch: Iterable[Process] = ()) -> None:
+        deadline = time.monotonic() + timeout
+        while not ready():
+            for proc in watch:
+                if not proc.alive():
+                    raise HarnessError(f"{proc.name} exited ({proc.popen.returncode}) while "
+                                       f"waiting for {what}:\n{proc.output()[-3000:]}")
+            if time.monotonic() > deadline:
+                raise HarnessError(f"{what} did not appear within {timeout} s")
+            time.sleep(0.05)
+
+    def wait_for_topic(self, topic: str, timeout: float = 20.0,
+                       watch: Iterable[Process] = ()) -> None:
+        """Wait until some node publishes `topic` (absolute name)."""
+        self._wait(f"topic {topic}", lambda: topic in self.topics(), timeout, watch)
+
+    def wait_for_subscriber(self, topic: str, timeout: float = 20.0,
+                            watch: Iterable[Process] = ()) -> None:
+        """Wait until some node subscribes `topic` (absolute name)."""
+        def subscribed() -> bool:
+            return any(t == topic for t, _ in self._system_state()[1])
+        self._wait(f"subscriber of {topic}", subscribed, timeout, watch)
+
+    def wait_for_service(self, service: str, timeout: float = 20.0,
+                         watch: Iterable[Process] = ()) -> None:
+        """Wait until `service` (absolute name) is advertised."""
+        self._wait(f"service {service}", lambda: service in self.services(), timeout, watch)
+
+    def wait_for_node(self, node: str, timeout: float = 20.0,
+                      watch: Iterable[Process] = ()) -> None:
+        """Wait until the master knows a node named `node`."""
+        self._wait(f"node {node}", lambda: node in self.nodes(), timeout, watch)
+
+    # -- rospy in this process ---------------------------------------------------------------------
+    def init_rospy(self, name: str = "rason_test") -> None:
+        """Make this process a rospy node of this master (rospy allows one per process)."""
+        import rospy  # local: the harness itself must work without rospy importable
+
+        os.environ.update({k: self.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOME",
+                                                    "ROS_LOG_DIR")})
+        global _ROSPY_MASTER
+        if _ROSPY_MASTER is not None:
+            if _ROSPY_MASTER != self.master_uri:
+                raise HarnessError("rospy is already initialised against another master "
+                                   f"({_ROSPY_MASTER}); use one harness per test session")
+            return
+        _ROSPY_MASTER = self.master_uri
+        rospy.init_node(name, anonymous=True, disable_signals=True)
+
+    def cleanup_logs(self) -> None:
+        """Remove the log folder if the harness created it."""
+        if self._own_tmp:
+            shutil.rmtree(self.log_dir, ignore_errors=True)
+
+
+def _param_text(value: object) -> str:
+    """A private parameter value as rosrun's ``_name:=value`` takes it (YAML)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (list, tuple)):
+        return "[" + ",".join(_param_text(v) for v in value) + "]"
+    return str(value)
+
+
+def python() -> str:
+    """The interpreter running this process (the project's venv one under run.sh)."""
+    return sys.executable

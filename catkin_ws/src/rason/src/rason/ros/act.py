@@ -1,0 +1,63 @@
+"""``rosrun rason act AGENT 'ACTION(ARGS)'``: perform one action as an agent would.
+
+Publishes a ``jason_msgs/Action`` on ``jason/action`` (latched, so ``rostopic echo`` sees it),
+waits for the decomposer's ``action_feedback`` Event on ``jason/event`` and prints it. Exit
+status 0 when the feedback is ``OK``, 1 for any other result, 2 when none came in time.
+Handy to drive a decomposer by hand, and used by the tests of the harness.
+"""
+
+from __future__ import annotations
+
+import argparse
+import random
+import sys
+import threading
+
+import rospy
+from jason_msgs.msg import Action, Event
+
+from rason.ros.feedback import parse_feedback, split_action
+
+
+def main(argv: list[str] | None = None) -> int:
+    args_in = rospy.myargv(sys.argv if argv is None else argv)[1:]
+    parser = argparse.ArgumentParser(prog="rosrun rason act", description=__doc__.split("\n")[0])
+    parser.add_argument("agent", help="agent name put in the Action's agent field")
+    parser.add_argument("action", help="the action as Jason text, e.g. 'move(1)' or turn(90)")
+    parser.add_argument("--timeout", type=float, default=30.0,
+                        help="seconds (ROS time) to wait for the feedback; 0 = do not wait")
+    parser.add_argument("--id", type=int, default=None, help="action_id (default: random)")
+    args = parser.parse_args(args_in)
+    try:
+        name, parameters = split_action(args.action)
+    except ValueError as err:
+        parser.error(str(err))
+
+    rospy.init_node("act", anonymous=True)
+    action_id = args.id if args.id is not None else random.randrange(1, 2**31 - 1)
+    done = threading.Event()
+    result: list[str] = []
+
+    def on_event(msg: Event) -> None:
+        feedback = parse_feedback(msg)
+        if msg.agent == args.agent and feedback and feedback.action_id == action_id:
+            result[:] = [feedback.result, feedback.message]
+            done.set()
+
+    events = rospy.Subscriber("jason/event", Event, on_event, queue_size=50)
+    publisher = rospy.Publisher("jason/action", Action, queue_size=10, latch=True)
+    publisher.publish(Action(agent=args.agent, action_id=action_id, action=name,
+                             parameters=parameters))
+    print(f"sent {args.action} as {args.agent} (action_id {action_id})", flush=True)
+    if args.timeout <= 0:
+        rospy.sleep(0.5)
+        return 0
+    deadline = rospy.Time.now() + rospy.Duration(args.timeout)
+    while not done.is_set() and not rospy.is_shutdown() and rospy.Time.now() < deadline:
+        done.wait(0.05)
+    events.unregister()
+    if not result:
+        print(f"no feedback within {args.timeout} s", file=sys.stderr)
+        return 2
+    print(f"feedback: {result[0]}" + (f" ({result[1]})" if result[1] else ""), flush=True)
+    return 0 if result[0] == "OK" else 1

@@ -1,0 +1,111 @@
+"""The action protocol between agents and decomposers (thesis 5.1-5.3), without rospy.
+
+An agent publishes ``Action(agent, action_id, action, parameters)``. A decomposer that handles
+it may acknowledge with ``Event(agent, "action_accepted", [action_id])`` and, when done, answers
+``Event(agent, "action_feedback", [result, action_id, message])``: ``result`` is ``OK`` or the
+failure reason (``no_progress``, ``bad_move``...), in the thesis' order. The public Rason code
+used ``[action_id, result, message]``; :func:`parse_feedback` accepts that order too when it is
+unambiguous (first parameter an integer, second not).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol
+
+ACTION_ACCEPTED = "action_accepted"
+ACTION_FEEDBACK = "action_feedback"
+OK = "OK"
+
+
+class EventLike(Protocol):
+    agent: str
+    event_type: str
+    parameters: list[str]
+
+
+@dataclass(frozen=True)
+class Feedback:
+    """The outcome of one action, as a decomposer reported it."""
+
+    action_id: int
+    result: str
+    message: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.result == OK
+
+
+def _as_int(text: str) -> int | None:
+    try:
+        return int(text.strip())
+    except ValueError:
+        return None
+
+
+def parse_feedback(event: EventLike) -> Feedback | None:
+    """The Feedback carried by an ``action_feedback`` Event, or None if it is not one / unreadable."""
+    if event.event_type != ACTION_FEEDBACK or len(event.parameters) < 2:
+        return None
+    first, second = event.parameters[0], event.parameters[1]
+    message = event.parameters[2] if len(event.parameters) > 2 else ""
+    second_id = _as_int(second)
+    if second_id is not None and _as_int(first) is None:
+        return Feedback(second_id, first.strip(), message)        # thesis order
+    first_id = _as_int(first)
+    if first_id is not None and second_id is None:
+        return Feedback(first_id, second.strip(), message)        # public Rason code's order
+    if first_id is not None and second_id is not None:
+        return Feedback(second_id, first.strip(), message)        # ambiguous: thesis order wins
+    return None
+
+
+def parse_accepted(event: EventLike) -> int | None:
+    """The action id acknowledged by an ``action_accepted`` Event, or None."""
+    if event.event_type != ACTION_ACCEPTED or not event.parameters:
+        return None
+    return _as_int(event.parameters[0])
+
+
+def split_action(text: str) -> tuple[str, list[str]]:
+    """Split Jason action text ``move(1, "a,b")`` into ``("move", ["1", '"a,b"'])``.
+
+    Commas inside parentheses, brackets, braces and quotes do not split. Raises ValueError
+    for text that is not ``name`` or ``name(args)``.
+    """
+    text = text.strip()
+    if "(" not in text:
+        if not text or not (text[0].islower() and text.replace("_", "").isalnum()):
+            raise ValueError(f"not an action: {text!r}")
+        return text, []
+    name, _, rest = text.partition("(")
+    name = name.strip()
+    if not name or not name[0].islower() or not rest.endswith(")"):
+        raise ValueError(f"not an action: {text!r}")
+    body = rest[:-1]
+    params: list[str] = []
+    depth, quote, start = 0, "", 0
+    for i, ch in enumerate(body):
+        if quote:
+            if ch == quote and body[i - 1] != "\\":
+                quote = ""
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            depth -= 1
+            if depth < 0:
+                raise ValueError(f"unbalanced brackets in {text!r}")
+        elif ch == "," and depth == 0:
+            params.append(body[start:i].strip())
+            start = i + 1
+    if depth or quote:
+        raise ValueError(f"unbalanced brackets or quotes in {text!r}")
+    last = body[start:].strip()
+    if last or params:
+        params.append(last)
+    if any(not p for p in params):
+        raise ValueError(f"empty parameter in {text!r}")
+    return name, params

@@ -1,0 +1,1 @@
+"""rason_vision."""

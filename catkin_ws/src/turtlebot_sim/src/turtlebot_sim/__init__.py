@@ -1,0 +1,1 @@
+"""turtlebot_sim."""

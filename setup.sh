@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Installs everything rason needs on a Debian 12 machine, as root. Idempotent: each step checks
+# whether it is already done, so a second run on a set-up machine takes seconds.
+#   ./setup.sh            install what is missing, then build the catkin workspace
+#   ./setup.sh --force    redo every step
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+VENV="$ROOT/.venv"
+FORCE=0
+[ "${1:-}" = "--force" ] && FORCE=1
+
+APT_PACKAGES=(
+  # ROS 1 from Debian's packages (see README: ROS_DISTRO=Debian, everything under /usr)
+  python3-roslaunch python3-rosmaster rosout rosbash python3-rospy python3-rostopic
+  python3-rosservice python3-rosnode python3-rosbag python3-rosmsg python3-message-filters
+  catkin ros-message-generation python3-genpy python3-genmsg
+  ros-std-msgs ros-geometry-msgs ros-nav-msgs ros-sensor-msgs ros-diagnostic-msgs
+  python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-nav-msgs python3-diagnostic-msgs
+  libstd-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libsensor-msgs-dev libdiagnostic-msgs-dev
+  # build tools and Debian's Python venv
+  cmake g++ make python3-venv
+)
+
+step() { printf '\n==> setup: %s\n' "$*"; }
+fail() { printf '\n!!! setup failed at step: %s\n' "$CURRENT_STEP" >&2; exit 1; }
+trap fail ERR
+
+CURRENT_STEP="check root"
+if [ "$(id -u)" != 0 ]; then echo "setup.sh must run as root (apt-get install)" >&2; exit 1; fi
+
+CURRENT_STEP="Debian packages"
+missing=()
+for p in "${APT_PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ] || [ $FORCE = 1 ]; then
+  step "apt-get update"
+  apt-get update -q
+  step "apt-get install ${#missing[@]} Debian packages: ${missing[*]:-all}"
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${APT_PACKAGES[@]}"
+else
+  step "Debian packages: all ${#APT_PACKAGES[@]} present"
+fi
+
+CURRENT_STEP="Python venv"
+if [ ! -x "$VENV/bin/python3" ] || [ $FORCE = 1 ]; then
+  step "venv $VENV from /usr/bin/python3 (--system-site-packages)"
+  /usr/bin/python3 -m venv --system-site-packages --clear "$VENV"
+else
+  step "venv present"
+fi
+
+CURRENT_STEP="PyPI packages (requirements.txt)"
+stamp="$VENV/.requirements.sha256"
+want=$(sha256sum "$ROOT/requirements.txt" | cut -d' ' -f1)
+if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ] || [ $FORCE = 1 ]; then
+  step "pip install -r requirements.txt"
+  "$VENV/bin/python3" -m pip install -q --disable-pip-version-check -r "$ROOT/requirements.txt"
+  echo "$want" > "$stamp"
+else
+  step "PyPI packages up to date"
+fi
+
+CURRENT_STEP="catkin_make"
+step "catkin_make (Python: $VENV/bin/python3)"
+cd "$ROOT/catkin_ws"
+PATH="$VENV/bin:$PATH" catkin_make -DPYTHON_EXECUTABLE="$VENV/bin/python3" -DCATKIN_ENABLE_TESTING=OFF \
+  > "$ROOT/catkin_ws/catkin_make.log" 2>&1 || { tail -40 "$ROOT/catkin_ws/catkin_make.log" >&2; false; }
+step "done: source $ROOT/env.sh to use rosrun, rostopic, rosservice"

@@ -1,0 +1,82 @@
+"""Fixtures shared by the whole suite.
+
+ROS tests use real processes started by :class:`rason.harness.RosHarness`:
+
+* ``ros``: the session's roscore (one per pytest run, so this process's rospy node can join it:
+  rospy allows one master per process). Processes a test starts with ``ros.rosrun``/``ros.run``
+  are stopped when the test ends, even when it fails; ``/use_sim_time`` is reset to false.
+  Call ``ros.init_rospy()`` before using rospy in the test itself. Use a namespace of your own
+  per test so topics of different tests never meet.
+* ``fresh_ros``: a brand-new roscore for this test alone (no rospy in the test process).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import Iterator
+
+import pytest
+
+from rason.harness import RosHarness
+
+
+def _ros_available() -> bool:
+    return shutil.which("roscore") is not None and "ROS_PACKAGE_PATH" in os.environ
+
+
+@pytest.fixture(scope="session")
+def ros_session() -> Iterator[RosHarness]:
+    if not _ros_available():
+        pytest.fail("ROS is not set up: run the suite with ./run.sh test")
+    harness = RosHarness()
+    with harness:
+        yield harness
+    harness.cleanup_logs()
+
+
+@pytest.fixture
+def ros(ros_session: RosHarness) -> Iterator[RosHarness]:
+    mark = len(ros_session.processes)
+    ros_session.set_param("/use_sim_time", False)
+    try:
+        yield ros_session
+    finally:
+        ros_session.stop_started_since(mark)
+        ros_session.set_param("/use_sim_time", False)
+
+
+@pytest.fixture
+def fresh_ros() -> Iterator[RosHarness]:
+    if not _ros_available():
+        pytest.fail("ROS is not set up: run the suite with ./run.sh test")
+    harness = RosHarness()
+    with harness:
+        yield harness
+    harness.cleanup_logs()
+
+
+def _our_ros_processes() -> list[str]:
+    """Processes still running with a harness ROS_HOME (rason-ros-*) in their environment."""
+    found = []
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit() or int(pid) == os.getpid():
+            continue
+        try:
+            with open(f"/proc/{pid}/environ", "rb") as f:
+                env = f.read()
+            with open(f"/proc/{pid}/cmdline", "rb") as f:
+                cmd = f.read().replace(b"\0", b" ").decode(errors="replace")
+        except OSError:
+            continue
+        if b"ROS_HOME=" in env and b"/rason-ros-" in env:
+            found.append(f"{pid}: {cmd[:120]}")
+    return found
+
+
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    """After the suite, no roscore, rosout or node started by the harness may be left running."""
+    leftovers = _our_ros_processes()
+    if leftovers:
+        print("\nORPHAN ROS PROCESSES LEFT BY THE SUITE:\n  " + "\n  ".join(leftovers))
+        session.exitstatus = 1

@@ -1,0 +1,86 @@
+"""The workspace and the shared harness, with a real roscore and real rosrun processes."""
+
+from __future__ import annotations
+
+import os
+import threading
+
+import pytest
+
+from rason.harness import HarnessError, RosHarness
+
+pytestmark = pytest.mark.ros
+
+
+def test_rosmsg_shows_the_thesis_action_fields(ros):
+    out = ros.check_output(["rosmsg", "show", "jason_msgs/Action"])
+    assert [line.split() for line in out.strip().splitlines()] == [
+        ["string", "agent"], ["int32", "action_id"], ["string", "action"],
+        ["string[]", "parameters"]]
+    assert ros.check_output(["rosmsg", "show", "jason_msgs/Perception"]).split() == [
+        "string", "source", "string[]", "perception"]
+    assert ros.check_output(["rosmsg", "show", "jason_msgs/Event"]).split() == [
+        "string", "agent", "string", "event_type", "string[]", "parameters"]
+
+
+def test_rosrun_node_publishes_an_action_the_test_receives(ros):
+    import rospy
+    from jason_msgs.msg import Action, Event
+
+    ros.init_rospy()
+    received: list[Action] = []
+    got = threading.Event()
+
+    def on_action(msg: Action) -> None:
+        received.append(msg)
+        got.set()
+
+    sub = rospy.Subscriber("/ws/jason/action", Action, on_action)
+    events = rospy.Publisher("/ws/jason/event", Event, queue_size=10, latch=True)
+    try:
+        act = ros.rosrun("rason", "act", "tester", "move(1, fast)", "--id", "41", ns="/ws")
+        ros.wait_for_topic("/ws/jason/action", watch=[act])
+        assert got.wait(15), act.output()
+        msg = received[0]
+        assert (msg.agent, msg.action_id, msg.action, list(msg.parameters)) == \
+            ("tester", 41, "move", ["1", "fast"])
+
+        # The real ROS command-line tools work against the node.
+        echoed = ros.check_output(["rostopic", "echo", "-n", "1", "/ws/jason/action"])
+        assert "agent: \"tester\"" in echoed and "action_id: 41" in echoed
+        services = ros.check_output(["rosservice", "list"]).split()
+        assert any(s.startswith("/ws/act") and s.endswith("/get_loggers") for s in services)
+
+        # The node waits for the decomposer's feedback and reports it.
+        events.publish(Event(agent="tester", event_type="action_feedback",
+                             parameters=["OK", "41", "done"]))
+        assert act.wait(15) == 0, act.output()
+        assert "feedback: OK (done)" in act.output()
+    finally:
+        sub.unregister()
+        events.unregister()
+
+
+def test_teardown_leaves_no_process_even_after_an_error():
+    harness = RosHarness()
+    pids: list[int] = []
+    with pytest.raises(RuntimeError, match="boom"), harness:
+        node = harness.rosrun("rason", "act", "x", "noop", "--timeout", "60")
+        harness.wait_for_topic("/jason/action", watch=[node])
+        pids = [harness.roscore.pid, node.pid]
+        raise RuntimeError("boom")
+    harness.cleanup_logs()
+    for pid in pids:
+        with pytest.raises(ProcessLookupError):
+            os.killpg(pid, 0)
+
+
+def test_waiting_for_a_topic_that_never_comes_fails_clearly(fresh_ros):
+    with pytest.raises(HarnessError, match="did not appear"):
+        fresh_ros.wait_for_topic("/nobody/publishes/this", timeout=0.5)
+
+
+def test_a_node_that_dies_is_reported_while_waiting(fresh_ros):
+    bad = fresh_ros.rosrun("rason", "act", "x", "Not An Action")
+    with pytest.raises(HarnessError, match="exited"):
+        fresh_ros.wait_for_topic("/jason/action", watch=[bad], timeout=20)
