@@ -366,7 +366,7 @@ class RosHarness:
                                                     "ROS_LOG_DIR")})
         global _ROSPY_MASTER
         if _ROSPY_MASTER is not None:
-            if _ROSPY_MASTER != self.master_uri:
+            if self.master_uri != _ROSPY_MASTER:
                 raise HarnessError("rospy is already initialised against another master "
                                    f"({_ROSPY_MASTER}); use one harness per test session")
             return

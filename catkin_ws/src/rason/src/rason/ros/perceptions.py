@@ -1,0 +1,200 @@
+"""The perception table of an agent (thesis 5.2), without rospy.
+
+Synthesizers publish ``Perception(source, [literal, ...])``: each message is the complete current
+list of that source. In ``replace`` mode (the thesis' filtering) a message replaces its source's
+list and the agent's percepts are the union over sources; only the newest message per source is
+ever parsed. In ``queue`` mode (the thesis' unfiltered baseline, Table 5.1) every message is
+kept until the agent perceives, and each one is parsed and applied in turn.
+
+Malformed perception strings are logged once per source and text, dropped, and the rest of the
+message still counts. An agent may also declare which functors and sources it wants.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import Generic, TypeVar
+
+L = TypeVar("L")
+
+REPLACE = "replace"
+QUEUE = "queue"
+
+
+@dataclass
+class PerceptionFilter:
+    """Which percepts an agent wants: functors (``robot`` or ``robot/4``) and sources.
+
+    Empty sets mean everything.
+    """
+
+    functors: frozenset[str] = frozenset()
+    sources: frozenset[str] = frozenset()
+
+    @classmethod
+    def from_lists(cls, functors: Iterable[str] = (), sources: Iterable[str] = ()) -> PerceptionFilter:
+        return cls(frozenset(f.strip() for f in functors if f.strip()),
+                   frozenset(s.strip() for s in sources if s.strip()))
+
+    def wants_source(self, source: str) -> bool:
+        return not self.sources or source in self.sources
+
+    def wants_text(self, text: str) -> bool:
+        """Cheap pre-parse check on the literal's text: its functor (and arity when given)."""
+        if not self.functors:
+            return True
+        name = text.lstrip().lstrip("~")
+        cut = len(name)
+        for i, ch in enumerate(name):
+            if ch in "([ ":
+                cut = i
+                break
+        functor = name[:cut]
+        if functor in self.functors:
+            return True
+        return f"{functor}/{_arity(name[cut:])}" in self.functors
+
+
+def _arity(rest: str) -> int:
+    """Number of top-level arguments in ``(a, f(b, c), "x,y")...``; 0 if no parentheses."""
+    rest = rest.lstrip()
+    if not rest.startswith("("):
+        return 0
+    depth, count, quote = 0, 1, ""
+    for i, ch in enumerate(rest):
+        if quote:
+            if ch == quote and rest[i - 1] != "\\":
+                quote = ""
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            depth -= 1
+            if depth == 0:
+                return count if rest[1:i].strip() else 0
+        elif ch == "," and depth == 1:
+            count += 1
+    return count
+
+
+@dataclass
+class PerceptionStats:
+    """Counters for the perception benchmark and the mind service."""
+
+    messages: int = 0
+    filtered_messages: int = 0
+    parsed: int = 0
+    malformed: int = 0
+    filtered_literals: int = 0
+
+
+@dataclass
+class PerceptionTable(Generic[L]):
+    """Per-source perception lists, fed from ROS callbacks, read by the agent's perceive().
+
+    Args:
+        parse: turns one perception string into a literal; raises ValueError (or a subclass,
+            such as the interpreter's syntax error) for malformed text.
+        warn: called once per (source, text) for each malformed perception string.
+        mode: ``replace`` (per-source replacement) or ``queue`` (every message is applied).
+    """
+
+    parse: Callable[[str], L]
+    warn: Callable[[str], None] = print
+    mode: str = REPLACE
+    filter: PerceptionFilter = field(default_factory=PerceptionFilter)
+    stats: PerceptionStats = field(default_factory=PerceptionStats)
+
+    def __post_init__(self) -> None:
+        if self.mode not in (REPLACE, QUEUE):
+            raise ValueError(f"perception mode must be {REPLACE!r} or {QUEUE!r}, not {self.mode!r}")
+        self._lock = threading.Lock()
+        self._raw: dict[str, Sequence[str]] = {}      # newest unparsed list per source
+        self._queue: list[tuple[str, Sequence[str]]] = []
+        self._parsed: dict[str, list[L]] = {}         # current parsed list per source
+        self._warned: set[tuple[str, str]] = set()
+        self._changed = False
+        self._cache: dict[str, L | None] = {}
+
+    def update(self, source: str, perceptions: Sequence[str]) -> bool:
+        """Store one message (thread-safe). Returns False if the filter drops the whole source."""
+        self.stats.messages += 1
+        if not self.filter.wants_source(source):
+            self.stats.filtered_messages += 1
+            return False
+        with self._lock:
+            if self.mode == REPLACE:
+                self._raw[source] = perceptions
+            else:
+                self._queue.append((source, perceptions))
+            self._changed = True
+        return True
+
+    def changed(self) -> bool:
+        """True if a message arrived since the last :meth:`percepts` call."""
+        return self._changed
+
+    def percepts(self) -> list[L] | None:
+        """The union of all sources' current lists, or None if nothing changed since last call."""
+        with self._lock:
+            if not self._changed:
+                return None
+            self._changed = False
+            raw, self._raw = self._raw, {}
+            queue, self._queue = self._queue, []
+        for source, texts in queue:
+            self._parsed[source] = self._parse_list(source, texts)
+        for source, texts in raw.items():
+            self._parsed[source] = self._parse_list(source, texts)
+        union: list[L] = []
+        seen: set[L] = set()
+        for literals in self._parsed.values():
+            for literal in literals:
+                if literal not in seen:
+                    seen.add(literal)
+                    union.append(literal)
+        return union
+
+    def sources(self) -> dict[str, int]:
+        """Known sources and how many percepts each currently holds."""
+        return {source: len(lits) for source, lits in self._parsed.items()}
+
+    def _parse_list(self, source: str, texts: Sequence[str]) -> list[L]:
+        out: list[L] = []
+        for text in texts:
+            if not self.filter.wants_text(text):
+                self.stats.filtered_literals += 1
+                continue
+            literal = self._parse_one(source, text)
+            if literal is not None:
+                out.append(literal)
+        return out
+
+    def _parse_one(self, source: str, text: str) -> L | None:
+        if text in self._cache:
+            literal = self._cache[text]
+        else:
+            self.stats.parsed += 1
+            try:
+                literal = self.parse(text)
+            except Exception as err:
+                literal = None
+                self._note_malformed(source, text, err)
+            if len(self._cache) > 4096:
+                self._cache.clear()
+            self._cache[text] = literal
+        if literal is None:
+            self.stats.malformed += 1
+            if (source, text) not in self._warned:
+                self._note_malformed(source, text, None)
+        return literal
+
+    def _note_malformed(self, source: str, text: str, err: Exception | None) -> None:
+        if (source, text) in self._warned:
+            return
+        self._warned.add((source, text))
+        reason = f": {err}" if err else ""
+        self.warn(f"dropped malformed perception from source '{source}': {text!r}{reason}")

@@ -1,0 +1,83 @@
+"""The agent's perception table (thesis 5.2), without ROS."""
+
+from __future__ import annotations
+
+import pytest
+
+from rason.ros.perceptions import PerceptionFilter, PerceptionTable
+
+
+def parse(text: str) -> str:
+    """A strict stand-in parser for literals: name(args) with balanced parentheses."""
+    text = text.strip()
+    if not text or not text[0].islower() or text.count("(") != text.count(")"):
+        raise ValueError(f"bad literal {text!r}")
+    return text
+
+
+def test_each_source_replaces_only_its_own_list():
+    table = PerceptionTable(parse)
+    table.update("cam_robot", ["robot(faulty,1,2,3)"])
+    table.update("sonar_range", ["range(1)"])
+    assert sorted(table.percepts()) == ["range(1)", "robot(faulty,1,2,3)"]
+    table.update("cam_robot", [])
+    assert table.percepts() == ["range(1)"]
+
+
+def test_unchanged_table_reports_none():
+    table = PerceptionTable(parse)
+    table.update("a", ["p"])
+    assert table.percepts() == ["p"]
+    assert table.percepts() is None
+
+
+def test_replace_mode_parses_only_the_newest_message_per_source():
+    table = PerceptionTable(parse)
+    for i in range(50):
+        table.update("a", [f"p({i})"])
+    assert table.percepts() == ["p(49)"]
+    assert table.stats.parsed == 1
+
+
+def test_queue_mode_parses_every_message():
+    table = PerceptionTable(parse, mode="queue")
+    for i in range(50):
+        table.update("a", [f"p({i})"])
+    assert table.percepts() == ["p(49)"]
+    assert table.stats.parsed == 50
+
+
+def test_malformed_perception_is_dropped_and_warned_once_the_rest_counts():
+    warnings: list[str] = []
+    table = PerceptionTable(parse, warn=warnings.append)
+    for _ in range(3):
+        table.update("cam", ["robot(faulty,1", "ok(1)"])
+        assert table.percepts() == ["ok(1)"]
+    assert len(warnings) == 1
+    assert "cam" in warnings[0] and "robot(faulty,1" in warnings[0]
+    table.update("other", ["robot(faulty,1"])
+    table.percepts()
+    assert len(warnings) == 2
+
+
+def test_duplicate_percepts_from_two_sources_appear_once():
+    table = PerceptionTable(parse)
+    table.update("a", ["p(1)", "q"])
+    table.update("b", ["p(1)"])
+    assert sorted(table.percepts()) == ["p(1)", "q"]
+
+
+def test_filter_by_functor_arity_and_source():
+    wanted = PerceptionFilter.from_lists(["robot/4", "battery"], ["cam_robot", "power"])
+    table = PerceptionTable(parse, filter=wanted)
+    assert not table.update("laser", ["robot(a,1,2,3)"])
+    table.update("cam_robot", ["robot(a,1,2,3)", "robot(a,1)", "noise(7)"])
+    table.update("power", ["battery(80)", "battery"])
+    assert sorted(table.percepts()) == ["battery", "battery(80)", "robot(a,1,2,3)"]
+    assert table.stats.filtered_messages == 1
+    assert table.stats.filtered_literals == 2
+
+
+def test_unknown_mode_is_an_error():
+    with pytest.raises(ValueError, match="perception mode"):
+        PerceptionTable(parse, mode="sometimes")
