@@ -57,7 +57,8 @@ def fresh_ros() -> Iterator[RosHarness]:
 
 
 def _our_ros_processes() -> list[str]:
-    """Processes still running with a harness ROS_HOME (rason-ros-*) in their environment."""
+    """Processes still running that a harness of this pytest process started."""
+    token = f"RASON_HARNESS_PARENT={os.getpid()}\0".encode()
     found = []
     for pid in os.listdir("/proc"):
         if not pid.isdigit() or int(pid) == os.getpid():
@@ -69,7 +70,7 @@ def _our_ros_processes() -> list[str]:
                 cmd = f.read().replace(b"\0", b" ").decode(errors="replace")
         except OSError:
             continue
-        if b"ROS_HOME=" in env and b"/rason-ros-" in env:
+        if token in env + b"\0":
             found.append(f"{pid}: {cmd[:120]}")
     return found
 

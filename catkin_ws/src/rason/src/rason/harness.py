@@ -201,7 +201,7 @@ class RosHarness:
         self.env = dict(os.environ)
         self.env.update(ROS_MASTER_URI=self.master_uri, ROS_IP="127.0.0.1",
                         ROS_HOME=str(ros_home), ROS_LOG_DIR=str(ros_home / "log"),
-                        PYTHONUNBUFFERED="1")
+                        PYTHONUNBUFFERED="1", RASON_HARNESS_PARENT=str(os.getpid()))
         self.env.pop("ROS_HOSTNAME", None)
         self.roscore = Process("roscore", ["roscore", "-p", str(self.port)], self.env,
                                self.log_dir / "roscore.log", echo=False)

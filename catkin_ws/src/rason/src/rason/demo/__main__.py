@@ -1,18 +1,64 @@
-"""``./run.sh demo``: for now, start a private roscore and report that the workspace is ready."""
+"""``./run.sh demo [--fault NAME] [--seed N] [--record] [--out DIR]``: one cooperative diagnosis.
+
+Starts roscore, the simulator (Faulty and Helper side by side 1.5 m apart), a fault injector and
+a motion decomposer per robot, Helper's vision synthesizer and both agents, each with ``rosrun``;
+injects the fault with the real service before Faulty starts; streams the agents' console; prints
+the diagnosis, whether it matches the injected fault, and the latency of the three steps in
+simulated seconds; writes a picture of the run. Exit status 0 only when the diagnosis is right.
+"""
 
 from __future__ import annotations
 
+import argparse
 import sys
+import time
+from pathlib import Path
 
-from rason.harness import RosHarness
+from rason.demo import thesis
+from rason.demo.scenario import FAULTS, default_fault, run_scenario
+from rason.harness import PROJECT_ROOT
 
 
-def main() -> int:
-    with RosHarness() as ros:
-        print(f"roscore running at {ros.master_uri}; nodes known: {sorted(ros.nodes())}")
-        print("rason workspace ready: source env.sh, then rosrun rason ... (see README)")
-    ros.cleanup_logs()
-    return 0
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="./run.sh demo", description=__doc__.split("\n")[0])
+    parser.add_argument("--fault", choices=FAULTS, help="fault to inject (default: picked by the seed)")
+    parser.add_argument("--seed", type=int, default=None,
+                        help="seed of the run's variation (default: from the clock)")
+    parser.add_argument("--record", action="store_true", help="also record a bag of the run")
+    parser.add_argument("--out", type=Path, default=None, help="folder for the picture and logs")
+    parser.add_argument("--json", action="store_true", help="print the result as JSON at the end")
+    parser.add_argument("--quiet", action="store_true", help="do not stream the agents' console")
+    parser.add_argument("--timeout", type=float, default=300.0, help="simulated seconds allowed")
+    args = parser.parse_args(argv)
+
+    seed = args.seed if args.seed is not None else int(time.time()) % 100000
+    fault = args.fault or default_fault(seed)
+    out = args.out or PROJECT_ROOT / "out" / f"demo-{fault}-{seed}"
+    print(f"[demo] fault {fault}, seed {seed}; output in {out}", flush=True)
+    result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,
+                          sim_timeout=args.timeout)
+
+    print("\n[demo] ---------------- result ----------------")
+    print(f"[demo] injected fault : {fault}")
+    print(f"[demo] diagnosis      : {result.diagnosis}  (expected {result.expected}) -> "
+          f"{'CORRECT' if result.correct else 'WRONG'}")
+    for label, value, index in (("fault detection", result.detection_s, 0),
+                                ("robot location", result.location_s, 1),
+                                ("diagnosis", result.diagnosis_s, 2),
+                                ("total", result.total_s, 3)):
+        shown = f"{value:6.2f} s" if value is not None else "     - "
+        ref = (f"   (thesis mean {thesis.mean(fault, index):.2f} s)" if fault in thesis.TABLES
+               else "")
+        print(f"[demo] {label:15s}: {shown} simulated{ref}")
+    print(f"[demo] wall-clock     : {result.wall_s:.1f} s")
+    if result.error:
+        print(f"[demo] error          : {result.error}")
+    print(f"[demo] picture        : {out / 'run.png'}")
+    if args.record:
+        print(f"[demo] bag            : {out / 'run.bag'}  (rosbag play it against a roscore)")
+    if args.json:
+        print(result.to_json())
+    return 0 if result.correct else 1
 
 
 if __name__ == "__main__":
