@@ -1,0 +1,7 @@
+"""``python -m rason.asl``."""
+
+import sys
+
+from .cli import main
+
+sys.exit(main())

@@ -1,0 +1,583 @@
+"""The agent (Jason's ``Agent`` + ``Circumstance``): state, public thread-safe API, helpers."""
+
+from __future__ import annotations
+
+import heapq
+import itertools
+import os
+import random
+import sys
+import threading
+from collections import deque
+from typing import Any
+
+from . import reasoning
+from .arch import AgentArch, Message, UnknownReceiver
+from .beliefs import BeliefBase
+from .intentions import Event, IntendedMeans, Intention
+from .logic import query_bb, solve
+from .parser import AgentSource, Rule, parse_source
+from .plans import ACHIEVE, ADD, BELIEF, DEL, TEST, PlanLibrary, Trigger
+from .terms import (
+    FALSE,
+    SOURCE_PERCEPT,
+    SOURCE_SELF,
+    ListTerm,
+    Literal,
+    is_ground,
+    make_list,
+    merge_annots,
+    source,
+    term_str,
+)
+from .unify import RANDOM_HOOK, rename_vars, resolve, unify
+
+
+def _strip_sources(t: Any) -> Any:
+    if isinstance(t, Literal) and t.annots:
+        return t.with_annots(tuple(a for a in t.annots
+                                   if not (isinstance(a, Literal) and a.functor == "source")), t.tail)
+    return t
+
+
+class Agent:
+    """A Jason agent: belief base, plan library, circumstance and reasoning cycle.
+
+    ``receive``, ``action_feedback`` and ``wake`` may be called from any thread; everything else
+    runs in the thread that calls ``step``/``run``.
+    """
+
+    def __init__(self, name: str, source: str, arch: AgentArch, filename: str = "<string>",
+                 seed: int | None = None, src_name: str | None = None) -> None:
+        self.name = name
+        self.arch = arch
+        self.filename = filename
+        if src_name is None:
+            src_name = os.path.basename(filename) if filename != "<string>" else filename
+        parsed = parse_source(source, filename, src="file:" + src_name)
+        self.bb = BeliefBase()
+        self.pl = PlanLibrary()
+        self.events: deque[Event] = deque()
+        self.running: deque[Intention] = deque()
+        self.current: Intention | None = None
+        self.suspended: dict[int, Intention] = {}
+        self.pending_actions: dict[int, tuple] = {}
+        self.timers: list[tuple] = []                 # heap of (deadline, seq, kind, intention, data)
+        self.event_waits: list[tuple] = []            # (trigger|None, cond|None, intention, im)
+        self.ask_waits: dict[str, tuple] = {}         # msg_id -> (intention, answer term)
+        self.random = random.Random(seed)
+        self._seq = itertools.count()
+        self._action_ids = itertools.count(1)
+        self._int_ids = itertools.count(1)
+        self._inbox: deque = deque()
+        self._inbox_lock = threading.Lock()
+        self._wake_event = threading.Event()
+        self._state_lock = threading.RLock()
+        self._percepts: set = set()
+        self._has_atomic = False
+        self._stop_requested = False
+        self.load(parsed)
+
+    # ================================================================ loading
+    def load(self, parsed: AgentSource) -> None:
+        for p in parsed.plans:
+            self.pl.add(p)
+            if p.atomic:
+                self._has_atomic = True
+        for b in reversed(parsed.beliefs):
+            if isinstance(b, Rule):
+                self.bb.add_rule(b, front=True)
+            else:
+                lit = b if b.has_source() else b.add_annots([SOURCE_SELF])
+                if not is_ground(lit):
+                    self.bb.add(lit, front=True)
+                    continue
+                self.add_belief(lit, front=True)
+        for g in parsed.goals:
+            lit = g if g.has_source() else g.add_annots([SOURCE_SELF])
+            self.events.append(Event(Trigger(ADD, ACHIEVE, lit)))
+
+    # ================================================================ public API
+    def receive(self, message: Message) -> None:
+        """Thread-safe: queue an incoming message and wake the agent."""
+        with self._inbox_lock:
+            self._inbox.append(("msg", message))
+        self._wake_event.set()
+
+    def action_feedback(self, action_id: int, ok: bool, reason: str | None = None, message: str = "") -> None:
+        """Thread-safe: the environment finished action ``action_id`` (ok or failed with reason)."""
+        with self._inbox_lock:
+            self._inbox.append(("fb", action_id, ok, reason, message))
+        self._wake_event.set()
+
+    def wake(self) -> None:
+        """Thread-safe: something changed (e.g. new percepts); run a cycle soon."""
+        with self._inbox_lock:
+            self._inbox.append(("wake",))
+        self._wake_event.set()
+
+    def step(self) -> bool:
+        """One reasoning cycle; True if it did anything."""
+        with self._state_lock:
+            RANDOM_HOOK[:] = [self.random.random]
+            did = self.sense()
+            if reasoning.P_AD:
+                did = reasoning.act(self) or did
+                did = reasoning.deliberate(self) or did
+            else:
+                did = reasoning.deliberate(self) or did
+                did = reasoning.act(self) or did
+            return did
+
+    def run(self, stop: threading.Event) -> None:
+        """Reason until ``stop`` is set; block (no polling) while idle."""
+        def watcher() -> None:
+            stop.wait()
+            self._wake_event.set()
+        threading.Thread(target=watcher, name=f"{self.name}-stop", daemon=True).start()
+        clock = self.arch.clock
+        while not stop.is_set() and not self._stop_requested:
+            self._wake_event.clear()
+            if self.step():
+                continue
+            if stop.is_set():
+                break
+            if self.has_input():
+                continue
+            clock.wait(self._wake_event, self.next_deadline())
+
+    def is_idle(self) -> bool:
+        """No events, no runnable intention, nothing in the inbox."""
+        with self._inbox_lock:
+            inbox = bool(self._inbox)
+        return not self.events and not self.running and not inbox
+
+    def has_pending(self) -> bool:
+        """Something may still happen later: actions, timers, awaited events or answers."""
+        return bool(self.pending_actions or self.timers or self.event_waits or self.ask_waits)
+
+    def has_input(self) -> bool:
+        with self._inbox_lock:
+            return bool(self._inbox)
+
+    def next_deadline(self) -> float | None:
+        """Earliest ``.wait`` deadline (clock seconds), or None."""
+        while self.timers and self.timers[0][3].id not in self.suspended:
+            heapq.heappop(self.timers)
+        return self.timers[0][0] if self.timers else None
+
+    def mind(self) -> dict[str, list[str]]:
+        """Snapshot of the mental state as Jason text."""
+        with self._state_lock:
+            beliefs = [term_str(b) if isinstance(b, Literal) else str(b) for b in self.bb]
+            desires = [str(ev.trigger) for ev in self.events if ev.trigger.is_goal]
+            intentions = []
+            for i in self.all_intentions():
+                tops = " / ".join(str(im.trigger) for im in reversed(i.ims))
+                state = f" (suspended: {i.suspended})" if i.suspended else ""
+                intentions.append(f"intention {i.id}: {tops}{state}")
+                desires.extend(str(im.trigger) for im in i.ims if im.trigger.is_goal and im.trigger.op == ADD)
+            pending = [f"{aid}: {term_str(v[2])}" for aid, v in self.pending_actions.items()]
+            return {"beliefs": beliefs, "desires": desires, "intentions": intentions,
+                    "pending_actions": pending}
+
+    def request_stop(self) -> None:
+        self._stop_requested = True
+
+    @property
+    def stop_requested(self) -> bool:
+        return self._stop_requested
+
+    # ================================================================ console
+    def console(self, text: str) -> None:
+        self.arch.console(self.name, text)
+
+    def warn(self, text: str) -> None:
+        self.arch.console(self.name, text)
+
+    def log(self, text: str) -> None:
+        print(f"[{self.name}] {text}", file=sys.stderr, flush=True)
+
+    def warn_drop(self, i: Intention, text: str, trig: Any, relevant_msg: str | None = None) -> None:
+        """Jason's warning for an intention dropped because its failure was not handled."""
+        if relevant_msg:
+            self.warn(text)
+            self.warn("\n" + i.dump())
+            self.warn(relevant_msg)
+        else:
+            self.warn(text + "\n" + i.dump())
+
+    # ================================================================ sense
+    def sense(self) -> bool:
+        did = self.perceive()
+        if self._inbox:
+            with self._inbox_lock:
+                items = list(self._inbox)
+                self._inbox.clear()
+            for it in items:
+                did = True
+                kind = it[0]
+                if kind == "msg":
+                    self.process_message(it[1])
+                elif kind == "fb":
+                    self.process_feedback(*it[1:])
+        if self.timers:
+            did = self.check_timers() or did
+        return did
+
+    def perceive(self) -> bool:
+        """Belief update from percepts: add new ones, remove vanished ones (source(percept))."""
+        ps = self.arch.perceive()
+        if ps is None:
+            return False
+        new = set()
+        order = []
+        for p in ps:
+            if isinstance(p, Literal):
+                key = _strip_sources(p)
+                if key not in new:
+                    new.add(key)
+                    order.append(key)
+        old = self._percepts
+        if new == old:
+            return False
+        for p in old - new:
+            self.remove_belief(p.add_annots([SOURCE_PERCEPT]))
+        for p in order:
+            if p not in old:
+                self.add_belief(p.add_annots([SOURCE_PERCEPT]), front=True)
+        self._percepts = new
+        return True
+
+    def check_timers(self) -> bool:
+        now = self.arch.clock.now()
+        did = False
+        while self.timers and self.timers[0][0] <= now:
+            _, _, kind, i, data = heapq.heappop(self.timers)
+            if i.id not in self.suspended or i.dropped:
+                continue
+            if kind == "wait" and i.suspended == "wait":
+                self.resume(i)
+                did = True
+            elif kind == "event_timeout" and i.suspended == "event_wait":
+                self.event_waits = [w for w in self.event_waits if w[2] is not i]
+                self.resume(i)
+                reasoning.fail_intention(self, i, annots=reasoning.error_annots(
+                    self, i.top(), None, "wait_timeout", "timeout in .wait"))
+                did = True
+            elif kind == "ask_timeout" and i.suspended == "ask":
+                mid, ans = data
+                if self.ask_waits.pop(mid, None) is not None:
+                    self.resume(i)
+                    im = i.top()
+                    s2 = dict(im.u)
+                    if unify(ans, Literal("timeout"), s2):
+                        im.u = s2
+                    did = True
+        return did
+
+    # ================================================================ intentions
+    def new_intention(self) -> Intention:
+        return Intention(next(self._int_ids))
+
+    def atomic_running(self) -> bool:
+        if not self._has_atomic:
+            return False
+        return any(i.atomic_count for i in self.running)
+
+    def all_intentions(self) -> list[Intention]:
+        out = []
+        if self.current is not None:
+            out.append(self.current)
+        out.extend(self.running)
+        out.extend(i for i in self.suspended.values() if i is not self.current)
+        seen = set()
+        for ev in self.events:
+            if ev.intention is not None and ev.intention.id not in seen and ev.intention not in out:
+                seen.add(ev.intention.id)
+                out.append(ev.intention)
+        return out
+
+    def suspend(self, i: Intention, why: str) -> None:
+        i.suspended = why
+        self.suspended[i.id] = i
+
+    def resume(self, i: Intention) -> None:
+        self.suspended.pop(i.id, None)
+        i.suspended = None
+        if not i.dropped and i.ims:
+            self.running.append(i)
+
+    def suspend_timer(self, i: Intention, deadline: float) -> None:
+        self.suspend(i, "wait")
+        heapq.heappush(self.timers, (deadline, next(self._seq), "wait", i, None))
+
+    def suspend_event_wait(self, i: Intention, trig: Trigger | None, cond: Any, deadline: float | None) -> None:
+        self.suspend(i, "event_wait")
+        self.event_waits.append((trig, cond, i, i.top()))
+        if deadline is not None:
+            heapq.heappush(self.timers, (deadline, next(self._seq), "event_timeout", i, None))
+
+    def register_ask(self, msg_id: str, i: Intention | None, answer: Any, deadline: float | None) -> None:
+        if i is None:
+            return
+        self.suspend(i, "ask")
+        self.ask_waits[msg_id] = (i, answer)
+        if deadline is not None:
+            heapq.heappush(self.timers, (deadline, next(self._seq), "ask_timeout", i, (msg_id, answer)))
+
+    def detach(self, i: Intention) -> None:
+        """Remove ``i`` from every queue/registration (it is about to be re-attached elsewhere)."""
+        if i in self.running:
+            self.running.remove(i)
+        self.suspended.pop(i.id, None)
+        if self.event_waits:
+            self.event_waits = [w for w in self.event_waits if w[2] is not i]
+        for k in [k for k, v in self.ask_waits.items() if v[0] is i]:
+            del self.ask_waits[k]
+        for k in [k for k, v in self.pending_actions.items() if v[0] is i]:
+            del self.pending_actions[k]
+        if any(ev.intention is i for ev in self.events):
+            self.events = deque(ev for ev in self.events if ev.intention is not i)
+        i.suspended = None
+
+    def remove_intention(self, i: Intention) -> None:
+        self.detach(i)
+        i.dropped = True
+        i.ims.clear()
+
+    drop_whole_intention = remove_intention
+
+    def intention_finished(self, i: Intention, last: IntendedMeans) -> None:
+        if i.reply is not None:
+            q: Message = i.reply
+            ans = _strip_sources(resolve(last.trigger.literal, last.u))
+            self.send_message(Message(self.name, q.sender, "tell", ans, in_reply_to=q.msg_id))
+
+    def _goal_positions(self, pattern: Any, s: dict):
+        for i in self.all_intentions():
+            for idx in range(len(i.ims) - 1, -1, -1):
+                t = i.ims[idx].trigger
+                if t.op == ADD and t.type == ACHIEVE and unify(pattern, t.literal, dict(s)):
+                    yield i, idx
+                    break
+
+    def drop_goal(self, pattern: Any, s: dict, drop_events: bool) -> None:
+        for i, _ in list(self._goal_positions(pattern, s)):
+            self.remove_intention(i)
+        if drop_events:
+            self.events = deque(
+                ev for ev in self.events
+                if not (ev.trigger.op == ADD and ev.trigger.type == ACHIEVE
+                        and unify(pattern, ev.trigger.literal, dict(s))))
+
+    def drop_all(self, events: bool) -> None:
+        for i in list(self.all_intentions()):
+            self.remove_intention(i)
+        if events:
+            self.events.clear()
+
+    def succeed_goal(self, pattern: Any, s: dict) -> None:
+        for i, idx in list(self._goal_positions(pattern, s)):
+            was_current = i is self.current
+            self.detach(i)
+            i.truncate(idx)
+            if not i.ims:
+                i.dropped = True
+                continue
+            caller = i.ims[-1]
+            if caller.stack:
+                caller.stack.pop()
+            if not was_current:
+                reasoning.clr_int(self, i)
+                if i.ims:
+                    self.running.append(i)
+
+    def fail_goal(self, pattern: Any, s: dict) -> None:
+        for i, idx in list(self._goal_positions(pattern, s)):
+            reasoning.fail_goal_at(self, i, idx)
+
+    # ================================================================ beliefs
+    def add_event(self, ev: Event) -> None:
+        """Queue an event; like Jason, an external event nobody listens to is only kept when
+        some plan is relevant for it."""
+        if self.event_waits:
+            self._check_event_waits(ev)
+        elif ev.intention is None and not self.pl.relevant(ev.trigger):
+            if not (ev.trigger.is_goal and ev.trigger.op == ADD):
+                return
+        self.events.append(ev)
+
+    def _check_event_waits(self, ev: Event) -> None:
+        t = ev.trigger
+        keep = []
+        woken = []
+        for w in self.event_waits:
+            trig, cond, i, _im = w
+            if trig is not None and trig.op == t.op and trig.type == t.type and unify(trig.literal, t.literal, {}):
+                woken.append(i)
+            else:
+                keep.append(w)
+        if woken:
+            self.event_waits = keep
+            for i in woken:
+                self.resume(i)
+
+    def check_cond_waits(self) -> None:
+        if not any(w[1] is not None for w in self.event_waits):
+            return
+        keep = []
+        for w in self.event_waits:
+            trig, cond, i, im = w
+            if cond is not None and im is not None:
+                sol = next(iter(solve(self, cond, im.u, i)), None)
+                if sol is not None:
+                    im.u = sol
+                    self.resume(i)
+                    continue
+            keep.append(w)
+        self.event_waits = keep
+
+    def add_belief(self, lit: Literal, front: bool = True) -> bool:
+        """Add a belief (with its source annotations) and post the ``+b`` event if it is new."""
+        added = self.bb.add(lit, front=front)
+        if added is None:
+            return False
+        self.add_event(Event(Trigger(ADD, BELIEF, added)))
+        if self.event_waits:
+            self.check_cond_waits()
+        return True
+
+    def remove_belief(self, lit: Literal) -> bool:
+        removed = self.bb.remove(lit)
+        if removed is None:
+            return False
+        self.add_event(Event(Trigger(DEL, BELIEF, removed)))
+        if self.event_waits:
+            self.check_cond_waits()
+        return True
+
+    def abolish(self, pattern: Literal) -> None:
+        for b in self.bb.abolish(pattern):
+            self.add_event(Event(Trigger(DEL, BELIEF, b)))
+
+    # ================================================================ actions
+    def start_action(self, i: Intention, im: IntendedMeans, deed: Any, action: Literal) -> int:
+        aid = next(self._action_ids)
+        self.pending_actions[aid] = (i, im, action, deed)
+        self.suspend(i, f"action {aid}")
+        try:
+            self.arch.act(self, action, aid)
+        except Exception as e:  # noqa: BLE001 - an architecture error fails the action
+            self.action_feedback(aid, False, "action_failed", f"{type(e).__name__}: {e}")
+        return aid
+
+    def process_feedback(self, aid: int, ok: bool, reason: str | None, message: str) -> None:
+        entry = self.pending_actions.pop(aid, None)
+        if entry is None:
+            return
+        i, im, action, deed = entry
+        if i.dropped or i.id not in self.suspended:
+            return
+        self.resume(i)
+        if ok:
+            return
+        self.running.remove(i)
+        kind = reason or "action_failed"
+        annots = reasoning.error_annots(self, im, deed, kind, message or "", code=action)
+        reasoning.fail_intention(self, i, annots=annots)
+
+    # ================================================================ communication
+    def send_message(self, msg: Message) -> None:
+        if msg.receiver == self.name:
+            self.receive(msg)
+            return
+        try:
+            self.arch.send(self, msg)
+        except UnknownReceiver:
+            raise
+        except Exception as e:  # noqa: BLE001
+            from .stdlib import IAError
+            raise IAError(f"cannot send to {msg.receiver}: {e}") from None
+
+    def process_message(self, m: Message) -> None:
+        src = SOURCE_SELF if m.sender == self.name else source(m.sender)
+        content = m.content
+        if m.in_reply_to is not None and m.in_reply_to in self.ask_waits:
+            i, ans = self.ask_waits.pop(m.in_reply_to)
+            if i.dropped or i.id not in self.suspended:
+                return
+            if isinstance(content, Literal) and not (content == FALSE):
+                content = content.add_annots([src])
+            elif isinstance(content, ListTerm):
+                content = make_list([c.add_annots([src]) if isinstance(c, Literal) else c for c in content.items])
+            im = i.top()
+            s2 = dict(im.u)
+            if unify(ans, content, s2):
+                im.u = s2
+                self.resume(i)
+            else:
+                self.resume(i)
+                self.running.remove(i)
+                reasoning.fail_intention(self, i, annots=reasoning.error_annots(
+                    self, im, None, "ia_failed", "answer does not unify"))
+            return
+        perf = m.performative
+        if perf == "tell":
+            items = content.items if isinstance(content, ListTerm) else (content,)
+            for c in items:
+                if isinstance(c, Literal) and not (m.in_reply_to and c == FALSE):
+                    self.add_belief(_strip_sources(c).add_annots([src]), front=True)
+        elif perf == "untell":
+            items = content.items if isinstance(content, ListTerm) else (content,)
+            for c in items:
+                if isinstance(c, Literal):
+                    lit = _strip_sources(c).add_annots([src])
+                    if not is_ground(lit):
+                        for sol in query_bb(self, lit, {}):
+                            lit = resolve(lit, sol)
+                            break
+                    self.remove_belief(lit)
+        elif perf == "achieve":
+            if isinstance(content, Literal):
+                self.add_event(Event(Trigger(ADD, ACHIEVE, _strip_sources(content).add_annots([src]))))
+        elif perf == "unachieve":
+            if isinstance(content, Literal):
+                self.drop_goal(content, {}, drop_events=True)
+        elif perf in ("askOne", "askAll"):
+            self._answer_ask(m, src)
+        elif perf == "signal":
+            if isinstance(content, Literal):
+                self.add_event(Event(Trigger(ADD, BELIEF, content.add_annots([src]))))
+
+    def _answer_ask(self, m: Message, src: Literal) -> None:
+        q = m.content
+        if not isinstance(q, Literal):
+            return
+        q = rename_vars(q, {})
+        if m.performative == "askOne":
+            for sol in query_bb(self, q, {}):
+                ans = _strip_sources(resolve(q, sol))
+                self.send_message(Message(self.name, m.sender, "tell", ans, in_reply_to=m.msg_id))
+                return
+            if self.pl.has_candidate(ADD, TEST, q):
+                ev = Event(Trigger(ADD, TEST, q.add_annots([src])), reply=m)
+                self.add_event(ev)
+                return
+            self.send_message(Message(self.name, m.sender, "tell", FALSE, in_reply_to=m.msg_id))
+            return
+        answers = []
+        for sol in query_bb(self, q, {}):
+            a = _strip_sources(resolve(q, sol))
+            if a not in answers:
+                answers.append(a)
+        self.send_message(Message(self.name, m.sender, "tell", make_list(answers), in_reply_to=m.msg_id))
+
+
+def load_agent_source(path: str) -> str:
+    """Read an ``.asl`` file (UTF-8)."""
+    with open(path, encoding="utf-8") as f:
+        return f.read()
+
+
+__all__ = ["Agent", "load_agent_source", "merge_annots"]

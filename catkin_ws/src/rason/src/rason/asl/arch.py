@@ -1,0 +1,128 @@
+"""The agent architecture interface (Jason's ``AgArch``), messages and clocks."""
+
+from __future__ import annotations
+
+import itertools
+import threading
+import time
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .agent import Agent
+    from .terms import Literal
+
+
+class Clock:
+    """Injectable time source (seconds as float)."""
+
+    def now(self) -> float:
+        raise NotImplementedError
+
+    def wait(self, event: threading.Event, deadline: float | None) -> None:
+        """Block until ``event`` is set or ``now() >= deadline`` (None: only the event)."""
+        raise NotImplementedError
+
+
+class WallClock(Clock):
+    """``time.monotonic`` based clock."""
+
+    def now(self) -> float:
+        return time.monotonic()
+
+    def wait(self, event: threading.Event, deadline: float | None) -> None:
+        if deadline is None:
+            event.wait()
+            return
+        remaining = deadline - time.monotonic()
+        if remaining > 0:
+            event.wait(remaining)
+
+
+class VirtualClock(Clock):
+    """Simulated time for tests: waiting with a deadline jumps the clock to it at once."""
+
+    def __init__(self, start: float = 0.0) -> None:
+        self._t = start
+        self._lock = threading.Lock()
+
+    def now(self) -> float:
+        with self._lock:
+            return self._t
+
+    def advance(self, dt: float) -> None:
+        with self._lock:
+            self._t += dt
+
+    def wait(self, event: threading.Event, deadline: float | None) -> None:
+        if event.is_set():
+            return
+        if deadline is None:
+            event.wait()
+            return
+        with self._lock:
+            if deadline > self._t:
+                self._t = deadline
+
+
+_msg_ids = itertools.count(1)
+
+
+def new_msg_id() -> str:
+    return f"mid{next(_msg_ids)}"
+
+
+@dataclass
+class Message:
+    """A message between agents (Jason's ``Message``); ``content`` is a term."""
+
+    sender: str
+    receiver: str
+    performative: str
+    content: Any
+    msg_id: str = field(default_factory=new_msg_id)
+    in_reply_to: str | None = None
+
+    def __str__(self) -> str:
+        from .terms import term_str
+        r = f",{self.in_reply_to}" if self.in_reply_to else ""
+        return f"<{self.msg_id},{self.sender},{self.performative},{self.receiver},{term_str(self.content)}{r}>"
+
+
+class UnknownReceiver(Exception):
+    """Raised by :meth:`AgentArch.send` when the receiver does not exist."""
+
+
+class AgentArch:
+    """Base architecture: the seam between an agent and its environment / infrastructure.
+
+    Subclasses override :meth:`perceive`, :meth:`act`, :meth:`send`, :meth:`broadcast`,
+    :meth:`agent_names`, :meth:`console`.
+    """
+
+    def __init__(self, clock: Clock | None = None) -> None:
+        self.clock: Clock = clock if clock is not None else WallClock()
+
+    def perceive(self) -> list[Literal] | None:
+        """Current percepts; None means unchanged since the last call."""
+        return None
+
+    def act(self, agent: Agent, action: Literal, action_id: int) -> None:
+        """Start an environment action; report its end with ``agent.action_feedback``."""
+        agent.action_feedback(action_id, False, "no_environment",
+                              f"no environment to execute {action}")
+
+    def send(self, agent: Agent, message: Message) -> None:
+        raise UnknownReceiver(f"unknown receiver {message.receiver}")
+
+    def broadcast(self, agent: Agent, message: Message) -> None:
+        for name in self.agent_names():
+            if name != agent.name:
+                m = Message(message.sender, name, message.performative, message.content)
+                self.send(agent, m)
+
+    def agent_names(self) -> list[str]:
+        return []
+
+    def console(self, agent_name: str, text: str) -> None:
+        print(f"[{agent_name}] {text}", flush=True)

@@ -1,0 +1,38 @@
+"""Command line: ``python -m rason.asl run FILE.mas2j|FILE.asl [--timeout S] [--seed N]``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from .parser import AslSyntaxError
+from .runtime import run_file
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="rason.asl", description="Jason-compatible AgentSpeak interpreter")
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    r = sub.add_parser("run", help="run a .mas2j project or a single .asl agent locally")
+    r.add_argument("file")
+    r.add_argument("--timeout", type=float, default=None, help="give up after S seconds (exit 1)")
+    r.add_argument("--seed", type=int, default=None, help="seed for .random / math.random")
+    args = ap.parse_args(argv)
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 20000))
+    try:
+        _, ok = run_file(args.file, args.timeout, args.seed)
+    except AslSyntaxError as e:
+        print(str(e), file=sys.stderr)
+        return 2
+    except OSError as e:
+        print(f"{args.file}: {e.strerror or e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+    if not ok:
+        print(f"timeout after {args.timeout} s: agents still busy", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,111 @@
+"""Events, intended means and intentions (Jason's ``Event``, ``IntendedMeans``, ``Intention``)."""
+
+from __future__ import annotations
+
+import itertools
+from typing import Any
+
+from .plans import ADD, DEL, Deed, Plan, Trigger, deed_str
+from .terms import term_str
+
+_ids = itertools.count(1)
+
+
+class Event:
+    """A triggering event; ``intention`` is None for external events."""
+
+    __slots__ = ("trigger", "intention", "fail_target", "reply")
+
+    def __init__(self, trigger: Trigger, intention: Intention | None = None,
+                 fail_target: int | None = None, reply: Any = None) -> None:
+        self.trigger = trigger
+        self.intention = intention
+        # for +?g events created to answer an askOne: the question message
+        self.reply = reply
+        # for -!g events: index in the intention stack of the +!g means that failed
+        self.fail_target = fail_target
+
+    def __repr__(self) -> str:
+        return str(self.trigger)
+
+
+class IntendedMeans:
+    """A plan instance on an intention stack: its unifier and the deeds still to run.
+
+    ``stack`` holds the remaining deeds in reverse order (the next deed is ``stack[-1]``).
+    """
+
+    __slots__ = ("plan", "trigger", "u", "stack", "fail_target")
+
+    def __init__(self, plan: Plan, trigger: Trigger, u: dict, fail_target: int | None = None) -> None:
+        self.plan = plan
+        self.trigger = trigger          # the event trigger (resolved literal, with annotations)
+        self.u = u
+        self.stack: list[Deed] = list(plan.rev_body)
+        self.fail_target = fail_target  # for -!g means: stack index of the failed +!g means
+
+    @property
+    def is_goal_add(self) -> bool:
+        return self.trigger.op == ADD and self.trigger.is_goal
+
+    @property
+    def is_failure_plan(self) -> bool:
+        return self.trigger.op == DEL and self.trigger.is_goal
+
+    def __str__(self) -> str:
+        rest = "; ".join(deed_str(d) for d in reversed(self.stack))
+        return f"{self.trigger} <- ... {rest} / {{{', '.join(f'{k}={term_str(v)}' for k, v in self.u.items())}}}"
+
+
+class Intention:
+    """A stack of intended means; ``ims[-1]`` is the top."""
+
+    __slots__ = ("id", "ims", "suspended", "atomic_count", "dropped", "reply")
+
+    def __init__(self, ident: int | None = None) -> None:
+        self.id = ident if ident is not None else next(_ids)
+        self.dropped = False
+        self.reply: Any = None
+        self.ims: list[IntendedMeans] = []
+        # None when runnable; otherwise a short reason (e.g. "action 3", "wait", "event")
+        self.suspended: str | None = None
+        self.atomic_count = 0
+
+    def push(self, im: IntendedMeans) -> None:
+        self.ims.append(im)
+        if im.plan.atomic:
+            self.atomic_count += 1
+
+    def pop(self) -> IntendedMeans:
+        im = self.ims.pop()
+        if im.plan.atomic:
+            self.atomic_count -= 1
+        return im
+
+    def truncate(self, n: int) -> None:
+        while len(self.ims) > n:
+            self.pop()
+
+    def top(self) -> IntendedMeans | None:
+        return self.ims[-1] if self.ims else None
+
+    @property
+    def is_atomic(self) -> bool:
+        return self.atomic_count > 0
+
+    def empty(self) -> bool:
+        return not self.ims
+
+    def dump(self) -> str:
+        """Jason-like intention dump (used in warnings)."""
+        lines = [f"intention {self.id}: "]
+        for im in reversed(self.ims):
+            lines.append("    " + str(im))
+        return "\n".join(lines) + "\n"
+
+    def __repr__(self) -> str:
+        return f"<intention {self.id} {[str(im.trigger) for im in self.ims]}>"
+
+
+def short(x: Any) -> str:
+    return term_str(x)

@@ -1,0 +1,191 @@
+"""Logical consequence (Jason's ``logicalConsequence``): contexts, rules, test goals, queries."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, Any
+
+from .parser import Rule
+from .terms import ArithExpr, ListTerm, Literal, LogExpr, RelExpr, Var, make_list
+from .unify import (
+    ArithError,
+    annot_options,
+    compare_terms,
+    rename_vars,
+    resolve,
+    term_equals,
+    unify,
+    unify_annots,
+    walk,
+)
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .agent import Agent
+    from .intentions import IntendedMeans, Intention
+
+
+class IAContext:
+    """What an internal action sees: agent, current substitution and (in a body) intention."""
+
+    __slots__ = ("ag", "s", "intention", "im", "deed")
+
+    def __init__(self, ag: Agent, s: dict, intention: Intention | None = None,
+                 im: IntendedMeans | None = None, deed: Any = None) -> None:
+        self.ag = ag
+        self.s = s
+        self.intention = intention
+        self.im = im
+        self.deed = deed
+
+    def unify(self, a: Any, b: Any) -> bool:
+        """Unify in the context's substitution (undone on failure)."""
+        s2 = dict(self.s)
+        if unify(a, b, s2):
+            self.s = s2
+            return True
+        return False
+
+    def solve(self, f: Any, s: dict | None = None) -> Iterator[dict]:
+        return solve(self.ag, f, self.s if s is None else s, self.intention)
+
+
+def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Iterator[dict]:
+    """Yield every substitution extending ``s`` under which ``f`` follows from the agent's state."""
+    if isinstance(f, Var):
+        f = walk(f, s)
+        if isinstance(f, Var):
+            return
+    tf = type(f)
+    if tf is Literal:
+        fn = f.functor
+        if fn[0] == ".":
+            yield from _solve_ia(ag, f, s, intention)
+            return
+        if not f.args and not f.annots and not f.neg:
+            if fn == "true":
+                yield s
+                return
+            if fn == "false":
+                return
+        yield from query_bb(ag, f, s)
+        return
+    if tf is LogExpr:
+        op = f.op
+        if op == "&":
+            for s1 in solve(ag, f.left, s, intention):
+                yield from solve(ag, f.right, s1, intention)
+        elif op == "|":
+            yield from solve(ag, f.left, s, intention)
+            yield from solve(ag, f.right, s, intention)
+        else:  # not
+            for _ in solve(ag, f.left, s, intention):
+                return
+            yield s
+        return
+    if tf is RelExpr:
+        r = eval_rel(f, s)
+        if r is not None:
+            yield r
+        return
+    return
+
+
+def eval_rel(f: RelExpr, s: dict) -> dict | None:
+    """Evaluate a relational expression; returns the (possibly extended) substitution or None."""
+    op = f.op
+    if op == "=":
+        s2 = dict(s)
+        if unify(resolve(f.left, s), resolve(f.right, s), s2):
+            return s2
+        return None
+    if op == "==":
+        return s if term_equals(f.left, f.right, s) else None
+    if op == "\\==":
+        return None if term_equals(f.left, f.right, s) else s
+    if op == "=..":
+        return _univ(f, s)
+    a = resolve(f.left, s)
+    b = resolve(f.right, s)
+    if isinstance(a, (Var, ArithExpr)) or isinstance(b, (Var, ArithExpr)):
+        return None
+    c = compare_terms(a, b)
+    if isinstance(a, float) and isinstance(b, float) and (a != a or b != b):
+        return None
+    ok = (c < 0 if op == "<" else c <= 0 if op == "<=" else c > 0 if op == ">" else c >= 0)
+    return s if ok else None
+
+
+def _univ(f: RelExpr, s: dict) -> dict | None:
+    a = resolve(f.left, s)
+    s2 = dict(s)
+    if isinstance(a, Literal):
+        lst = make_list([Literal(a.functor), make_list(a.args), make_list(a.annots)])
+        return s2 if unify(f.right, lst, s2) else None
+    b = resolve(f.right, s)
+    if isinstance(b, ListTerm) and len(b.items) >= 1 and isinstance(b.items[0], Literal):
+        args = b.items[1].items if len(b.items) > 1 and isinstance(b.items[1], ListTerm) else ()
+        annots = b.items[2].items if len(b.items) > 2 and isinstance(b.items[2], ListTerm) else ()
+        lit = Literal(b.items[0].functor, tuple(args), tuple(annots))
+        return s2 if unify(f.left, lit, s2) else None
+    return None
+
+
+def query_bb(ag: Agent, lit: Literal, s: dict) -> Iterator[dict]:
+    """Solutions of ``lit`` against the belief base (beliefs and rules, in order)."""
+    cands = ag.bb.candidates(lit.key)
+    if not cands:
+        return
+    args = lit.args
+    want_annots = bool(lit.annots) or lit.tail is not None
+    for b in cands:
+        if type(b) is Literal:
+            s2 = dict(s)
+            ok = True
+            for x, y in zip(args, b.args):
+                if not unify(x, y, s2):
+                    ok = False
+                    break
+            if not ok:
+                continue
+            if want_annots:
+                if lit.tail is None:
+                    yield from annot_options(lit, b, s2)
+                elif unify_annots(lit, b, s2):
+                    yield s2
+            else:
+                yield s2
+        elif isinstance(b, Rule):
+            mapping: dict = {}
+            head = rename_vars(b.head, mapping)
+            body = rename_vars(b.body, mapping)
+            s2 = dict(s)
+            ok = True
+            for x, y in zip(args, head.args):
+                if not unify(x, y, s2):
+                    ok = False
+                    break
+            if not ok:
+                continue
+            if want_annots and head.annots and not unify_annots(lit, head, s2):
+                continue
+            yield from solve(ag, body, s2)
+
+
+def _solve_ia(ag: Agent, f: Literal, s: dict, intention: Intention | None) -> Iterator[dict]:
+    from .stdlib import call_ia
+    ctx = IAContext(ag, s, intention)
+    try:
+        r = call_ia(ctx, f)
+    except Exception:  # noqa: BLE001 - a failing internal action is a false condition
+        return
+    if r is True:
+        yield ctx.s
+    elif r is False or r is None:
+        return
+    elif isinstance(r, dict):
+        yield r
+    else:
+        try:
+            yield from r
+        except ArithError:
+            return

@@ -1,0 +1,512 @@
+"""AgentSpeak (Jason 3 dialect) parser built on a lark LALR grammar.
+
+Every error is raised as :class:`AslSyntaxError` (``file:line:col: message``).
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+from typing import Any
+
+from lark import Lark, Token, Transformer, v_args
+from lark.exceptions import LarkError, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+from .plans import (
+    ACHIEVE,
+    ADD,
+    BELIEF,
+    DEL,
+    K_ACHIEVE,
+    K_ACHIEVE_NEW,
+    K_ACTION,
+    K_ADD_BEL,
+    K_CONSTRAINT,
+    K_DEL_ADD_BEL,
+    K_DEL_BEL,
+    K_FOR,
+    K_IF,
+    K_INTERNAL,
+    K_TEST,
+    K_WHILE,
+    TEST,
+    Deed,
+    Plan,
+    Trigger,
+    body_str,
+)
+from .terms import (
+    ArithExpr,
+    ListTerm,
+    Literal,
+    LogExpr,
+    PlanTerm,
+    RelExpr,
+    Var,
+    merge_annots,
+)
+
+
+class AslSyntaxError(Exception):
+    """A syntax error in AgentSpeak source; ``str()`` is ``file:line:col: message``."""
+
+    def __init__(self, file: str, line: int, col: int, message: str) -> None:
+        self.file = file
+        self.line = line
+        self.col = col
+        self.message = message
+        super().__init__(f"{file}:{line}:{col}: {message}")
+
+
+GRAMMAR = r"""
+start: item*
+?item: belief | rule | init_goal | plan
+belief: literal "."
+rule: literal ":-" log_expr "."
+init_goal: "!" literal "."
+plan: [label] trigger [context] [plan_body] "."
+label: "@" literal
+context: ":" log_expr
+plan_body: "<-" stmt_list
+trigger: top [goaltype] literal_or_var
+!top: "+" | "-"
+!goaltype: "!" | "?"
+
+stmt_list: simple
+         | simple ";"
+         | simple ";" stmt_list
+         | ctrl
+         | ctrl ";"
+         | ctrl stmt_list
+         | ctrl ";" stmt_list
+
+simple: "!" literal_or_var     -> s_achieve
+      | "!!" literal_or_var    -> s_achieve_new
+      | "?" log_expr_nor       -> s_test
+      | "-+" literal_or_var    -> s_del_add
+      | log_expr               -> s_expr
+
+ctrl: "if" "(" log_expr ")" block elif_part* [else_part]  -> s_if
+    | "while" "(" log_expr ")" block                      -> s_while
+    | "for" "(" log_expr ")" block                        -> s_for
+elif_part: "elif" "(" log_expr ")" block
+else_part: "else" block
+block: "{" [stmt_list] "}"
+
+?log_expr: log_and
+         | log_and "|" log_expr   -> or_
+?log_expr_nor: log_and
+?log_and: log_not
+        | log_not "&" log_and     -> and_
+?log_not: rel_expr
+        | "not" log_not           -> not_
+?rel_expr: arith
+         | arith relop arith      -> rel
+!relop: "<=" | ">=" | "<" | ">" | "==" | "\\==" | "=.." | "="
+?arith: term_
+      | arith addop term_        -> arith_bin
+!addop: "+" | "-"
+?term_: power
+      | term_ mulop power        -> arith_bin
+!mulop: "*" | "/" | "div" | "mod"
+?power: unary
+      | unary "**" power         -> pow_
+?unary: primary
+      | "-" unary                -> neg
+      | "+" unary                -> pos
+?primary: NUMBER                 -> number
+        | STRING                 -> string
+        | literal_or_var
+        | list
+        | "(" log_expr ")"
+        | "{" [stmt_list] "}"     -> plan_term
+
+?literal_or_var: literal | var
+var: VAR [annots]
+literal: [NEG] ATOM [args] [annots]
+NEG: "~"
+args: "(" log_expr ("," log_expr)* ")"
+annots: "[" [elems] "]"
+list: "[" [elems] "]"
+elems: log_and ("," log_and)* ["|" log_and]
+
+ATOM: /\.?[a-z][A-Za-z0-9_]*(\.[a-zA-Z][A-Za-z0-9_]*)*/ | /'[^'\n]*'/
+VAR: /[A-Z_][A-Za-z0-9_]*/
+NUMBER: /[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?/
+STRING: /"(\\.|[^"\\])*"/
+
+COMMENT: /\/\/[^\n]*/
+BLOCK_COMMENT: /\/\*(.|\n)*?\*\//
+%import common.WS
+%ignore WS
+%ignore COMMENT
+%ignore BLOCK_COMMENT
+"""
+
+_lark: Lark | None = None
+
+
+def _get_lark() -> Lark:
+    global _lark
+    if _lark is None:
+        _lark = Lark(GRAMMAR, parser="lalr", propagate_positions=True, maybe_placeholders=True)
+    return _lark
+
+
+def _unescape(raw: str) -> str:
+    """Jason translates only ``\\n`` and ``\\"``; every other backslash stays."""
+    body = raw[1:-1]
+    out = []
+    i = 0
+    n = len(body)
+    while i < n:
+        c = body[i]
+        if c == "\\" and i + 1 < n:
+            nx = body[i + 1]
+            if nx == "n":
+                out.append("\n")
+            elif nx == '"':
+                out.append('"')
+            else:
+                out.append(c + nx)
+            i += 2
+            continue
+        out.append(c)
+        i += 1
+    return "".join(out)
+
+
+@dataclass
+class AgentSource:
+    """The parsed content of one ``.asl`` file."""
+
+    beliefs: list = field(default_factory=list)     # Literal or Rule
+    goals: list = field(default_factory=list)       # Literal
+    plans: list = field(default_factory=list)       # Plan
+    filename: str = "<string>"
+
+
+@dataclass(eq=False)
+class Rule:
+    """``head :- body.``"""
+
+    head: Literal
+    body: Any
+
+    def __str__(self) -> str:
+        from .terms import term_str
+        return term_str(self.head) + " :- " + term_str(self.body)
+
+
+class _Anon:
+    def __init__(self) -> None:
+        self.counter = itertools.count(1)
+
+
+@v_args(meta=True)
+class _ToAst(Transformer):
+    def __init__(self, filename: str) -> None:
+        super().__init__()
+        self.filename = filename
+        self.src = filename
+
+    # ---------------- terms
+    def number(self, meta: Any, c: list) -> float:
+        return float(c[0])
+
+    def string(self, meta: Any, c: list) -> str:
+        return _unescape(str(c[0]))
+
+    def var(self, meta: Any, c: list) -> Any:
+        name = str(c[0])
+        if name == "_":
+            from .terms import fresh_name
+            v = Var(fresh_name())
+        else:
+            v = Var(name)
+        return v
+
+    def args(self, meta: Any, c: list) -> tuple:
+        return tuple(c)
+
+    def elems(self, meta: Any, c: list) -> tuple:
+        # last element is the tail (maybe None)
+        return (tuple(c[:-1]), c[-1])
+
+    def annots(self, meta: Any, c: list) -> tuple:
+        if c[0] is None:
+            return ((), None)
+        return c[0]
+
+    def list(self, meta: Any, c: list) -> ListTerm:
+        if c[0] is None:
+            return ListTerm()
+        items, tail = c[0]
+        return ListTerm(items, tail)
+
+    def literal(self, meta: Any, c: list) -> Literal:
+        neg, atom, args, annots = c
+        annots_t: tuple = ()
+        tail = None
+        if annots is not None:
+            annots_t, tail = annots
+            annots_t = merge_annots((), annots_t)
+        return Literal(str(atom), args or (), annots_t, tail, neg is not None)
+
+    def or_(self, meta: Any, c: list) -> LogExpr:
+        return LogExpr("|", c[0], c[1])
+
+    def and_(self, meta: Any, c: list) -> LogExpr:
+        return LogExpr("&", c[0], c[1])
+
+    def not_(self, meta: Any, c: list) -> LogExpr:
+        return LogExpr("not", c[0])
+
+    def relop(self, meta: Any, c: list) -> str:
+        return str(c[0])
+
+    addop = relop
+    top = relop
+    goaltype = relop
+    mulop = relop
+
+    def rel(self, meta: Any, c: list) -> RelExpr:
+        return RelExpr(str(c[1]), c[0], c[2])
+
+    def arith_bin(self, meta: Any, c: list) -> ArithExpr:
+        return ArithExpr(str(c[1]), c[0], c[2])
+
+    def pow_(self, meta: Any, c: list) -> ArithExpr:
+        return ArithExpr("**", c[0], c[1])
+
+    def neg(self, meta: Any, c: list) -> Any:
+        x = c[0]
+        if isinstance(x, float):
+            return -x
+        return ArithExpr("neg", x)
+
+    def pos(self, meta: Any, c: list) -> Any:
+        return ("+pos", c[0])
+
+    def plan_term(self, meta: Any, c: list) -> PlanTerm:
+        body = tuple(c[0]) if c and c[0] is not None else ()
+        return PlanTerm(body, body_str(body))
+
+    # ---------------- body
+    def stmt_list(self, meta: Any, c: list) -> list:
+        out: list = []
+        for x in c:
+            if isinstance(x, list):
+                out.extend(x)
+            elif x is not None:
+                out.append(x)
+        return out
+
+    def s_achieve(self, meta: Any, c: list) -> Deed:
+        return Deed(K_ACHIEVE, c[0], meta.line)
+
+    def s_achieve_new(self, meta: Any, c: list) -> Deed:
+        return Deed(K_ACHIEVE_NEW, c[0], meta.line)
+
+    def s_test(self, meta: Any, c: list) -> Deed:
+        return Deed(K_TEST, _fix(c[0]), meta.line)
+
+    def s_del_add(self, meta: Any, c: list) -> Deed:
+        return Deed(K_DEL_ADD_BEL, c[0], meta.line)
+
+    def s_expr(self, meta: Any, c: list) -> Deed:
+        t = c[0]
+        if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], (Literal, Var)):
+            return Deed(K_ADD_BEL, t[1], meta.line)
+        if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, (Literal, Var)):
+            return Deed(K_DEL_BEL, t.left, meta.line)
+        t = _fix(t)
+        if isinstance(t, Literal):
+            if t.functor.startswith("."):
+                return Deed(K_INTERNAL, t, meta.line)
+            return Deed(K_ACTION, t, meta.line)
+        if isinstance(t, Var):
+            return Deed(K_ACTION, t, meta.line)
+        if isinstance(t, (RelExpr, LogExpr)):
+            return Deed(K_CONSTRAINT, t, meta.line)
+        raise _SemErr(meta, "invalid body formula")
+
+    def block(self, meta: Any, c: list) -> tuple:
+        return tuple(c[0]) if c and c[0] is not None else ()
+
+    def elif_part(self, meta: Any, c: list) -> tuple:
+        return ("elif", _fix(c[0]), c[1])
+
+    def else_part(self, meta: Any, c: list) -> tuple:
+        return c[0]
+
+    def s_if(self, meta: Any, c: list) -> Deed:
+        branches = [(_fix(c[0]), c[1])]
+        els = None
+        for x in c[2:]:
+            if x is None:
+                continue
+            if isinstance(x, tuple) and len(x) == 3 and x[0] == "elif":
+                branches.append((x[1], x[2]))
+            else:
+                els = x
+        return Deed(K_IF, branches[0][0], meta.line, (branches, els))
+
+    def s_while(self, meta: Any, c: list) -> Deed:
+        return Deed(K_WHILE, _fix(c[0]), meta.line, c[1])
+
+    def s_for(self, meta: Any, c: list) -> Deed:
+        return Deed(K_FOR, _fix(c[0]), meta.line, c[1])
+
+    # ---------------- top level
+    def belief(self, meta: Any, c: list) -> tuple:
+        return ("belief", _fix(c[0]), meta)
+
+    def rule(self, meta: Any, c: list) -> tuple:
+        return ("rule", Rule(_fix(c[0]), _fix(c[1])), meta)
+
+    def init_goal(self, meta: Any, c: list) -> tuple:
+        return ("goal", _fix(c[0]), meta)
+
+    def label(self, meta: Any, c: list) -> Literal:
+        return c[0]
+
+    def context(self, meta: Any, c: list) -> Any:
+        return _fix(c[0])
+
+    def plan_body(self, meta: Any, c: list) -> tuple:
+        return tuple(c[0])
+
+    def trigger(self, meta: Any, c: list) -> Trigger:
+        op = ADD if str(c[0]) == "+" else DEL
+        gt = BELIEF if c[1] is None else (ACHIEVE if str(c[1]) == "!" else TEST)
+        return Trigger(op, gt, _fix(c[2]))
+
+    def plan(self, meta: Any, c: list) -> tuple:
+        label, trigger, context, body = c
+        return ("plan", Plan(label, trigger, context, body or (), meta.line, self.src), meta)
+
+    def start(self, meta: Any, c: list) -> list:
+        return c
+
+
+class _SemErr(Exception):
+    def __init__(self, meta: Any, msg: str) -> None:
+        super().__init__(msg)
+        self.line = getattr(meta, "line", 0)
+        self.col = getattr(meta, "column", 0)
+        self.msg = msg
+
+
+def _fix(t: Any) -> Any:
+    """Turn leftover unary-plus markers into plain terms (``+X`` in an expression is ``X``)."""
+    if isinstance(t, tuple) and t and t[0] == "+pos":
+        return _fix(t[1])
+    if isinstance(t, Literal):
+        if any(isinstance(a, tuple) for a in t.args) or any(isinstance(a, tuple) for a in t.annots):
+            return Literal(t.functor, tuple(_fix(a) for a in t.args),
+                           tuple(_fix(a) for a in t.annots), t.tail, t.neg)
+        return t
+    if isinstance(t, ListTerm):
+        if any(isinstance(a, tuple) for a in t.items):
+            return ListTerm(tuple(_fix(a) for a in t.items), t.tail)
+        return t
+    if isinstance(t, (ArithExpr, LogExpr)):
+        if isinstance(t.left, tuple) or isinstance(t.right, tuple):
+            return type(t)(t.op, _fix(t.left), _fix(t.right))
+        return t
+    if isinstance(t, RelExpr):
+        if isinstance(t.left, tuple) or isinstance(t.right, tuple):
+            return RelExpr(t.op, _fix(t.left), _fix(t.right))
+        return t
+    return t
+
+
+def _describe(e: UnexpectedInput) -> str:
+    if isinstance(e, UnexpectedCharacters):
+        return f"unexpected character {e.char!r}"
+    if isinstance(e, UnexpectedEOF):
+        return "unexpected end of file"
+    if isinstance(e, UnexpectedToken):
+        tok = e.token
+        if tok.type == "$END":
+            return "unexpected end of file"
+        exp = sorted(e.expected)[:8]
+        return f"unexpected {tok.type} {str(tok)!r}" + (f", expected one of {', '.join(exp)}" if exp else "")
+    return str(e).splitlines()[0] if str(e) else "syntax error"
+
+
+def _parse_tree(text: str, filename: str, start: str = "start") -> Any:
+    try:
+        tree = _get_lark().parse(text)
+    except UnexpectedInput as e:
+        line = getattr(e, "line", -1)
+        col = getattr(e, "column", -1)
+        if line is None or line < 1:
+            line = text.count("\n") + 1
+            col = len(text) - (text.rfind("\n") + 1) + 1
+        raise AslSyntaxError(filename, line, col, _describe(e)) from None
+    except LarkError as e:
+        raise AslSyntaxError(filename, 1, 1, str(e).splitlines()[0] if str(e) else "syntax error") from None
+    except RecursionError:
+        raise AslSyntaxError(filename, 1, 1, "program nested too deeply") from None
+    return tree
+
+
+def parse_source(text: str, filename: str = "<string>", src: str | None = None) -> AgentSource:
+    """Parse a whole ``.asl`` program."""
+    tree = _parse_tree(text, filename)
+    tr = _ToAst(filename)
+    if src is not None:
+        tr.src = src
+    try:
+        items = tr.transform(tree)
+    except _SemErr as e:
+        raise AslSyntaxError(filename, e.line, e.col, e.msg) from None
+    except LarkError as e:
+        inner = getattr(e, "orig_exc", None)
+        if isinstance(inner, _SemErr):
+            raise AslSyntaxError(filename, inner.line, inner.col, inner.msg) from None
+        raise AslSyntaxError(filename, 1, 1, "invalid program") from None
+    except RecursionError:
+        raise AslSyntaxError(filename, 1, 1, "program nested too deeply") from None
+    out = AgentSource(filename=filename)
+    for kind, obj, meta in items:
+        if kind == "belief":
+            if not isinstance(obj, Literal):
+                raise AslSyntaxError(filename, meta.line, meta.column, "a belief must be a literal")
+            out.beliefs.append(obj)
+        elif kind == "rule":
+            if not isinstance(obj.head, Literal):
+                raise AslSyntaxError(filename, meta.line, meta.column, "a rule head must be a literal")
+            out.beliefs.append(obj)
+        elif kind == "goal":
+            if not isinstance(obj, Literal):
+                raise AslSyntaxError(filename, meta.line, meta.column, "an initial goal must be a literal")
+            out.goals.append(obj)
+        else:
+            out.plans.append(obj)
+    return out
+
+
+def parse_term(text: str) -> Any:
+    """Parse one term (e.g. ``f(X, [1,2])``); raises :class:`AslSyntaxError`."""
+    if not isinstance(text, str):
+        raise AslSyntaxError("<term>", 1, 1, "not a string")
+    src = parse_source(f"t__({text}).", "<term>")
+    if len(src.beliefs) != 1 or not isinstance(src.beliefs[0], Literal) or len(src.beliefs[0].args) != 1 \
+            or src.beliefs[0].functor != "t__" or src.beliefs[0].annots:
+        raise AslSyntaxError("<term>", 1, 1, f"not a single term: {text!r}")
+    return src.beliefs[0].args[0]
+
+
+def parse_literal(text: str) -> Literal:
+    """Parse one literal such as ``robot(faulty,-3.5,1.2,88)``; raises :class:`AslSyntaxError`."""
+    t = parse_term(text)
+    if not isinstance(t, Literal):
+        raise AslSyntaxError("<literal>", 1, 1, f"not a literal: {text!r}")
+    return t
+
+
+__all__ = ["AslSyntaxError", "AgentSource", "Rule", "parse_source", "parse_term", "parse_literal",
+           "Token"]

@@ -1,0 +1,197 @@
+"""Plans, plan bodies and the plan library (Jason's ``Plan``, ``PlanBody``, ``PlanLibrary``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from .terms import Literal, PlanTerm, Var, term_str
+
+# triggering event operators and types
+ADD, DEL = "+", "-"
+ACHIEVE, TEST, BELIEF = "!", "?", ""
+
+# body formula kinds (Jason's BodyType)
+K_ACHIEVE = "achieve"          # !g
+K_ACHIEVE_NEW = "achieveNF"    # !!g
+K_TEST = "test"                # ?g
+K_ADD_BEL = "addBel"           # +b
+K_DEL_BEL = "delBel"           # -b
+K_DEL_ADD_BEL = "delAddBel"    # -+b
+K_ACTION = "action"            # env action
+K_INTERNAL = "internalAction"  # .ia(...)
+K_CONSTRAINT = "constraint"    # X > 3, X = Y, ...
+K_IF = "if"
+K_WHILE = "while"
+K_FOR = "for"
+K_LOOP = "loop"                # internal: next iteration of while/for
+
+
+@dataclass(frozen=True, eq=False)
+class Trigger:
+    """A triggering event ``+!g``, ``-b``, ``+?g``..."""
+
+    op: str
+    type: str
+    literal: Any
+
+    def __str__(self) -> str:
+        return self.op + self.type + term_str(self.literal)
+
+    @property
+    def key(self) -> tuple:
+        lit = self.literal
+        if isinstance(lit, Literal):
+            return (self.op, self.type, lit.functor, len(lit.args), lit.neg)
+        return (self.op, self.type, None, 0, False)
+
+    @property
+    def is_goal(self) -> bool:
+        return self.type != BELIEF
+
+    @property
+    def is_achieve(self) -> bool:
+        return self.type == ACHIEVE
+
+
+class Deed:
+    """One formula of a plan body, with the source line it came from."""
+
+    __slots__ = ("kind", "term", "line", "extra")
+
+    def __init__(self, kind: str, term: Any, line: int, extra: Any = None) -> None:
+        self.kind = kind
+        self.term = term
+        self.line = line
+        self.extra = extra
+
+    def __repr__(self) -> str:
+        return deed_str(self)
+
+
+def body_str(body: tuple | list) -> str:
+    return "; ".join(deed_str(d) for d in body)
+
+
+def deed_str(d: Deed) -> str:
+    k = d.kind
+    t = d.term
+    if k == K_ACHIEVE:
+        return "!" + term_str(t)
+    if k == K_ACHIEVE_NEW:
+        return "!!" + term_str(t)
+    if k == K_TEST:
+        return "?" + term_str(t)
+    if k == K_ADD_BEL:
+        return "+" + term_str(t)
+    if k == K_DEL_BEL:
+        return "-" + term_str(t)
+    if k == K_DEL_ADD_BEL:
+        return "-+" + term_str(t)
+    if k == K_IF:
+        parts = []
+        for i, (cond, body) in enumerate(d.extra[0]):
+            parts.append(("if" if i == 0 else "elif") + " (" + term_str(cond) + ") { " + body_str(body) + " }")
+        if d.extra[1] is not None:
+            parts.append("else { " + body_str(d.extra[1]) + " }")
+        return " ".join(parts)
+    if k == K_WHILE:
+        return "while (" + term_str(t) + ") { " + body_str(d.extra) + " }"
+    if k == K_FOR:
+        return "for (" + term_str(t) + ") { " + body_str(d.extra) + " }"
+    if k == K_LOOP:
+        return "{ loop }"
+    return term_str(t)
+
+
+@dataclass(eq=False)
+class Plan:
+    """``@label trigger : context <- body.``"""
+
+    label: Literal | None
+    trigger: Trigger
+    context: Any
+    body: tuple
+    line: int = 0
+    src: str = ""
+    atomic: bool = False
+    # body stored reversed, ready to be used as an intention stack
+    rev_body: tuple = field(default=(), repr=False)
+
+    def __post_init__(self) -> None:
+        self.rev_body = tuple(reversed(self.body))
+        if self.label is not None:
+            self.atomic = any(isinstance(a, Literal) and a.functor == "atomic" for a in self.label.annots)
+
+    def label_name(self) -> str | None:
+        if self.label is None:
+            return None
+        return self.label.functor
+
+    def __str__(self) -> str:
+        s = ""
+        if self.label is not None:
+            s += "@" + term_str(self.label) + " "
+        s += str(self.trigger)
+        if self.context is not None:
+            s += " : " + term_str(self.context)
+        if self.body:
+            s += " <- " + body_str(self.body)
+        return s + "."
+
+
+class PlanLibrary:
+    """Plans indexed by trigger (operator, type, functor, arity) in source order."""
+
+    def __init__(self) -> None:
+        self.plans: list[Plan] = []
+        self._index: dict[tuple, list[Plan]] = {}
+        self._var_plans: list[Plan] = []
+
+    def add(self, plan: Plan, front: bool = False) -> None:
+        if front:
+            self.plans.insert(0, plan)
+        else:
+            self.plans.append(plan)
+        self._rebuild()
+
+    def remove_by_label(self, name: str) -> bool:
+        n = len(self.plans)
+        self.plans = [p for p in self.plans if p.label_name() != name]
+        self._rebuild()
+        return len(self.plans) != n
+
+    def _rebuild(self) -> None:
+        self._index = {}
+        self._var_plans = []
+        for p in self.plans:
+            if isinstance(p.trigger.literal, Var):
+                self._var_plans.append(p)
+            else:
+                self._index.setdefault(p.trigger.key, []).append(p)
+
+    def relevant(self, trigger: Trigger) -> list[Plan]:
+        """Candidate plans for a trigger (Jason ``getCandidatePlans``)."""
+        lst = self._index.get(trigger.key)
+        if self._var_plans:
+            extra = [p for p in self._var_plans if p.trigger.op == trigger.op and p.trigger.type == trigger.type]
+            if extra:
+                return sorted((lst or []) + extra, key=self.plans.index)
+        return lst or []
+
+    def has_candidate(self, op: str, type_: str, lit: Any) -> bool:
+        return bool(self.relevant(Trigger(op, type_, lit)))
+
+
+def plan_term_trigger(t: PlanTerm) -> Trigger | None:
+    """Interpret ``{+b}`` / ``{-b}`` / ``{+!g}`` plan terms (used by ``.wait``)."""
+    if len(t.body) != 1:
+        return None
+    d = t.body[0]
+    if d.kind == K_ADD_BEL:
+        return Trigger(ADD, BELIEF, d.term)
+    if d.kind == K_DEL_BEL:
+        return Trigger(DEL, BELIEF, d.term)
+    if isinstance(d.extra, Trigger):
+        return d.extra
+    return None

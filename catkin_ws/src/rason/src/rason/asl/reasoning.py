@@ -1,0 +1,538 @@
+"""The reasoning cycle (Jason's ``TransitionSystem``), one function per step.
+
+``reasoning_cycle`` = sense (perceive, mail, action feedback, timers)
+-> deliberate (SelEv, RelPl, ApplPl, SelAppl, AddIM for every pending event)
+-> act (SelInt, ExecInt, ClrInt for one intention, one deed).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from .intentions import Event, IntendedMeans, Intention
+from .logic import IAContext, eval_rel, query_bb, solve
+from .plans import (
+    ACHIEVE,
+    ADD,
+    BELIEF,
+    DEL,
+    K_ACHIEVE,
+    K_ACHIEVE_NEW,
+    K_ACTION,
+    K_ADD_BEL,
+    K_CONSTRAINT,
+    K_DEL_ADD_BEL,
+    K_DEL_BEL,
+    K_FOR,
+    K_IF,
+    K_INTERNAL,
+    K_LOOP,
+    K_TEST,
+    K_WHILE,
+    TEST,
+    Deed,
+    Plan,
+    Trigger,
+)
+from .stdlib import SUSPEND, FailGoal, IAError, call_ia
+from .terms import SOURCE_SELF, Literal, Var, is_ground, merge_annots, term_str
+from .unify import ArithError, rename_vars, resolve, unify
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .agent import Agent
+
+
+# ====================================================================== helpers
+
+def error_annots(ag: Agent, im: IntendedMeans | None, deed: Deed | None, kind: str, msg: str,
+                 code: Any = None, extra: list | None = None) -> list:
+    """Jason's failure annotations: error, error_msg, code, code_src, code_line (+ extra)."""
+    out: list = [Literal("error", (Literal(kind),))]
+    extra = list(extra or [])
+    if not any(isinstance(a, Literal) and a.functor == "error_msg" for a in extra):
+        out.append(Literal("error_msg", (msg,)))
+    if code is None and deed is not None:
+        code = deed.term if im is None else resolve(deed.term, im.u)
+    if code is not None and not isinstance(code, (Literal, float, str)):
+        code = Literal(term_str(code))
+    if code is not None:
+        out.append(Literal("code", (code,)))
+    if im is not None:
+        out.append(Literal("code_src", (im.plan.src,)))
+    if deed is not None:
+        out.append(Literal("code_line", (float(deed.line),)))
+    return out + extra
+
+
+def add_self_source(lit: Literal) -> Literal:
+    if lit.has_source():
+        return lit
+    return Literal(lit.functor, lit.args, merge_annots(lit.annots, [SOURCE_SELF]), lit.tail, lit.neg)
+
+
+# ====================================================================== deliberate
+
+import os as _os
+_P = _os.environ.get("RASON_P", "DA,1,1,0,1").split(",")
+P_AD = _P[0] == "AD"
+P_DELADD2 = _P[1] == "2"
+P_IFCYCLE = _P[2] == "1"
+P_FAILFRONT = _P[3] == "1"
+P_ALLEV = _P[4] == "all"
+
+
+def deliberate(ag: Agent) -> bool:
+    """Handle one pending event (SelEv -> RelPl -> ApplPl -> SelAppl -> AddIM)."""
+    if not ag.events:
+        return False
+    n = len(ag.events) if P_ALLEV else 1
+    did = False
+    for _ in range(n):
+        ev = sel_ev(ag)
+        if ev is None:
+            break
+        handle_event(ag, ev)
+        did = True
+    return did
+
+
+def sel_ev(ag: Agent) -> Event | None:
+    """SelEv: the first event (FIFO); with an atomic intention running, only its own events."""
+    if ag.atomic_running():
+        for k, ev in enumerate(ag.events):
+            if ev.intention is not None and ev.intention.is_atomic:
+                del ag.events[k]
+                return ev
+        return None
+    return ag.events.popleft()
+
+
+def rel_pl(ag: Agent, ev: Event) -> list[Plan]:
+    """RelPl: candidate plans for the event's trigger."""
+    return ag.pl.relevant(ev.trigger)
+
+
+def appl_pl(ag: Agent, ev: Event, relevant: list[Plan]):
+    """ApplPl: yield (plan, unifier) for applicable plans, in source order (lazily)."""
+    lit = ev.trigger.literal
+    for plan in relevant:
+        u: dict = {}
+        if not unify(plan.trigger.literal, lit, u):
+            continue
+        if plan.context is None:
+            yield plan, u
+            continue
+        try:
+            for sol in solve(ag, plan.context, u):
+                yield plan, sol
+                break
+        except (ArithError, RecursionError):
+            continue
+
+
+def sel_appl(ag: Agent, ev: Event, relevant: list[Plan]) -> tuple[Plan, dict] | None:
+    """SelAppl: the first applicable plan."""
+    for opt in appl_pl(ag, ev, relevant):
+        return opt
+    return None
+
+
+def handle_event(ag: Agent, ev: Event) -> None:
+    trig = ev.trigger
+    relevant = rel_pl(ag, ev)
+    i = ev.intention
+    if not relevant:
+        if i is not None:
+            if trig.op == DEL and trig.is_goal:
+                ag.warn_drop(i, f"No failure event was generated for {trig}", trig)
+                ag.remove_intention(i)
+                return
+            msg = f"Found a goal for which there is no relevant plan: {trig}"
+            fail_intention(ag, i, "no_relevant", msg, code=trig.literal, no_relevant=True)
+        elif trig.is_goal:
+            ag.warn(f"Found a goal for which there is no relevant plan: {trig}")
+        return
+    lit = trig.literal
+    if not is_ground(lit):
+        lit = rename_vars(lit, {})
+        ev = Event(Trigger(trig.op, trig.type, lit), i, ev.fail_target, ev.reply)
+    opt = sel_appl(ag, ev, relevant)
+    if opt is None:
+        if i is not None:
+            if trig.op == DEL and trig.is_goal:
+                ag.warn_drop(i, f"No applicable plan for {trig}", trig)
+                ag.remove_intention(i)
+                return
+            msg = f"Found a goal for which there is no applicable plan: {trig}"
+            fail_intention(ag, i, "no_applicable", msg, code=trig.literal)
+        elif trig.is_goal:
+            ag.warn(f"Found a goal for which there is no applicable plan: {trig}")
+        return
+    plan, u = opt
+    im = IntendedMeans(plan, ev.trigger, u, ev.fail_target)
+    if i is None:
+        i = ag.new_intention()
+        i.reply = ev.reply
+    i.push(im)
+    i.suspended = None
+    ag.running.append(i)
+
+
+# ====================================================================== act
+
+def act(ag: Agent) -> bool:
+    """SelInt + ExecInt + ClrInt on one intention."""
+    i = sel_int(ag)
+    if i is None:
+        return False
+    exec_int(ag, i)
+    return True
+
+
+def sel_int(ag: Agent) -> Intention | None:
+    """SelInt: round robin; an atomic intention is always selected first."""
+    running = ag.running
+    if not running:
+        return None
+    if ag.atomic_running():
+        for k, i in enumerate(running):
+            if i.is_atomic:
+                del running[k]
+                return i
+    return running.popleft()
+
+
+def exec_int(ag: Agent, i: Intention) -> None:
+    """ExecInt: execute the next deed of the top intended means."""
+    im = i.ims[-1]
+    stack = im.stack
+    if not stack:
+        clr_int(ag, i)
+        return
+    d = stack[-1]
+    ag.current = i
+    try:
+        ok = _exec_deed(ag, i, im, d)
+    except FailGoal as fg:
+        extra = [a for a in fg.annots if isinstance(a, Literal)]
+        if extra:
+            annots = error_annots(ag, im, d, "internal_action", "", extra=extra)
+        else:
+            annots = error_annots(ag, im, d, "ia_failed", "")
+        fail_intention(ag, i, annots=annots)
+        ok = None
+    except IAError as e:
+        fail_intention(ag, i, annots=error_annots(ag, im, d, e.kind, e.message, extra=e.annots))
+        ok = None
+    except ArithError as e:
+        fail_intention(ag, i, annots=error_annots(ag, im, d, "ia_failed", f"arithmetic error: {e}"))
+        ok = None
+    except RecursionError:
+        fail_intention(ag, i, annots=error_annots(ag, im, d, "ia_failed", "term nested too deeply"))
+        ok = None
+    except Exception as e:  # noqa: BLE001 - nothing an agent does may crash the process
+        fail_intention(ag, i, annots=error_annots(ag, im, d, "ia_failed", f"{type(e).__name__}: {e}"))
+        ok = None
+    finally:
+        ag.current = None
+    if ok is None:
+        return
+    if ok is False:
+        return
+    if i.suspended is not None:
+        return
+    clr_int(ag, i)
+    if i.ims and i.suspended is None and not i.dropped:
+        ag.running.append(i)
+
+
+def _fail(ag: Agent, i: Intention, im: IntendedMeans, d: Deed, kind: str, msg: str, code: Any = None) -> bool:
+    fail_intention(ag, i, annots=error_annots(ag, im, d, kind, msg, code=code))
+    return False
+
+
+def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """Run one deed. Returns True to continue, False when the intention failed/was handled."""
+    k = d.kind
+    u = im.u
+    stack = im.stack
+    if k == K_INTERNAL:
+        stack.pop()
+        ctx = IAContext(ag, u, i, im, d)
+        r = call_ia(ctx, d.term)
+        if r is True:
+            im.u = ctx.s
+            return True
+        if r is SUSPEND:
+            im.u = ctx.s
+            if not i.dropped:
+                i.suspended = i.suspended or "ia"
+            return False
+        if r is False or r is None:
+            return _fail(ag, i, im, d, "ia_failed", "")
+        if isinstance(r, dict):
+            im.u = r
+            return True
+        for sol in r:
+            im.u = sol
+            return True
+        return _fail(ag, i, im, d, "ia_failed", "")
+    if k == K_ADD_BEL:
+        stack.pop()
+        lit = resolve(d.term, u)
+        if not isinstance(lit, Literal):
+            raise IAError(f"cannot add {term_str(lit)} as a belief")
+        ag.add_belief(add_self_source(lit), front=True)
+        return True
+    if k == K_ACHIEVE:
+        lit = resolve(d.term, u)
+        if not isinstance(lit, Literal):
+            raise IAError(f"invalid goal {term_str(lit)}")
+        lit = add_self_source(lit)
+        if not is_ground(lit):
+            lit = rename_vars(lit, {})
+        i.suspended = "subgoal"
+        ag.events.append(Event(Trigger(ADD, ACHIEVE, lit), i))
+        return False
+    if k == K_ACHIEVE_NEW:
+        stack.pop()
+        lit = resolve(d.term, u)
+        if not isinstance(lit, Literal):
+            raise IAError(f"invalid goal {term_str(lit)}")
+        ag.add_event(Event(Trigger(ADD, ACHIEVE, add_self_source(lit))))
+        return True
+    if k == K_CONSTRAINT:
+        stack.pop()
+        f = d.term
+        if type(f).__name__ == "RelExpr":
+            r = eval_rel(f, u)
+            if r is None:
+                return _fail(ag, i, im, d, "constraint_failed",
+                             f"Constraint {term_str(resolve(f, u))} was not satisfied.")
+            im.u = r
+            return True
+        for sol in solve(ag, f, u, i):
+            im.u = sol
+            return True
+        return _fail(ag, i, im, d, "constraint_failed", f"Constraint {term_str(resolve(f, u))} was not satisfied.")
+    if k == K_DEL_ADD_BEL:
+        stack.pop()
+        lit = resolve(d.term, u)
+        if not isinstance(lit, Literal):
+            raise IAError(f"cannot add {term_str(lit)} as a belief")
+        lit = add_self_source(lit)
+        # remove the first belief matching b(_,...)[source(self)]
+        pattern = Literal(lit.functor, tuple(Var("_") for _ in lit.args), lit.annots, None, lit.neg)
+        pattern = rename_vars(pattern, {})
+        for sol in query_bb(ag, pattern, {}):
+            ag.remove_belief(resolve(pattern, sol))
+            break
+        # Jason performs the addition as a separate step
+        if P_DELADD2:
+            stack.append(Deed(K_ADD_BEL, lit, d.line))
+        else:
+            ag.add_belief(lit, front=True)
+        return True
+    if k == K_DEL_BEL:
+        stack.pop()
+        lit = resolve(d.term, u)
+        if not isinstance(lit, Literal):
+            raise IAError(f"cannot remove {term_str(lit)}")
+        lit = add_self_source(lit)
+        if not is_ground(lit):
+            for sol in query_bb(ag, lit, u):
+                im.u = sol
+                lit = resolve(lit, sol)
+                break
+            else:
+                return True
+        ag.remove_belief(lit)
+        return True
+    if k == K_TEST:
+        f = d.term
+        for sol in solve(ag, f, u, i):
+            stack.pop()
+            im.u = sol
+            return True
+        lit = resolve(f, u)
+        if isinstance(lit, Literal) and not lit.functor.startswith(".") and ag.pl.has_candidate(ADD, TEST, lit):
+            lit = add_self_source(lit)
+            if not is_ground(lit):
+                lit = rename_vars(lit, {})
+            i.suspended = "subgoal"
+            ag.events.append(Event(Trigger(ADD, TEST, lit), i))
+            return False
+        stack.pop()
+        return _fail(ag, i, im, d, "test_goal_failed", f"Failed to test '{term_str(lit)}'", code=lit)
+    if k == K_ACTION:
+        stack.pop()
+        lit = resolve(d.term, u)
+        if isinstance(lit, Literal) and lit.functor == "true" and not lit.args:
+            return True
+        if not isinstance(lit, Literal):
+            return _fail(ag, i, im, d, "action_failed", f"invalid action {term_str(lit)}")
+        ag.start_action(i, im, d, lit)
+        return False
+    if k == K_IF:
+        stack.pop()
+        branches, els = d.extra
+        for cond, body in branches:
+            for sol in solve(ag, cond, u, i):
+                im.u = sol
+                stack.extend(reversed(body))
+                if not P_IFCYCLE and stack:
+                    return _exec_deed(ag, i, im, stack[-1])
+                return True
+        if els is not None:
+            stack.extend(reversed(els))
+            if not P_IFCYCLE and stack:
+                return _exec_deed(ag, i, im, stack[-1])
+        return True
+    if k == K_WHILE:
+        stack.pop()
+        base = u
+        for sol in solve(ag, d.term, base, i):
+            im.u = sol
+            stack.append(Deed(K_LOOP, d.term, d.line, ("while", d, base)))
+            stack.extend(reversed(d.extra))
+            return True
+        return True
+    if k == K_FOR:
+        stack.pop()
+        base = u
+        sols = iter(list(solve(ag, d.term, base, i)))
+        return _for_next(stack, im, d, base, sols)
+    if k == K_LOOP:
+        stack.pop()
+        kind, orig, base = d.extra[0], d.extra[1], d.extra[2]
+        if kind == "while":
+            for sol in solve(ag, orig.term, _merge_base(base, im.u), i):
+                im.u = sol
+                stack.append(Deed(K_LOOP, orig.term, orig.line, ("while", orig, base)))
+                stack.extend(reversed(orig.extra))
+                return True
+            im.u = _merge_base(base, im.u)
+            return True
+        return _for_next(stack, im, orig, base, d.extra[3])
+    raise IAError(f"unknown deed {k}")
+
+
+def _merge_base(base: dict, cur: dict) -> dict:
+    """Unifier for the next loop iteration: the one before the loop (loop variables unbound)."""
+    return dict(base)
+
+
+def _for_next(stack: list, im: IntendedMeans, d: Deed, base: dict, sols: Any) -> bool:
+    for sol in sols:
+        im.u = sol
+        stack.append(Deed(K_LOOP, d.term, d.line, ("for", d, base, sols)))
+        stack.extend(reversed(d.extra))
+        return True
+    im.u = dict(base)
+    return True
+
+
+def clr_int(ag: Agent, i: Intention) -> None:
+    """ClrInt: pop finished intended means, passing results back to the caller's goal."""
+    ims = i.ims
+    while ims and not ims[-1].stack:
+        im = i.pop()
+        if not ims:
+            ag.intention_finished(i, im)
+            return
+        if im.fail_target is not None:
+            i.truncate(im.fail_target)
+            if not ims:
+                ag.intention_finished(i, im)
+                return
+            caller = ims[-1]
+            if caller.stack:
+                caller.stack.pop()
+            continue
+        caller = ims[-1]
+        if caller.stack:
+            d = caller.stack.pop()
+            if d.kind in (K_ACHIEVE, K_TEST):
+                res = resolve(im.trigger.literal, im.u)
+                goal = resolve(d.term, caller.u)
+                s2 = dict(caller.u)
+                if unify(goal, res, s2):
+                    caller.u = s2
+
+
+# ====================================================================== failure
+
+def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = "",
+                   code: Any = None, annots: list | None = None, no_relevant: bool = False) -> None:
+    """generateGoalDeletion: post ``-!g`` for the nearest goal with a failure plan, else drop."""
+    if annots is None:
+        im = i.top()
+        d = im.stack[-1] if im is not None and im.stack else None
+        annots = error_annots(ag, im, d, kind or "ia_failed", msg, code=code)
+    ims = i.ims
+    idx = len(ims) - 1
+    while idx >= 0:
+        im = ims[idx]
+        if im.fail_target is not None:
+            target = im.fail_target
+            if target == 0:
+                # the goal has no caller: its failure plan is tried again
+                tgt = ims[0]
+                i.truncate(1)
+                _post_failure(ag, i, tgt, annots, 0)
+                return
+            idx = target - 1
+            continue
+        t = im.trigger
+        if ag.pl.has_candidate(DEL, t.type, t.literal):
+            if t.op == ADD and t.is_goal:
+                _post_failure(ag, i, im, annots, idx)
+                return
+            break
+        idx -= 1
+    top = i.top()
+    trig = top.trigger if top is not None else None
+    if trig is not None:
+        shown = Trigger(trig.op, trig.type, trig.literal.add_annots(annots)
+                        if isinstance(trig.literal, Literal) else trig.literal)
+    else:
+        shown = None
+    if no_relevant:
+        ag.warn_drop(i, f"No fail event was generated for {shown}", shown, relevant_msg=msg)
+    else:
+        ag.warn_drop(i, f"No failure event was generated for {shown}", shown)
+    ag.remove_intention(i)
+
+
+def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx: int) -> None:
+    t = im.trigger
+    lit = t.literal.add_annots(annots) if isinstance(t.literal, Literal) else t.literal
+    ag.detach(i)
+    i.suspended = "failure"
+    if P_FAILFRONT:
+        ag.events.appendleft(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
+    else:
+        ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
+
+
+def fail_goal_at(ag: Agent, i: Intention, idx: int) -> None:
+    """``.fail_goal``: fail the goal of ``i.ims[idx]`` (its ``-!g`` event has no annotations)."""
+    ims = i.ims
+    j = idx
+    while j >= 0:
+        im = ims[j]
+        t = im.trigger
+        if ag.pl.has_candidate(DEL, t.type, t.literal):
+            if t.op == ADD and t.is_goal:
+                lit = t.literal.no_annots() if isinstance(t.literal, Literal) else t.literal
+                ag.detach(i)
+                i.suspended = "failure"
+                ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=j))
+                return
+            break
+        j -= 1
+    ag.warn_drop(i, f"No failure event was generated for {ims[idx].trigger}", ims[idx].trigger)
+    ag.remove_intention(i)
+
+
+BELIEF_TYPE = BELIEF

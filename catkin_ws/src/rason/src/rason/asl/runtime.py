@@ -1,0 +1,137 @@
+"""Local (centralised) MAS runner: all agents in one process, messages routed in memory."""
+
+from __future__ import annotations
+
+import os
+import sys
+import threading
+from collections.abc import Callable
+
+from .agent import Agent, load_agent_source
+from .arch import AgentArch, Clock, Message, UnknownReceiver, WallClock
+from .mas2j import MasProject, load_mas2j
+
+
+class LocalArch(AgentArch):
+    """Architecture of an agent run by :class:`LocalMas` (no environment)."""
+
+    def __init__(self, mas: LocalMas, clock: Clock) -> None:
+        super().__init__(clock)
+        self.mas = mas
+
+    def send(self, agent: Agent, message: Message) -> None:
+        target = self.mas.agents.get(message.receiver)
+        if target is None:
+            raise UnknownReceiver(f"unknown receiver {message.receiver}")
+        target.receive(message)
+        self.mas.notify()
+
+    def agent_names(self) -> list[str]:
+        return list(self.mas.agents)
+
+    def console(self, agent_name: str, text: str) -> None:
+        self.mas.console(agent_name, text)
+
+
+ArchFactory = Callable[["LocalMas", str], AgentArch]
+
+
+class LocalMas:
+    """Runs agents round-robin (one reasoning cycle each) in the calling thread.
+
+    ``arch_factory(mas, name)`` may supply a custom architecture per agent (tests, simulators);
+    it should route ``send`` through ``mas.agents`` like :class:`LocalArch`.
+    """
+
+    def __init__(self, clock: Clock | None = None, arch_factory: ArchFactory | None = None,
+                 out=None) -> None:
+        self.clock = clock or WallClock()
+        self.agents: dict[str, Agent] = {}
+        self.arch_factory = arch_factory
+        self.out = out
+        self._wake = threading.Event()
+        self.notes: list[str] = []
+
+    # ------------------------------------------------------------ setup
+    def console(self, agent_name: str, text: str) -> None:
+        out = self.out or sys.stdout
+        out.write(f"[{agent_name}] {text}\n")
+        out.flush()
+
+    def notify(self) -> None:
+        self._wake.set()
+
+    def make_arch(self, name: str) -> AgentArch:
+        if self.arch_factory is not None:
+            return self.arch_factory(self, name)
+        return LocalArch(self, self.clock)
+
+    def add_agent(self, name: str, source: str, filename: str = "<string>", seed: int | None = None,
+                  src_name: str | None = None) -> Agent:
+        ag = Agent(name, source, self.make_arch(name), filename, seed=seed, src_name=src_name)
+        self.agents[name] = ag
+        return ag
+
+    def load_project(self, proj: MasProject, seed: int | None = None) -> None:
+        base = os.path.dirname(os.path.abspath(proj.path))
+        for k, spec in enumerate(proj.agents):
+            src = load_agent_source(spec.asl_path)
+            rel = os.path.relpath(spec.asl_path, base)
+            self.add_agent(spec.name, src, spec.asl_path, None if seed is None else seed + k, src_name=rel)
+            if spec.arch_class:
+                self.notes.append(f"agent {spec.name}: agentArchClass {spec.arch_class} accepted "
+                                  "(local run uses the built-in architecture)")
+        self.notes.extend(proj.notes)
+
+    # ------------------------------------------------------------ run
+    def step_all(self) -> bool:
+        did = False
+        for ag in list(self.agents.values()):
+            if ag.step():
+                did = True
+        return did
+
+    def finished(self) -> bool:
+        return all(ag.is_idle() for ag in self.agents.values())
+
+    def run(self, timeout: float | None = None, stop: threading.Event | None = None) -> bool:
+        """Run until every agent is idle with nothing that can still happen (True) or timeout."""
+        clock = self.clock
+        t_end = None if timeout is None else clock.now() + timeout
+        while True:
+            if stop is not None and stop.is_set():
+                return False
+            if any(ag.stop_requested for ag in self.agents.values()):
+                return True
+            self._wake.clear()
+            if self.step_all():
+                if t_end is not None and clock.now() >= t_end:
+                    return False
+                continue
+            if not self.finished():
+                continue
+            deadlines = [d for d in (ag.next_deadline() for ag in self.agents.values()) if d is not None]
+            pending = any(ag.pending_actions for ag in self.agents.values())
+            if not deadlines and not pending:
+                return True
+            deadline = min(deadlines) if deadlines else None
+            if t_end is not None:
+                if clock.now() >= t_end:
+                    return False
+                deadline = t_end if deadline is None else min(deadline, t_end)
+            clock.wait(self._wake, deadline)
+
+
+def run_file(path: str, timeout: float | None = None, seed: int | None = None,
+             clock: Clock | None = None) -> tuple[LocalMas, bool]:
+    """Load a ``.mas2j`` or ``.asl`` file and run it locally."""
+    mas = LocalMas(clock)
+    if path.endswith(".mas2j"):
+        mas.load_project(load_mas2j(path), seed)
+    else:
+        name = os.path.splitext(os.path.basename(path))[0]
+        mas.add_agent(name, load_agent_source(path), path, seed)
+    for n in mas.notes:
+        print(f"note: {n}", file=sys.stderr)
+    ok = mas.run(timeout)
+    return mas, ok

@@ -1,0 +1,73 @@
+"""Internal actions (Jason's ``jason.stdlib``), one function each, registered by name.
+
+An internal action is ``fn(ctx: IAContext, args: list) -> result`` where ``args`` are already
+resolved with the current substitution and ``result`` is:
+
+* ``True`` / ``False`` (bindings made through ``ctx.unify`` are kept on ``True``);
+* an iterator of substitutions (dicts), for actions that backtrack (``.member``);
+* :data:`SUSPEND` when the action suspended the intention itself (``.wait``, askOne).
+
+Adding one is a single decorated function::
+
+    @internal_action(".my_ia")
+    def my_ia(ctx, args):
+        return ctx.unify(args[0], 42.0)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from ..terms import Literal
+from ..unify import resolve
+
+IA_REGISTRY: dict[str, Callable] = {}
+
+SUSPEND = object()
+
+
+class IAError(Exception):
+    """An internal action was misused; the intention fails with ``error(kind)``."""
+
+    def __init__(self, message: str, kind: str = "ia_failed", annots: list | None = None) -> None:
+        super().__init__(message)
+        self.kind = kind
+        self.message = message
+        self.annots = annots or []
+
+
+class FailGoal(Exception):
+    """Raised by ``.fail(...)``: fail the intention with the given annotations."""
+
+    def __init__(self, annots: list) -> None:
+        super().__init__("fail")
+        self.annots = annots
+
+
+def internal_action(*names: str) -> Callable:
+    """Register an internal action under one or more names (``".print"``)."""
+
+    def deco(fn: Callable) -> Callable:
+        for n in names:
+            IA_REGISTRY[n] = fn
+        return fn
+
+    return deco
+
+
+def call_ia(ctx: Any, lit: Literal) -> Any:
+    fn = IA_REGISTRY.get(lit.functor)
+    if fn is None:
+        raise IAError(f"unknown internal action {lit.functor}", "unknown_internal_action")
+    s = ctx.s
+    args = [resolve(a, s) for a in lit.args]
+    return fn(ctx, args)
+
+
+def arg_count(args: list, *allowed: int) -> None:
+    if len(args) not in allowed:
+        raise IAError(f"wrong number of arguments ({len(args)})", "wrong_arguments")
+
+
+from . import comm, core, goals, lists, strings  # noqa: E402,F401  (registration)

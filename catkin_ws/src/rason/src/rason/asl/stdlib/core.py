@@ -1,0 +1,271 @@
+"""Core internal actions: printing, time, type checks, belief base, plans, findall."""
+
+from __future__ import annotations
+
+import datetime
+from typing import Any
+
+from ..parser import AslSyntaxError, parse_term
+from ..plans import PlanTerm, plan_term_trigger
+from ..terms import (
+    ListTerm,
+    Literal,
+    Var,
+    is_ground,
+    list_to_python,
+    make_list,
+    sort_key,
+    term_str,
+    to_print_str,
+)
+from ..unify import eval_arith, resolve
+from . import SUSPEND, FailGoal, IAError, arg_count, internal_action
+
+
+# ---------------------------------------------------------------- console
+@internal_action(".print", ".println")
+def print_(ctx: Any, args: list) -> bool:
+    """Concatenate the arguments (strings without quotes) and print them."""
+    ctx.ag.console("".join(to_print_str(a) for a in args))
+    return True
+
+
+@internal_action(".puts")
+def puts(ctx: Any, args: list) -> bool:
+    """Print a string; ``#{Var}`` is replaced by the variable's value."""
+    text = "".join(to_print_str(a) for a in args[:1])
+    if "#{" in text:
+        import re
+
+        def rep(m: Any) -> str:
+            v = resolve(Var(m.group(1)), ctx.s)
+            return to_print_str(v)
+        text = re.sub(r"#\{([A-Za-z_][A-Za-z0-9_]*)\}", rep, text)
+    if len(args) > 1:
+        return ctx.unify(args[1], text)
+    ctx.ag.console(text)
+    return True
+
+
+# ---------------------------------------------------------------- failure
+@internal_action(".fail")
+def fail(ctx: Any, args: list) -> bool:
+    """Fail the intention; the arguments become annotations of the failure event."""
+    raise FailGoal(list(args))
+
+
+@internal_action(".succeed", ".noop")
+def noop(ctx: Any, args: list) -> bool:
+    return True
+
+
+# ---------------------------------------------------------------- identity
+@internal_action(".my_name")
+def my_name(ctx: Any, args: list) -> bool:
+    arg_count(args, 1)
+    return ctx.unify(args[0], Literal(ctx.ag.name))
+
+
+@internal_action(".all_names")
+def all_names(ctx: Any, args: list) -> bool:
+    arg_count(args, 1)
+    names = ctx.ag.arch.agent_names() or [ctx.ag.name]
+    return ctx.unify(args[0], make_list([Literal(n) for n in names]))
+
+
+# ---------------------------------------------------------------- time
+@internal_action(".wait")
+def wait(ctx: Any, args: list) -> Any:
+    """``.wait(ms)``, ``.wait({+b})``, ``.wait({+b}, ms)``, ``.wait(cond)``, ``.wait(cond, ms)``."""
+    arg_count(args, 1, 2, 3)
+    ag = ctx.ag
+    if ctx.intention is None:
+        raise IAError(".wait outside an intention")
+    first = args[0]
+    clock = ag.arch.clock
+    if isinstance(first, float):
+        ag.suspend_timer(ctx.intention, clock.now() + max(first, 0.0) / 1000.0)
+        return SUSPEND
+    timeout = None
+    if len(args) >= 2 and isinstance(args[1], float):
+        timeout = clock.now() + max(args[1], 0.0) / 1000.0
+    if isinstance(first, PlanTerm):
+        trig = plan_term_trigger(first)
+        if trig is None:
+            raise IAError(f"invalid event in .wait: {term_str(first)}")
+        ag.suspend_event_wait(ctx.intention, trig, None, timeout)
+        return SUSPEND
+    if isinstance(first, str):
+        try:
+            t = parse_term("{" + first + "}")
+        except AslSyntaxError:
+            raise IAError(f"invalid event in .wait: {first}") from None
+        trig = plan_term_trigger(t) if isinstance(t, PlanTerm) else None
+        if trig is not None:
+            ag.suspend_event_wait(ctx.intention, trig, None, timeout)
+            return SUSPEND
+    # logical condition
+    for sol in ctx.solve(first):
+        ctx.s = sol
+        return True
+    ag.suspend_event_wait(ctx.intention, None, first, timeout)
+    return SUSPEND
+
+
+@internal_action(".time")
+def time_(ctx: Any, args: list) -> bool:
+    """``.time(H, M, S[, MS])`` wall time; ``.time(T)``: milliseconds from the agent's clock."""
+    if len(args) == 1:
+        return ctx.unify(args[0], float(int(ctx.ag.arch.clock.now() * 1000)))
+    now = datetime.datetime.now()
+    vals = [now.hour, now.minute, now.second, now.microsecond // 1000]
+    for a, v in zip(args, vals):
+        if not ctx.unify(a, float(v)):
+            return False
+    return True
+
+
+@internal_action(".date")
+def date(ctx: Any, args: list) -> bool:
+    now = datetime.date.today()
+    for a, v in zip(args, [now.year, now.month, now.day]):
+        if not ctx.unify(a, float(v)):
+            return False
+    return True
+
+
+@internal_action(".random")
+def random_(ctx: Any, args: list) -> Any:
+    """``.random(R)``: R in [0,1); ``.random(L, R)``: a random member of list L."""
+    arg_count(args, 1, 2)
+    if len(args) == 1:
+        return ctx.unify(args[0], ctx.ag.random.random())
+    items = list_to_python(args[0])
+    if items:
+        return ctx.unify(args[1], ctx.ag.random.choice(items))
+    return False
+
+
+@internal_action(".range")
+def range_(ctx: Any, args: list) -> Any:
+    """``.range(V, Start, End[, Step])`` enumerates numbers (nothing when Start > End)."""
+    arg_count(args, 3, 4)
+    start = eval_arith(args[1], ctx.s)
+    end = eval_arith(args[2], ctx.s)
+    step = eval_arith(args[3], ctx.s) if len(args) == 4 else 1.0
+    if step == 0:
+        raise IAError("step 0 in .range")
+
+    def gen():
+        v = start
+        while (v <= end) if step > 0 else (v >= end):
+            s2 = dict(ctx.s)
+            from ..unify import unify
+            if unify(args[0], v, s2):
+                yield s2
+            v += step
+    return gen()
+
+
+# ---------------------------------------------------------------- type checks
+def _type_check(pred):
+    def fn(ctx: Any, args: list) -> bool:
+        arg_count(args, 1)
+        return pred(args[0])
+    return fn
+
+
+internal_action(".string")(_type_check(lambda t: isinstance(t, str)))
+internal_action(".number")(_type_check(lambda t: isinstance(t, float)))
+internal_action(".list")(_type_check(lambda t: isinstance(t, ListTerm)))
+internal_action(".atom")(_type_check(lambda t: isinstance(t, Literal) and not t.args and not t.annots and not t.neg))
+internal_action(".structure")(_type_check(lambda t: isinstance(t, (Literal, ListTerm))))
+internal_action(".literal")(_type_check(lambda t: isinstance(t, Literal)))
+internal_action(".ground")(_type_check(is_ground))
+internal_action(".var")(_type_check(lambda t: isinstance(t, Var)))
+internal_action(".is_var")(_type_check(lambda t: isinstance(t, Var)))
+
+
+@internal_action(".term2string")
+def term2string(ctx: Any, args: list) -> bool:
+    arg_count(args, 2)
+    t, s = args
+    if not isinstance(t, Var):
+        return ctx.unify(s, term_str(t) if not isinstance(t, str) else t)
+    if isinstance(s, str):
+        try:
+            return ctx.unify(t, parse_term(s))
+        except AslSyntaxError:
+            return False
+    raise IAError(".term2string needs a term or a string")
+
+
+# ---------------------------------------------------------------- belief base
+def _as_literal(t: Any) -> Literal:
+    if not isinstance(t, Literal):
+        raise IAError(f"not a literal: {term_str(t)}")
+    return t
+
+
+@internal_action(".abolish")
+def abolish(ctx: Any, args: list) -> bool:
+    arg_count(args, 1)
+    ctx.ag.abolish(_as_literal(args[0]))
+    return True
+
+
+@internal_action(".asserta")
+def asserta(ctx: Any, args: list) -> bool:
+    arg_count(args, 1)
+    ctx.ag.add_belief(_as_literal(args[0]), front=True)
+    return True
+
+
+@internal_action(".assertz")
+def assertz(ctx: Any, args: list) -> bool:
+    arg_count(args, 1)
+    ctx.ag.add_belief(_as_literal(args[0]), front=False)
+    return True
+
+
+@internal_action(".findall")
+def findall(ctx: Any, args: list) -> bool:
+    """``.findall(Template, Query, List)``."""
+    arg_count(args, 3)
+    res = [resolve(args[0], sol) for sol in ctx.solve(args[1])]
+    return ctx.unify(args[2], make_list(res))
+
+
+@internal_action(".setof")
+def setof(ctx: Any, args: list) -> bool:
+    arg_count(args, 3)
+    res: list = []
+    for sol in ctx.solve(args[1]):
+        v = resolve(args[0], sol)
+        if v not in res:
+            res.append(v)
+    res.sort(key=sort_key)
+    return ctx.unify(args[2], make_list(res))
+
+
+@internal_action(".count")
+def count(ctx: Any, args: list) -> bool:
+    arg_count(args, 2)
+    n = sum(1 for _ in ctx.solve(args[0]))
+    return ctx.unify(args[1], float(n))
+
+
+@internal_action(".remove_plan")
+def remove_plan(ctx: Any, args: list) -> bool:
+    arg_count(args, 1, 2)
+    labels = list_to_python(args[0]) if isinstance(args[0], ListTerm) else [args[0]]
+    for lab in labels or []:
+        name = lab.functor if isinstance(lab, Literal) else to_print_str(lab)
+        ctx.ag.pl.remove_by_label(name)
+    return True
+
+
+@internal_action(".stopMAS")
+def stop_mas(ctx: Any, args: list) -> bool:
+    ctx.ag.request_stop()
+    return True

@@ -1,0 +1,378 @@
+"""AgentSpeak terms (Jason's ``jason.asSyntax``) and their Jason-exact printing.
+
+Representation (chosen for speed):
+
+* numbers are Python ``float`` (every Jason number is a double);
+* strings are Python ``str``;
+* :class:`Var`, :class:`Literal` (atoms, structures, annotations, ``~``),
+  :class:`ListTerm`, :class:`ArithExpr`, :class:`RelExpr`, :class:`LogExpr`,
+  :class:`PlanTerm` are small immutable classes.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from decimal import Decimal
+from typing import Any, Union
+
+Term = Union[float, str, "Var", "Literal", "ListTerm", "ArithExpr", "RelExpr", "LogExpr", "PlanTerm"]
+
+_fresh = itertools.count(1)
+
+
+def fresh_name() -> str:
+    """A new unique variable name (like Jason's ``_123``)."""
+    return f"_{next(_fresh)}"
+
+
+class Var:
+    """A logic variable; bindings live in a substitution dict keyed by name."""
+
+    __slots__ = ("name",)
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Var) and other.name == self.name
+
+    def __hash__(self) -> int:
+        return hash(("V", self.name))
+
+    def __repr__(self) -> str:
+        return self.name
+
+
+class Literal:
+    """An atom or structure, possibly negated (``~``) and annotated (``[a|T]``)."""
+
+    __slots__ = ("functor", "args", "annots", "tail", "neg", "_h")
+
+    def __init__(self, functor: str, args: tuple = (), annots: tuple = (),
+                 tail: Any = None, neg: bool = False) -> None:
+        self.functor = functor
+        self.args = args
+        self.annots = annots
+        self.tail = tail
+        self.neg = neg
+        self._h: int | None = None
+
+    @property
+    def arity(self) -> int:
+        return len(self.args)
+
+    @property
+    def key(self) -> tuple:
+        """Index key of a belief: functor, arity, negation."""
+        return (self.functor, len(self.args), self.neg)
+
+    def with_annots(self, annots: tuple, tail: Any = None) -> Literal:
+        return Literal(self.functor, self.args, annots, tail, self.neg)
+
+    def no_annots(self) -> Literal:
+        if not self.annots and self.tail is None:
+            return self
+        return Literal(self.functor, self.args, (), None, self.neg)
+
+    def add_annots(self, extra: list | tuple) -> Literal:
+        """Return a copy with ``extra`` merged into the (sorted, duplicate-free) annotations."""
+        return Literal(self.functor, self.args, merge_annots(self.annots, extra), self.tail, self.neg)
+
+    def has_source(self) -> bool:
+        return any(isinstance(a, Literal) and a.functor == "source" and len(a.args) == 1
+                   for a in self.annots)
+
+    def sources(self) -> list:
+        return [a.args[0] for a in self.annots
+                if isinstance(a, Literal) and a.functor == "source" and len(a.args) == 1]
+
+    def __eq__(self, other: object) -> bool:
+        if self is other:
+            return True
+        return (isinstance(other, Literal) and self.functor == other.functor
+                and self.neg == other.neg and self.args == other.args
+                and self.annots == other.annots and self.tail == other.tail)
+
+    def __hash__(self) -> int:
+        if self._h is None:
+            self._h = hash((self.functor, self.args, self.annots, self.neg))
+        return self._h
+
+    def __repr__(self) -> str:
+        return term_str(self)
+
+    def __str__(self) -> str:
+        return term_str(self)
+
+
+def atom(name: str) -> Literal:
+    return Literal(name)
+
+
+TRUE = Literal("true")
+FALSE = Literal("false")
+SELF = Literal("self")
+PERCEPT = Literal("percept")
+
+
+def source(ag: str | Literal) -> Literal:
+    return Literal("source", (ag if isinstance(ag, Literal) else Literal(ag),))
+
+
+SOURCE_SELF = source(SELF)
+SOURCE_PERCEPT = source(PERCEPT)
+
+
+class ListTerm:
+    """A list ``[a, b | T]``; ``tail`` is ``None`` for a proper list."""
+
+    __slots__ = ("items", "tail")
+
+    def __init__(self, items: tuple = (), tail: Any = None) -> None:
+        self.items = items
+        self.tail = tail
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, ListTerm) and self.items == other.items and self.tail == other.tail
+
+    def __hash__(self) -> int:
+        return hash(("L", self.items, self.tail))
+
+    def __repr__(self) -> str:
+        return term_str(self)
+
+
+EMPTY_LIST = ListTerm()
+
+
+class ArithExpr:
+    """Arithmetic expression; ``op`` in ``+ - * / div mod **`` or unary ``neg``."""
+
+    __slots__ = ("op", "left", "right")
+
+    def __init__(self, op: str, left: Any, right: Any = None) -> None:
+        self.op = op
+        self.left = left
+        self.right = right
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, ArithExpr) and self.op == other.op
+                and self.left == other.left and self.right == other.right)
+
+    def __hash__(self) -> int:
+        return hash(("A", self.op, self.left, self.right))
+
+    def __repr__(self) -> str:
+        return term_str(self)
+
+
+class RelExpr:
+    """Relational expression: ``< <= > >= == \\== = =..``."""
+
+    __slots__ = ("op", "left", "right")
+
+    def __init__(self, op: str, left: Any, right: Any) -> None:
+        self.op = op
+        self.left = left
+        self.right = right
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, RelExpr) and self.op == other.op
+                and self.left == other.left and self.right == other.right)
+
+    def __hash__(self) -> int:
+        return hash(("R", self.op, self.left, self.right))
+
+    def __repr__(self) -> str:
+        return term_str(self)
+
+
+class LogExpr:
+    """Logical expression: ``&``, ``|`` or ``not`` (``right`` is None for ``not``)."""
+
+    __slots__ = ("op", "left", "right")
+
+    def __init__(self, op: str, left: Any, right: Any = None) -> None:
+        self.op = op
+        self.left = left
+        self.right = right
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, LogExpr) and self.op == other.op
+                and self.left == other.left and self.right == other.right)
+
+    def __hash__(self) -> int:
+        return hash(("G", self.op, self.left, self.right))
+
+    def __repr__(self) -> str:
+        return term_str(self)
+
+
+class PlanTerm:
+    """A plan/plan-body term in braces, e.g. ``{ p(1) }`` or ``{+stop}``."""
+
+    __slots__ = ("body", "text")
+
+    def __init__(self, body: tuple, text: str) -> None:
+        self.body = body
+        self.text = text
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, PlanTerm) and self.text == other.text
+
+    def __hash__(self) -> int:
+        return hash(("P", self.text))
+
+    def __repr__(self) -> str:
+        return term_str(self)
+
+
+# ---------------------------------------------------------------- printing
+
+_LONG_MAX = 2 ** 63
+
+
+def format_number(x: float) -> str:
+    """Jason's number printing: integral doubles as longs, else Java ``Double.toString``."""
+    if x != x:
+        return "NaN"
+    if x in (math.inf, -math.inf):
+        return "Infinity" if x > 0 else "-Infinity"
+    if x == int(x) and -_LONG_MAX <= x < _LONG_MAX:
+        return str(int(x))
+    ax = abs(x)
+    if 1e-3 <= ax < 1e7:
+        r = repr(x)
+        return r
+    sign, digits, exp = Decimal(repr(x)).as_tuple()
+    ds = "".join(map(str, digits)).rstrip("0") or "0"
+    e10 = len(digits) - 1 + exp
+    mant = ds[0] + "." + (ds[1:] or "0")
+    return ("-" if sign else "") + mant + "E" + str(e10)
+
+
+def _annots_str(annots: tuple, tail: Any) -> str:
+    if not annots and tail is None:
+        return ""
+    inner = ",".join(term_str(a) for a in annots)
+    if tail is not None:
+        inner += "|" + term_str(tail) if inner else term_str(tail)
+    return "[" + inner + "]"
+
+
+_ARITH_SYM = {"+": "+", "-": "-", "*": "*", "/": "/", "div": " div ", "mod": " mod ", "**": "**"}
+
+
+def term_str(t: Any) -> str:
+    """Jason's ``toString`` of a term (strings keep their quotes)."""
+    if isinstance(t, float):
+        return format_number(t)
+    if isinstance(t, Literal):
+        s = ("~" if t.neg else "") + t.functor
+        if t.args:
+            s += "(" + ",".join(term_str(a) for a in t.args) + ")"
+        if t.annots or t.tail is not None:
+            s += _annots_str(t.annots, t.tail)
+        return s
+    if isinstance(t, str):
+        return '"' + t + '"'
+    if isinstance(t, Var):
+        return t.name
+    if isinstance(t, ListTerm):
+        inner = ",".join(term_str(a) for a in t.items)
+        if t.tail is not None:
+            inner += "|" + term_str(t.tail)
+        return "[" + inner + "]"
+    if isinstance(t, ArithExpr):
+        if t.op == "neg":
+            return "(-" + term_str(t.left) + ")"
+        return "(" + term_str(t.left) + _ARITH_SYM[t.op] + term_str(t.right) + ")"
+    if isinstance(t, RelExpr):
+        return "(" + term_str(t.left) + " " + t.op + " " + term_str(t.right) + ")"
+    if isinstance(t, LogExpr):
+        if t.op == "not":
+            return "not (" + term_str(t.left) + ")"
+        return "(" + term_str(t.left) + " " + t.op + " " + term_str(t.right) + ")"
+    if isinstance(t, PlanTerm):
+        return "{ " + t.text + " }"
+    if isinstance(t, int):
+        return format_number(float(t))
+    return str(t)
+
+
+def to_print_str(t: Any) -> str:
+    """How ``.print`` renders one argument: top-level strings lose their quotes."""
+    if isinstance(t, str):
+        return t
+    return term_str(t)
+
+
+def merge_annots(annots: tuple, extra: list | tuple) -> tuple:
+    """Union of two annotation lists, sorted in Jason's term order, without duplicates."""
+    if not extra:
+        return annots
+    out = list(annots)
+    for a in extra:
+        if a not in out:
+            out.append(a)
+    out.sort(key=sort_key)
+    return tuple(out)
+
+
+# ---------------------------------------------------------------- ordering
+
+def sort_key(t: Any) -> tuple:
+    """Jason's term order: numbers, strings, lists, then literals (functor, arity, args)."""
+    if isinstance(t, float):
+        return (0, t)
+    if isinstance(t, str):
+        return (1, t)
+    if isinstance(t, ListTerm):
+        return (2, len(t.items), tuple(sort_key(a) for a in t.items))
+    if isinstance(t, Literal):
+        return (3, t.neg, t.functor, len(t.args), tuple(sort_key(a) for a in t.args),
+                tuple(sort_key(a) for a in t.annots))
+    if isinstance(t, Var):
+        return (-1, t.name)
+    return (4, term_str(t))
+
+
+def is_ground(t: Any) -> bool:
+    """True if the term has no variables (expressions are checked recursively)."""
+    if isinstance(t, (float, str)):
+        return True
+    if isinstance(t, Var):
+        return False
+    if isinstance(t, Literal):
+        if t.tail is not None:
+            return False
+        for a in t.args:
+            if not is_ground(a):
+                return False
+        for a in t.annots:
+            if not is_ground(a):
+                return False
+        return True
+    if isinstance(t, ListTerm):
+        return all(is_ground(a) for a in t.items) and (t.tail is None or is_ground(t.tail))
+    if isinstance(t, (ArithExpr, RelExpr, LogExpr)):
+        return is_ground(t.left) and (t.right is None or is_ground(t.right))
+    return True
+
+
+def list_to_python(t: Any) -> list | None:
+    """Items of a proper (resolved) list term, or None if ``t`` is not a proper list."""
+    if not isinstance(t, ListTerm):
+        return None
+    items = list(t.items)
+    while t.tail is not None:
+        t = t.tail
+        if not isinstance(t, ListTerm):
+            return None
+        items.extend(t.items)
+    return items
+
+
+def make_list(items: list | tuple) -> ListTerm:
+    return ListTerm(tuple(items))

@@ -1,0 +1,452 @@
+"""Unification, substitution application (``capply``) and arithmetic evaluation.
+
+A substitution (Jason's ``Unifier``) is a plain ``dict`` from variable name to term.
+Functions that may fail mutate the dict they are given: callers copy it first when they
+need to backtrack.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from .terms import (
+    ArithExpr,
+    ListTerm,
+    Literal,
+    LogExpr,
+    PlanTerm,
+    RelExpr,
+    Var,
+    fresh_name,
+    merge_annots,
+    sort_key,
+)
+
+Subst = dict
+
+
+class ArithError(Exception):
+    """An arithmetic expression could not be evaluated (e.g. unbound or non-numeric)."""
+
+
+def walk(t: Any, s: Subst) -> Any:
+    """Follow variable bindings until a non-variable or unbound variable."""
+    while isinstance(t, Var):
+        b = s.get(t.name)
+        if b is None:
+            return t
+        t = b
+    return t
+
+
+# ---------------------------------------------------------------- arithmetic
+
+def _java_round(x: float) -> float:
+    return float(math.floor(x + 0.5))
+
+
+ARITH_FUNCTIONS: dict[str, Any] = {
+    "math.abs": lambda a: abs(a),
+    "math.sqrt": lambda a: math.sqrt(a) if a >= 0 else math.nan,
+    "math.round": _java_round,
+    "math.floor": lambda a: float(math.floor(a)),
+    "math.ceil": lambda a: float(math.ceil(a)),
+    "math.max": lambda a, b: max(a, b),
+    "math.min": lambda a, b: min(a, b),
+    "math.pow": lambda a, b: _pow(a, b),
+    "math.sin": math.sin,
+    "math.cos": math.cos,
+    "math.tan": math.tan,
+    "math.asin": math.asin,
+    "math.acos": math.acos,
+    "math.atan": math.atan,
+    "math.log": lambda a: math.log(a) if a > 0 else (-math.inf if a == 0 else math.nan),
+    "math.exp": math.exp,
+    "math.pi": lambda: math.pi,
+    "math.e": lambda: math.e,
+    "math.trunc": lambda a: float(math.trunc(a)),
+    "math.signum": lambda a: (a > 0) - (a < 0) + 0.0,
+}
+
+# set by the stdlib: math.random needs the agent's random generator
+RANDOM_HOOK: list = []
+
+
+def _pow(a: float, b: float) -> float:
+    try:
+        r = a ** b
+    except ZeroDivisionError:
+        return math.inf
+    except OverflowError:
+        return math.inf
+    if isinstance(r, complex):
+        return math.nan
+    return float(r)
+
+
+def _div(a: float, b: float) -> float:
+    if b == 0:
+        if a == 0 or a != a:
+            return math.nan
+        return math.copysign(math.inf, a) * math.copysign(1.0, b)
+    return a / b
+
+
+def _java_trunc_div(a: float, b: float) -> float:
+    # Jason: div works on longs (truncation toward zero)
+    ia, ib = int(a), int(b)
+    if ib == 0:
+        raise ArithError("division by zero")
+    q = abs(ia) // abs(ib)
+    return float(q if (ia >= 0) == (ib >= 0) else -q)
+
+
+def _java_mod(a: float, b: float) -> float:
+    ia, ib = int(a), int(b)
+    if ib == 0:
+        raise ArithError("division by zero")
+    r = abs(ia) % abs(ib)
+    return float(r if ia >= 0 else -r)
+
+
+def eval_arith(t: Any, s: Subst) -> float:
+    """Evaluate ``t`` as a number; raises :class:`ArithError` if it is not numeric."""
+    t = walk(t, s)
+    if isinstance(t, float):
+        return t
+    if isinstance(t, ArithExpr):
+        a = eval_arith(t.left, s)
+        op = t.op
+        if op == "neg":
+            return -a
+        b = eval_arith(t.right, s)
+        if op == "+":
+            return a + b
+        if op == "-":
+            return a - b
+        if op == "*":
+            return a * b
+        if op == "/":
+            return _div(a, b)
+        if op == "**":
+            return _pow(a, b)
+        if op == "div":
+            return _java_trunc_div(a, b)
+        if op == "mod":
+            return _java_mod(a, b)
+        raise ArithError(op)
+    if isinstance(t, Literal) and not t.neg:
+        f = ARITH_FUNCTIONS.get(t.functor)
+        if f is not None:
+            args = [eval_arith(a, s) for a in t.args]
+            try:
+                return float(f(*args))
+            except (TypeError, ValueError, OverflowError) as e:
+                raise ArithError(str(e)) from None
+        if t.functor == "math.random" and RANDOM_HOOK:
+            args = [eval_arith(a, s) for a in t.args]
+            r = RANDOM_HOOK[0]()
+            return r * args[0] if args else r
+    raise ArithError(f"not a number: {t!r}")
+
+
+def is_arith_function(t: Any) -> bool:
+    return isinstance(t, Literal) and (t.functor in ARITH_FUNCTIONS or t.functor == "math.random")
+
+
+# ---------------------------------------------------------------- capply
+
+def resolve(t: Any, s: Subst) -> Any:
+    """Apply the substitution (Jason ``capply``); ground arithmetic is evaluated."""
+    if isinstance(t, (float, str)):
+        return t
+    if isinstance(t, Var):
+        b = s.get(t.name)
+        if b is None:
+            return t
+        return resolve(b, s)
+    if isinstance(t, Literal):
+        if not t.args and not t.annots and t.tail is None:
+            return t
+        if is_arith_function(t):
+            try:
+                return eval_arith(t, s)
+            except ArithError:
+                pass
+        args = tuple([resolve(a, s) for a in t.args]) if t.args else ()
+        annots = t.annots
+        tail = t.tail
+        if annots or tail is not None:
+            annots = tuple([resolve(a, s) for a in annots])
+            if tail is not None:
+                tv = resolve(tail, s)
+                if isinstance(tv, ListTerm):
+                    extra = list(tv.items)
+                    rest = tv.tail
+                    while isinstance(rest, ListTerm):
+                        extra.extend(rest.items)
+                        rest = rest.tail
+                    annots = merge_annots(annots, extra)
+                    tail = rest
+                else:
+                    tail = tv
+            if len(annots) > 1:
+                annots = tuple(sorted(set(annots), key=sort_key)) if len(set(annots)) != len(annots) \
+                    else tuple(sorted(annots, key=sort_key))
+        return Literal(t.functor, args, annots, tail, t.neg)
+    if isinstance(t, ListTerm):
+        items = [resolve(a, s) for a in t.items]
+        tail = t.tail
+        while tail is not None:
+            tail = resolve(tail, s)
+            if isinstance(tail, ListTerm):
+                items.extend(tail.items)
+                tail = tail.tail
+            else:
+                break
+        return ListTerm(tuple(items), tail)
+    if isinstance(t, ArithExpr):
+        try:
+            return eval_arith(t, s)
+        except (ArithError, RecursionError):
+            r = t.right
+            return ArithExpr(t.op, resolve(t.left, s), None if r is None else resolve(r, s))
+    if isinstance(t, RelExpr):
+        return RelExpr(t.op, resolve(t.left, s), resolve(t.right, s))
+    if isinstance(t, LogExpr):
+        r = t.right
+        return LogExpr(t.op, resolve(t.left, s), None if r is None else resolve(r, s))
+    return t
+
+
+# ---------------------------------------------------------------- unification
+
+def unify(a: Any, b: Any, s: Subst) -> bool:
+    """Unify ``a`` (pattern: its annotations must be a subset of ``b``'s) with ``b``."""
+    a = walk(a, s)
+    b = walk(b, s)
+    if a is b:
+        return True
+    if isinstance(a, Var):
+        if isinstance(b, Var) and b.name == a.name:
+            return True
+        s[a.name] = b
+        return True
+    if isinstance(b, Var):
+        s[b.name] = a
+        return True
+    ta = type(a)
+    if ta is float:
+        if type(b) is float:
+            return a == b
+        if isinstance(b, (ArithExpr, Literal)):
+            try:
+                return a == eval_arith(b, s)
+            except ArithError:
+                return False
+        return False
+    if ta is str:
+        return type(b) is str and a == b
+    if ta is Literal:
+        if type(b) is not Literal:
+            if type(b) is float and is_arith_function(a):
+                try:
+                    return eval_arith(a, s) == b
+                except ArithError:
+                    return False
+            return False
+        if a.functor != b.functor or a.neg != b.neg or len(a.args) != len(b.args):
+            return False
+        for x, y in zip(a.args, b.args):
+            if not unify(x, y, s):
+                return False
+        if a.annots or a.tail is not None:
+            return unify_annots(a, b, s)
+        return True
+    if ta is ListTerm:
+        if type(b) is not ListTerm:
+            return False
+        return _unify_lists(a, b, s)
+    if ta is ArithExpr:
+        try:
+            va = eval_arith(a, s)
+        except ArithError:
+            if type(b) is ArithExpr and a.op == b.op:
+                return unify(a.left, b.left, s) and (a.right is None or unify(a.right, b.right, s))
+            return False
+        try:
+            return va == eval_arith(b, s)
+        except ArithError:
+            return False
+    if ta in (RelExpr, LogExpr):
+        if type(b) is not ta or a.op != b.op:
+            return False
+        if not unify(a.left, b.left, s):
+            return False
+        if a.right is None:
+            return b.right is None
+        return b.right is not None and unify(a.right, b.right, s)
+    if ta is PlanTerm:
+        return a == b
+    return a == b
+
+
+def _list_items(t: Any, s: Subst) -> tuple[list, Any]:
+    items = list(t.items)
+    tail = t.tail
+    while tail is not None:
+        tail = walk(tail, s)
+        if isinstance(tail, ListTerm):
+            items.extend(tail.items)
+            tail = tail.tail
+        else:
+            break
+    return items, tail
+
+
+def _unify_lists(a: ListTerm, b: ListTerm, s: Subst) -> bool:
+    ia, ta = _list_items(a, s)
+    ib, tb = _list_items(b, s)
+    n = min(len(ia), len(ib))
+    for i in range(n):
+        if not unify(ia[i], ib[i], s):
+            return False
+    ra, rb = ia[n:], ib[n:]
+    if ra:
+        # b ran out
+        if tb is None:
+            return False
+        return unify(tb, ListTerm(tuple(ra), ta), s)
+    if rb:
+        if ta is None:
+            return False
+        return unify(ta, ListTerm(tuple(rb), tb), s)
+    if ta is None and tb is None:
+        return True
+    if ta is None:
+        return unify(tb, ListTerm(), s)
+    if tb is None:
+        return unify(ta, ListTerm(), s)
+    return unify(ta, tb, s)
+
+
+def _annot_items(lit: Literal, s: Subst) -> tuple[list, Any]:
+    items = list(lit.annots)
+    tail = lit.tail
+    while tail is not None:
+        tail = walk(tail, s)
+        if isinstance(tail, ListTerm):
+            items.extend(tail.items)
+            tail = tail.tail
+        else:
+            break
+    return items, tail
+
+
+def unify_annots(a: Literal, b: Literal, s: Subst) -> bool:
+    """Greedy subset check (Jason ``hasSubsetAnnot``); a's tail gets b's unmatched annotations."""
+    pa, tail = _annot_items(a, s)
+    pb, btail = _annot_items(b, s)
+    remaining = list(pb)
+    missing = []
+    for x in pa:
+        for i, y in enumerate(remaining):
+            s2 = dict(s)
+            if unify(x, y, s2):
+                s.clear()
+                s.update(s2)
+                del remaining[i]
+                break
+        else:
+            if btail is None:
+                return False
+            missing.append(x)
+    if missing:
+        # b's annotation tail receives what a has and b does not list
+        if not unify(btail, ListTerm(tuple(sorted(missing, key=sort_key))), s):
+            return False
+        btail = None
+    if tail is not None:
+        rest = ListTerm(tuple(sorted(remaining, key=sort_key)), btail)
+        return unify(tail, rest, s)
+    return True
+
+
+def annot_options(a: Literal, b: Literal, s: Subst):
+    """All ways a's (tail-less) annotations can match annotations of b (for belief queries)."""
+    pa = list(a.annots)
+    pb = list(b.annots)
+
+    def rec(i: int, cur: Subst):
+        if i == len(pa):
+            yield cur
+            return
+        for y in pb:
+            s2 = dict(cur)
+            if unify(pa[i], y, s2):
+                yield from rec(i + 1, s2)
+
+    yield from rec(0, s)
+
+
+# ---------------------------------------------------------------- equality (==)
+
+def term_equals(a: Any, b: Any, s: Subst) -> bool:
+    """Jason ``==``: structural equality after applying ``s`` (annotation order ignored)."""
+    ra = resolve(a, s)
+    rb = resolve(b, s)
+    return _eq(ra, rb)
+
+
+def _eq(a: Any, b: Any) -> bool:
+    if type(a) is not type(b):
+        return False
+    if isinstance(a, Literal):
+        if a.functor != b.functor or a.neg != b.neg or len(a.args) != len(b.args):
+            return False
+        if not all(_eq(x, y) for x, y in zip(a.args, b.args)):
+            return False
+        if len(a.annots) != len(b.annots):
+            return False
+        return all(any(_eq(x, y) for y in b.annots) for x in a.annots) and a.tail == b.tail
+    if isinstance(a, ListTerm):
+        return (len(a.items) == len(b.items) and all(_eq(x, y) for x, y in zip(a.items, b.items))
+                and _eq(a.tail, b.tail))
+    return a == b
+
+
+# ---------------------------------------------------------------- renaming
+
+def rename_vars(t: Any, mapping: dict) -> Any:
+    """Copy ``t`` with each variable replaced by a fresh one (consistent through ``mapping``)."""
+    if isinstance(t, (float, str)):
+        return t
+    if isinstance(t, Var):
+        v = mapping.get(t.name)
+        if v is None:
+            v = mapping[t.name] = Var(fresh_name())
+        return v
+    if isinstance(t, Literal):
+        if not t.args and not t.annots and t.tail is None:
+            return t
+        return Literal(t.functor, tuple(rename_vars(a, mapping) for a in t.args),
+                       tuple(rename_vars(a, mapping) for a in t.annots),
+                       None if t.tail is None else rename_vars(t.tail, mapping), t.neg)
+    if isinstance(t, ListTerm):
+        return ListTerm(tuple(rename_vars(a, mapping) for a in t.items),
+                        None if t.tail is None else rename_vars(t.tail, mapping))
+    if isinstance(t, (ArithExpr, LogExpr)):
+        return type(t)(t.op, rename_vars(t.left, mapping),
+                       None if t.right is None else rename_vars(t.right, mapping))
+    if isinstance(t, RelExpr):
+        return RelExpr(t.op, rename_vars(t.left, mapping), rename_vars(t.right, mapping))
+    return t
+
+
+def compare_terms(a: Any, b: Any) -> int:
+    """Three-way comparison in Jason's term order (used by ``<``, ``>``, ``.sort``)."""
+    if isinstance(a, float) and isinstance(b, float):
+        return (a > b) - (a < b)
+    ka, kb = sort_key(a), sort_key(b)
+    return (ka > kb) - (ka < kb)

@@ -1,0 +1,114 @@
+"""Entry points: ``rosrun rason agent NAME FILE.asl`` and ``rosrun rason mas FILE.mas2j``."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from rason.asl import AslSyntaxError, load_mas2j
+from rason.ros.perceptions import PerceptionFilter
+
+# rospy reads the node's namespace from sys.argv when it is imported, so it is imported only
+# after _namespace() has moved the node into <ns>/jason (see _run).
+
+
+def _namespace(argv: list[str]) -> tuple[str, list[str]]:
+    """The robot namespace the user asked for, and argv with the node moved into <ns>/jason.
+
+    rospy node names cannot contain '/', so the node ``jason/NAME`` is the node ``NAME`` in the
+    namespace ``<ns>/jason``; topics are then resolved against ``<ns>`` explicitly.
+    """
+    ns = os.environ.get("ROS_NAMESPACE", "/")
+    rest = []
+    for arg in argv:
+        if arg.startswith("__ns:="):
+            ns = arg.split(":=", 1)[1]
+        else:
+            rest.append(arg)
+    ns = "/" + ns.strip("/")
+    jason_ns = ns.rstrip("/") + "/jason"
+    os.environ.pop("ROS_NAMESPACE", None)
+    return ns, [*rest, f"__ns:={jason_ns}"]
+
+
+def _run(node_name: str, argv: list[str], agents: list[tuple[str, Path, PerceptionFilter | None]],
+         ns: str) -> int:
+    sources = []
+    for name, path, pfilter in agents:
+        try:
+            sources.append((name, path.read_text(encoding="utf-8"), path, pfilter))
+        except OSError as err:
+            print(f"rason: cannot read {path}: {err}", file=sys.stderr)
+            return 2
+    sys.argv = argv
+    import rospy
+
+    from rason.ros.node import RasonNode
+
+    rospy.init_node(node_name)
+    node = RasonNode(base_ns=ns)
+    try:
+        for name, source, path, pfilter in sources:
+            node.host(name, source, str(path), pfilter)
+    except AslSyntaxError as err:
+        print(str(err), file=sys.stderr)
+        rospy.signal_shutdown("syntax error")
+        return 2
+    node.start()
+    rospy.on_shutdown(node.shutdown)
+    rospy.loginfo("hosting %s in namespace %s", ", ".join(node.agents), ns)
+    rospy.spin()
+    return 0
+
+
+def _user_args(argv: list[str]) -> list[str]:
+    """argv without the program name and ROS remappings (``a:=b``), like rospy.myargv."""
+    return [a for a in argv[1:] if ":=" not in a]
+
+
+def agent_main() -> int:
+    """``rosrun rason agent NAME FILE.asl [__ns:=/robot] [_param:=value ...]``."""
+    ns, argv = _namespace(sys.argv)
+    args = argparse.ArgumentParser(
+        prog="rosrun rason agent", description="Run one Jason agent as the ROS node jason/NAME.")
+    args.add_argument("name", help="the agent's name (as the .asl world knows it)")
+    args.add_argument("file", type=Path, help="the agent's AgentSpeak source (.asl)")
+    opts = args.parse_args(_user_args(argv))
+    return _run(opts.name, argv, [(opts.name, opts.file, None)], ns)
+
+
+def mas_main() -> int:
+    """``rosrun rason mas FILE.mas2j [__ns:=/robot]``: every agent of the project in one node."""
+    ns, argv = _namespace(sys.argv)
+    args = argparse.ArgumentParser(
+        prog="rosrun rason mas", description="Host every agent of a .mas2j project in one node.")
+    args.add_argument("file", type=Path, help="the Jason project file (.mas2j)")
+    opts = args.parse_args(_user_args(argv))
+    try:
+        project = load_mas2j(opts.file)
+    except (OSError, AslSyntaxError) as err:
+        print(f"rason: {err}", file=sys.stderr)
+        return 2
+    agents = []
+    for spec in project.agents:
+        pfilter = None
+        functors = spec.options.get("perception_functors")
+        sources = spec.options.get("perception_sources")
+        if functors or sources:
+            pfilter = PerceptionFilter.from_lists(_option_list(functors), _option_list(sources))
+        if spec.arch_class:
+            print(f"rason: agent {spec.name}: agentArchClass {spec.arch_class} noted; "
+                  "rason hosts it with RosAgArch", file=sys.stderr)
+        agents.append((spec.name, Path(spec.asl_path), pfilter))
+    return _run(project.name or opts.file.stem, argv, agents, ns)
+
+
+def _option_list(value: object) -> list[str]:
+    """A .mas2j option value such as ``[robot, battery]`` or ``"robot/4"`` as a list."""
+    if value is None:
+        return []
+    if isinstance(value, (list, tuple)):
+        return [str(v).strip().strip('"') for v in value]
+    return [v.strip().strip('"') for v in str(value).strip("[]").split(",") if v.strip()]

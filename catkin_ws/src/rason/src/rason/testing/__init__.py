@@ -1,0 +1,1 @@
+"""Nodes and helpers for testing agents and decomposers."""

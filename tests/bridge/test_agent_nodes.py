@@ -1,0 +1,154 @@
+"""Agents as ROS nodes: real roscore, real `rosrun rason agent` processes, real decomposers."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from rason.harness import Process, RosHarness
+
+pytestmark = pytest.mark.ros
+
+
+def write_agent(tmp_path: Path, name: str, source: str) -> Path:
+    path = tmp_path / f"{name}.asl"
+    path.write_text(textwrap.dedent(source))
+    return path
+
+
+def start_agent(ros: RosHarness, tmp_path: Path, name: str, source: str, ns: str,
+                **params: object) -> Process:
+    path = write_agent(tmp_path, name, source)
+    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params)
+    ros.wait_for_node(f"{ns}/jason/{name}", watch=[proc])
+    return proc
+
+
+def test_action_ok_resumes_and_a_reason_reaches_the_failure_plan(ros, tmp_path):
+    ros.rosrun("rason", "echo_decomposer", ns="/b1")
+    ros.wait_for_subscriber("/b1/jason/action")
+    agent = start_agent(ros, tmp_path, "faulty", """
+        !go.
+        +!go <- .wait(500); move(1); .print("moved ok"); move(2, no_progress); .print("never").
+        -!go[error(R), error_msg(M)] <- .print("failed: ", R, " / ", M).
+        """, ns="/b1")
+    agent.wait_for_line(r"\[faulty\] moved ok", timeout=20)
+    match = agent.wait_for_line(r"\[faulty\] failed: (\w+)", timeout=20)
+    assert match.group(1) == "no_progress"
+    assert "never" not in agent.output()
+
+
+def test_an_action_no_decomposer_handles_fails_with_no_decomposer(ros, tmp_path):
+    ros.rosrun("rason", "echo_decomposer", ns="/b2")       # handles move only
+    agent = start_agent(ros, tmp_path, "pilot", """
+        !go.
+        +!go <- .wait(300); fly(3); .print("flew").
+        -!go[error(R)] <- .print("failed: ", R).
+        """, ns="/b2", ack_timeout=1.0)
+    match = agent.wait_for_line(r"\[pilot\] failed: (\w+)", timeout=20)
+    assert match.group(1) == "no_decomposer"
+
+
+def test_events_for_another_agent_are_ignored(ros, tmp_path):
+    import rospy
+    from jason_msgs.msg import Action, Event
+
+    ros.init_rospy()
+    actions: list[Action] = []
+    rospy.Subscriber("/b3/jason/action", Action, actions.append)
+    events = rospy.Publisher("/b3/jason/event", Event, queue_size=10)
+    agent = start_agent(ros, tmp_path, "worker", """
+        !go.
+        +!go <- .wait(800); lift(2); .print("lifted").
+        """, ns="/b3", ack_timeout=0)
+    ros.wait_for_subscriber("/b3/jason/event")
+    deadline = rospy.Time.now() + rospy.Duration(20)
+    while not actions and rospy.Time.now() < deadline:
+        rospy.sleep(0.05)
+    assert actions, agent.output()
+    action_id = str(actions[0].action_id)
+    assert (actions[0].agent, actions[0].action, list(actions[0].parameters)) == \
+        ("worker", "lift", ["2"])
+    events.publish(Event(agent="someone_else", event_type="action_feedback",
+                         parameters=["OK", action_id]))
+    rospy.sleep(1.0)
+    assert "lifted" not in agent.output()
+    events.publish(Event(agent="worker", event_type="action_feedback",
+                         parameters=["OK", action_id]))
+    agent.wait_for_line(r"\[worker\] lifted", timeout=10)
+
+
+def test_malformed_perception_does_not_stop_the_agent(ros, tmp_path):
+    import rospy
+    from jason_msgs.msg import Perception
+
+    ros.init_rospy()
+    pub = rospy.Publisher("/b4/jason/perception", Perception, queue_size=10, latch=True)
+    agent = start_agent(ros, tmp_path, "seer", """
+        +ok(X)[source(percept)] <- .print("ok ", X).
+        -ok(X) <- .print("lost ", X).
+        """, ns="/b4")
+    ros.wait_for_subscriber("/b4/jason/perception")
+    pub.publish(Perception(source="test_cam", perception=["robot(faulty,1", "ok(1)"]))
+    agent.wait_for_line(r"\[seer\] ok 1", timeout=15)
+    agent.wait_for_line(r"malformed perception.*robot\(faulty,1", timeout=5)
+    pub.publish(Perception(source="test_cam", perception=["ok(2)"]))
+    agent.wait_for_line(r"\[seer\] lost 1", timeout=10)
+    agent.wait_for_line(r"\[seer\] ok 2", timeout=10)
+    assert agent.alive()
+
+
+ALICE = """
+    !start.
+    +!start : .all_names(L) & .member(bob, L)
+       <- .send(bob, tell, hello(alice));
+          .send(bob, askOne, value(X), value(V));
+          .print("bob says ", V);
+          .send(bob, achieve, greet);
+          !watch.
+    +!start <- .wait(200); !start.
+    +!watch <- .all_names(L); .print("names ", L); .wait(500); !watch.
+    """
+BOB = """
+    value(42).
+    +hello(X)[source(S)] <- .print("hello from ", S).
+    +!greet[source(S)] <- .print("greeted by ", S).
+    """
+
+
+def test_two_agents_in_two_processes_talk_and_forget_each_other(ros, tmp_path):
+    bob = start_agent(ros, tmp_path, "bob", BOB, ns="/r2", presence_period=0.5,
+                      presence_timeout=2.0)
+    alice = start_agent(ros, tmp_path, "alice", ALICE, ns="/r1", presence_period=0.5,
+                        presence_timeout=2.0)
+    assert alice.wait_for_line(r"\[alice\] bob says (\d+)", timeout=30).group(1) == "42"
+    bob.wait_for_line(r"\[bob\] hello from alice", timeout=10)
+    bob.wait_for_line(r"\[bob\] greeted by alice", timeout=10)
+    alice.wait_for_line(r"\[alice\] names \[alice,bob\]", timeout=10)
+
+    mind = ros.check_output(["rosservice", "call", "/r2/jason/bob/mind"])
+    assert "value(42)" in mind and "hello(alice)" in mind
+
+    mark = len(alice.lines())
+    bob.stop()
+    alice.wait_for_line(r"\[alice\] names \[alice\]$", timeout=15, start=mark)
+
+
+def test_send_to_an_unknown_agent_fails_with_a_clear_reason(ros, tmp_path):
+    agent = start_agent(ros, tmp_path, "lonely", """
+        !start.
+        +!start <- .wait(300); .send(nobody, tell, hi); .print("sent").
+        -!start[error_msg(M)] <- .print("failed: ", M).
+        """, ns="/b5")
+    match = agent.wait_for_line(r"\[lonely\] failed: (.*)", timeout=15)
+    assert "nobody" in match.group(1)
+    assert "sent" not in agent.output()
+
+
+def test_syntax_error_is_reported_with_file_line_col(ros, tmp_path):
+    path = write_agent(tmp_path, "broken", "!start.\n+!start <- .print(\"x\"\n")
+    proc = ros.rosrun("rason", "agent", "broken", str(path), ns="/b6")
+    assert proc.wait(30) != 0
+    assert f"{path}:" in proc.output()
