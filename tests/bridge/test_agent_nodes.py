@@ -152,3 +152,18 @@ def test_syntax_error_is_reported_with_file_line_col(ros, tmp_path):
     proc = ros.rosrun("rason", "agent", "broken", str(path), ns="/b6")
     assert proc.wait(30) != 0
     assert f"{path}:" in proc.output()
+
+
+def test_mas_hosts_every_agent_of_a_project_in_one_node(ros, tmp_path):
+    write_agent(tmp_path, "bob", BOB)
+    write_agent(tmp_path, "carol", """
+        !start.
+        +!start : .all_names(L) & .member(bob, L) <- .send(bob, tell, hello(carol)).
+        +!start <- .wait(100); !start.
+        """)
+    project = tmp_path / "pair.mas2j"
+    project.write_text("MAS pair {\n  agents: bob; carol;\n}\n")
+    mas = ros.rosrun("rason", "mas", str(project), ns="/m1")
+    mas.wait_for_line(r"\[bob\] hello from carol", timeout=20)
+    assert "/m1/jason/bob/mind" in ros.services()
+    assert "/m1/jason/carol/mind" in ros.services()

@@ -75,14 +75,16 @@ class RosAgArch(AgentArch):
         self.node.publish_action(self.name, action_id, action)
 
     def send(self, agent: Agent, message: Message) -> None:
-        if message.receiver != self.name and not self.node.directory.knows(
-                message.receiver, self.clock.now()):
+        if self.node.deliver_local(message):
+            return
+        if not self.node.directory.knows(message.receiver, self.clock.now()):
             raise UnknownReceiver(f"no agent named '{message.receiver}' is known on the network "
                                f"(known: {', '.join(self.agent_names())})")
         self.node.publish_message(message)
 
     def broadcast(self, agent: Agent, message: Message) -> None:
         message.receiver = ""
+        self.node.deliver_local(message)
         self.node.publish_message(message)
 
     def agent_names(self) -> list[str]:

@@ -139,6 +139,25 @@ class RasonNode:
             reply_with=message.msg_id or uuid.uuid4().hex[:12],
             in_reply_to=message.in_reply_to or ""))
 
+    def deliver_local(self, message: Message) -> bool:
+        """Hand a message to the agents of this process it is for; True if it was only for them.
+
+        Agents hosted together never go through the topic (a message published before the
+        topic's connections are up would be lost, and the hop is pointless).
+        """
+        if message.receiver:
+            hosted = self.agents.get(message.receiver)
+            if hosted is None:
+                return False
+            hosted.agent.receive(message)
+            return True
+        for name, hosted in self.agents.items():
+            if name != message.sender:
+                hosted.agent.receive(Message(sender=message.sender, receiver=name,
+                                             performative=message.performative,
+                                             content=message.content, msg_id=message.msg_id))
+        return False
+
     def console(self, agent_name: str, text: str) -> None:
         with self._console_lock:
             print(f"[{agent_name}] {text}", flush=True)
@@ -179,8 +198,9 @@ class RasonNode:
                 for name in self.agents:
                     self._announce(name)
             return
-        if msg.sender not in self.agents:
-            self.directory.heard(msg.sender, now)
+        if msg.sender in self.agents:
+            return  # our own publication: delivered in-process already
+        self.directory.heard(msg.sender, now)
         receivers = ([msg.receiver] if msg.receiver
                      else [n for n in self.agents if n != msg.sender])
         for name in receivers:
