@@ -12,12 +12,12 @@ from collections import deque
 from typing import Any
 
 from . import reasoning
-from .arch import AgentArch, Message, UnknownReceiver
+from .arch import AgentArch, Message
 from .beliefs import BeliefBase
-from .intentions import Event, IntendedMeans, Intention
-from .logic import query_bb, solve
+from .intentions import Event, IntendedMeans, Intention, IntentionQueue
+from .logic import solve
 from .parser import AgentSource, Rule, parse_source
-from .plans import ACHIEVE, ADD, BELIEF, DEL, TEST, PlanLibrary, Trigger
+from .plans import ACHIEVE, ADD, BELIEF, DEL, PlanLibrary, Trigger
 from .terms import (
     FALSE,
     SOURCE_PERCEPT,
@@ -30,7 +30,7 @@ from .terms import (
     source,
     term_str,
 )
-from .unify import RANDOM_HOOK, rename_vars, resolve, unify
+from .unify import RANDOM_HOOK, resolve, unify
 
 
 def _strip_sources(t: Any) -> Any:
@@ -58,7 +58,8 @@ class Agent:
         self.bb = BeliefBase()
         self.pl = PlanLibrary()
         self.events: deque[Event] = deque()
-        self.running: deque[Intention] = deque()
+        self.running = IntentionQueue()
+        self._feedback: deque = deque()
         self.current: Intention | None = None
         self.suspended: dict[int, Intention] = {}
         self.pending_actions: dict[int, tuple] = {}
@@ -66,6 +67,7 @@ class Agent:
         self.event_waits: list[tuple] = []            # (trigger|None, cond|None, intention, im)
         self.ask_waits: dict[str, tuple] = {}         # msg_id -> (intention, answer term)
         self.random = random.Random(seed)
+        self._rnd = self.random.random
         self._seq = itertools.count()
         self._action_ids = itertools.count(1)
         self._int_ids = itertools.count(1)
@@ -76,11 +78,14 @@ class Agent:
         self._percepts: set = set()
         self._has_atomic = False
         self._stop_requested = False
+        # called (from any thread) whenever input arrives; a runner may use it to wake up
+        self.on_wake: Any = None
         self.load(parsed)
 
     # ================================================================ loading
     def load(self, parsed: AgentSource) -> None:
-        for p in parsed.plans:
+        from .kqml import kqml_plans
+        for p in parsed.plans + kqml_plans():
             self.pl.add(p)
             if p.atomic:
                 self._has_atomic = True
@@ -103,30 +108,41 @@ class Agent:
         with self._inbox_lock:
             self._inbox.append(("msg", message))
         self._wake_event.set()
+        if self.on_wake is not None:
+            self.on_wake()
 
     def action_feedback(self, action_id: int, ok: bool, reason: str | None = None, message: str = "") -> None:
         """Thread-safe: the environment finished action ``action_id`` (ok or failed with reason)."""
         with self._inbox_lock:
             self._inbox.append(("fb", action_id, ok, reason, message))
         self._wake_event.set()
+        if self.on_wake is not None:
+            self.on_wake()
 
     def wake(self) -> None:
         """Thread-safe: something changed (e.g. new percepts); run a cycle soon."""
         with self._inbox_lock:
             self._inbox.append(("wake",))
         self._wake_event.set()
+        if self.on_wake is not None:
+            self.on_wake()
 
     def step(self) -> bool:
         """One reasoning cycle; True if it did anything."""
         with self._state_lock:
-            RANDOM_HOOK[:] = [self.random.random]
-            did = self.sense()
-            if reasoning.P_AD:
-                did = reasoning.act(self) or did
-                did = reasoning.deliberate(self) or did
-            else:
+            if not RANDOM_HOOK or RANDOM_HOOK[0] != self._rnd:
+                RANDOM_HOOK[:] = [self._rnd]
+            try:
+                did = self.sense()
                 did = reasoning.deliberate(self) or did
                 did = reasoning.act(self) or did
+            except Exception as e:  # a bug or an odd program must not kill the agent
+                self.log(f"internal error in the reasoning cycle ({type(e).__name__}: {e}); "
+                         "the event/intention at hand was dropped")
+                if self.current is not None:
+                    self.remove_intention(self.current)
+                    self.current = None
+                return True
             return did
 
     def run(self, stop: threading.Event) -> None:
@@ -150,7 +166,7 @@ class Agent:
         """No events, no runnable intention, nothing in the inbox."""
         with self._inbox_lock:
             inbox = bool(self._inbox)
-        return not self.events and not self.running and not inbox
+        return not self.events and not self.running and not inbox and not self._feedback
 
     def has_pending(self) -> bool:
         """Something may still happen later: actions, timers, awaited events or answers."""
@@ -211,16 +227,26 @@ class Agent:
     def sense(self) -> bool:
         did = self.perceive()
         if self._inbox:
+            # all action feedback and wake-ups, but (like Jason) one message per cycle
             with self._inbox_lock:
-                items = list(self._inbox)
-                self._inbox.clear()
+                items = []
+                keep = deque()
+                msg_taken = False
+                for it in self._inbox:
+                    if it[0] == "msg":
+                        if msg_taken:
+                            keep.append(it)
+                            continue
+                        msg_taken = True
+                    items.append(it)
+                self._inbox = keep
             for it in items:
                 did = True
                 kind = it[0]
                 if kind == "msg":
                     self.process_message(it[1])
                 elif kind == "fb":
-                    self.process_feedback(*it[1:])
+                    self._feedback.append(it[1:])
         if self.timers:
             did = self.check_timers() or did
         return did
@@ -283,7 +309,10 @@ class Agent:
     def atomic_running(self) -> bool:
         if not self._has_atomic:
             return False
-        return any(i.atomic_count for i in self.running)
+        for i in self.running:  # noqa: SIM110 - hot path, no generator
+            if i.atomic_count:
+                return True
+        return False
 
     def all_intentions(self) -> list[Intention]:
         out = []
@@ -312,7 +341,8 @@ class Agent:
         self.suspend(i, "wait")
         heapq.heappush(self.timers, (deadline, next(self._seq), "wait", i, None))
 
-    def suspend_event_wait(self, i: Intention, trig: Trigger | None, cond: Any, deadline: float | None) -> None:
+    def suspend_event_wait(self, i: Intention, trig: Trigger | None, cond: Any,
+                           deadline: float | None) -> None:
         self.suspend(i, "event_wait")
         self.event_waits.append((trig, cond, i, i.top()))
         if deadline is not None:
@@ -328,8 +358,7 @@ class Agent:
 
     def detach(self, i: Intention) -> None:
         """Remove ``i`` from every queue/registration (it is about to be re-attached elsewhere)."""
-        if i in self.running:
-            self.running.remove(i)
+        self.running.take(i)
         self.suspended.pop(i.id, None)
         if self.event_waits:
             self.event_waits = [w for w in self.event_waits if w[2] is not i]
@@ -403,9 +432,9 @@ class Agent:
         some plan is relevant for it."""
         if self.event_waits:
             self._check_event_waits(ev)
-        elif ev.intention is None and not self.pl.relevant(ev.trigger):
-            if not (ev.trigger.is_goal and ev.trigger.op == ADD):
-                return
+        elif (ev.intention is None and not self.pl.relevant(ev.trigger)
+              and not (ev.trigger.is_goal and ev.trigger.op == ADD)):
+            return
         self.events.append(ev)
 
     def _check_event_waits(self, ev: Event) -> None:
@@ -413,8 +442,9 @@ class Agent:
         keep = []
         woken = []
         for w in self.event_waits:
-            trig, cond, i, _im = w
-            if trig is not None and trig.op == t.op and trig.type == t.type and unify(trig.literal, t.literal, {}):
+            trig, _cond, i, _im = w
+            if (trig is not None and trig.op == t.op and trig.type == t.type
+                    and unify(trig.literal, t.literal, {})):
                 woken.append(i)
             else:
                 keep.append(w)
@@ -428,7 +458,7 @@ class Agent:
             return
         keep = []
         for w in self.event_waits:
-            trig, cond, i, im = w
+            _trig, cond, i, im = w
             if cond is not None and im is not None:
                 sol = next(iter(solve(self, cond, im.u, i)), None)
                 if sol is not None:
@@ -438,20 +468,45 @@ class Agent:
             keep.append(w)
         self.event_waits = keep
 
-    def add_belief(self, lit: Literal, front: bool = True) -> bool:
-        """Add a belief (with its source annotations) and post the ``+b`` event if it is new."""
+    def add_belief(self, lit: Literal, front: bool = True, focus: Intention | None = None) -> bool:
+        """Add a belief (with its source annotations) and post the ``+b`` event if it is new.
+
+        With ``focus`` (a plan body's ``+b``), the event is internal to that intention and is
+        always queued; returns True when such an event was posted (the intention must wait).
+        """
         added = self.bb.add(lit, front=front)
         if added is None:
             return False
+        if focus is not None:
+            ev = Event(Trigger(ADD, BELIEF, added), focus)
+            if self.event_waits:
+                self._check_event_waits(ev)
+            self.events.append(ev)
+            if self.event_waits:
+                self.check_cond_waits()
+            return True
+        if not self.event_waits and not self.pl.has_key((ADD, BELIEF, lit.functor, len(lit.args), lit.neg)):
+            return True  # fast path: nobody would see the event
         self.add_event(Event(Trigger(ADD, BELIEF, added)))
         if self.event_waits:
             self.check_cond_waits()
         return True
 
-    def remove_belief(self, lit: Literal) -> bool:
+    def remove_belief(self, lit: Literal, focus: Intention | None = None) -> bool:
+        """Remove a belief; with ``focus`` the ``-b`` event is internal (see :meth:`add_belief`)."""
         removed = self.bb.remove(lit)
         if removed is None:
             return False
+        if focus is not None:
+            ev = Event(Trigger(DEL, BELIEF, removed), focus)
+            if self.event_waits:
+                self._check_event_waits(ev)
+            self.events.append(ev)
+            if self.event_waits:
+                self.check_cond_waits()
+            return True
+        if not self.event_waits and not self.pl.has_key((DEL, BELIEF, lit.functor, len(lit.args), lit.neg)):
+            return True  # fast path: nobody would see the event
         self.add_event(Event(Trigger(DEL, BELIEF, removed)))
         if self.event_waits:
             self.check_cond_waits()
@@ -468,7 +523,7 @@ class Agent:
         self.suspend(i, f"action {aid}")
         try:
             self.arch.act(self, action, aid)
-        except Exception as e:  # noqa: BLE001 - an architecture error fails the action
+        except Exception as e:
             self.action_feedback(aid, False, "action_failed", f"{type(e).__name__}: {e}")
         return aid
 
@@ -494,9 +549,7 @@ class Agent:
             return
         try:
             self.arch.send(self, msg)
-        except UnknownReceiver:
-            raise
-        except Exception as e:  # noqa: BLE001
+        except Exception as e:
             from .stdlib import IAError
             raise IAError(f"cannot send to {msg.receiver}: {e}") from None
 
@@ -507,10 +560,13 @@ class Agent:
             i, ans = self.ask_waits.pop(m.in_reply_to)
             if i.dropped or i.id not in self.suspended:
                 return
-            if isinstance(content, Literal) and not (content == FALSE):
+            if m.performative == "untell":
+                content = FALSE
+            elif isinstance(content, Literal) and content != FALSE:
                 content = content.add_annots([src])
             elif isinstance(content, ListTerm):
-                content = make_list([c.add_annots([src]) if isinstance(c, Literal) else c for c in content.items])
+                content = make_list([c.add_annots([src]) if isinstance(c, Literal) else c
+                                     for c in content.items])
             im = i.top()
             s2 = dict(im.u)
             if unify(ans, content, s2):
@@ -528,50 +584,13 @@ class Agent:
             for c in items:
                 if isinstance(c, Literal) and not (m.in_reply_to and c == FALSE):
                     self.add_belief(_strip_sources(c).add_annots([src]), front=True)
-        elif perf == "untell":
-            items = content.items if isinstance(content, ListTerm) else (content,)
-            for c in items:
-                if isinstance(c, Literal):
-                    lit = _strip_sources(c).add_annots([src])
-                    if not is_ground(lit):
-                        for sol in query_bb(self, lit, {}):
-                            lit = resolve(lit, sol)
-                            break
-                    self.remove_belief(lit)
-        elif perf == "achieve":
-            if isinstance(content, Literal):
-                self.add_event(Event(Trigger(ADD, ACHIEVE, _strip_sources(content).add_annots([src]))))
-        elif perf == "unachieve":
-            if isinstance(content, Literal):
-                self.drop_goal(content, {}, drop_events=True)
-        elif perf in ("askOne", "askAll"):
-            self._answer_ask(m, src)
-        elif perf == "signal":
-            if isinstance(content, Literal):
-                self.add_event(Event(Trigger(ADD, BELIEF, content.add_annots([src]))))
-
-    def _answer_ask(self, m: Message, src: Literal) -> None:
-        q = m.content
-        if not isinstance(q, Literal):
-            return
-        q = rename_vars(q, {})
-        if m.performative == "askOne":
-            for sol in query_bb(self, q, {}):
-                ans = _strip_sources(resolve(q, sol))
-                self.send_message(Message(self.name, m.sender, "tell", ans, in_reply_to=m.msg_id))
-                return
-            if self.pl.has_candidate(ADD, TEST, q):
-                ev = Event(Trigger(ADD, TEST, q.add_annots([src])), reply=m)
-                self.add_event(ev)
-                return
-            self.send_message(Message(self.name, m.sender, "tell", FALSE, in_reply_to=m.msg_id))
-            return
-        answers = []
-        for sol in query_bb(self, q, {}):
-            a = _strip_sources(resolve(q, sol))
-            if a not in answers:
-                answers.append(a)
-        self.send_message(Message(self.name, m.sender, "tell", make_list(answers), in_reply_to=m.msg_id))
+        elif perf == "achieve" and isinstance(content, Literal):
+            self.add_event(Event(Trigger(ADD, ACHIEVE, _strip_sources(content).add_annots([src]))))
+        else:
+            # the other performatives go through the (default) kqml_received plans
+            sender = Literal("self") if m.sender == self.name else Literal(m.sender)
+            received = Literal("kqml_received", (sender, Literal(perf), content, Literal(m.msg_id)))
+            self.add_event(Event(Trigger(ADD, ACHIEVE, received)))
 
 
 def load_agent_source(path: str) -> str:

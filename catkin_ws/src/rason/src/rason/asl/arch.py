@@ -86,7 +86,8 @@ class Message:
     def __str__(self) -> str:
         from .terms import term_str
         r = f",{self.in_reply_to}" if self.in_reply_to else ""
-        return f"<{self.msg_id},{self.sender},{self.performative},{self.receiver},{term_str(self.content)}{r}>"
+        return (f"<{self.msg_id},{self.sender},{self.performative},{self.receiver},"
+                f"{term_str(self.content)}{r}>")
 
 
 class UnknownReceiver(Exception):

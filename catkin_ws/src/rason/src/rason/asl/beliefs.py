@@ -87,14 +87,21 @@ class BeliefBase:
         if not lst:
             return None
         for i, b in enumerate(lst):
-            if isinstance(b, Literal) and b.args == lit.args:
+            if type(b) is Literal and b.args == lit.args:
+                if b.annots == lit.annots:  # fast path: the whole belief goes
+                    if len(lst) == 1:
+                        del self._index[lit.key]
+                    else:
+                        self._index[lit.key] = lst[:i] + lst[i + 1:]
+                    return b
                 if not lit.annots:
                     removed_annots: tuple = b.annots
                     remaining: tuple = ()
                 else:
-                    s: dict = {}
-                    if not unify(lit.no_annots().with_annots(lit.annots), b, s):
-                        return None
+                    if not all(a in b.annots for a in lit.annots):
+                        s: dict = {}
+                        if not unify(lit, b, s):
+                            return None
                     removed_annots = tuple(a for a in b.annots if a in lit.annots)
                     remaining = tuple(a for a in b.annots if a not in lit.annots)
                     if not removed_annots:
@@ -108,7 +115,9 @@ class BeliefBase:
                     self._index[lit.key] = lst2
                 else:
                     del self._index[lit.key]
-                return b.with_annots(tuple(sorted(removed_annots, key=sort_key)))
+                if len(removed_annots) > 1:
+                    removed_annots = tuple(sorted(removed_annots, key=sort_key))
+                return b.with_annots(removed_annots)
         return None
 
     def abolish(self, pattern: Literal) -> list[Literal]:

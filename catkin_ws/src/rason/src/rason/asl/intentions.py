@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from collections import deque
 from typing import Any
 
 from .plans import ADD, DEL, Deed, Plan, Trigger, deed_str
@@ -14,7 +15,7 @@ _ids = itertools.count(1)
 class Event:
     """A triggering event; ``intention`` is None for external events."""
 
-    __slots__ = ("trigger", "intention", "fail_target", "reply")
+    __slots__ = ("fail_target", "intention", "reply", "trigger")
 
     def __init__(self, trigger: Trigger, intention: Intention | None = None,
                  fail_target: int | None = None, reply: Any = None) -> None:
@@ -35,7 +36,7 @@ class IntendedMeans:
     ``stack`` holds the remaining deeds in reverse order (the next deed is ``stack[-1]``).
     """
 
-    __slots__ = ("plan", "trigger", "u", "stack", "fail_target")
+    __slots__ = ("current", "fail_target", "plan", "stack", "trigger", "u")
 
     def __init__(self, plan: Plan, trigger: Trigger, u: dict, fail_target: int | None = None) -> None:
         self.plan = plan
@@ -43,6 +44,7 @@ class IntendedMeans:
         self.u = u
         self.stack: list[Deed] = list(plan.rev_body)
         self.fail_target = fail_target  # for -!g means: stack index of the failed +!g means
+        self.current: Deed | None = None  # the deed being executed (for intention dumps)
 
     @property
     def is_goal_add(self) -> bool:
@@ -53,14 +55,18 @@ class IntendedMeans:
         return self.trigger.op == DEL and self.trigger.is_goal
 
     def __str__(self) -> str:
-        rest = "; ".join(deed_str(d) for d in reversed(self.stack))
-        return f"{self.trigger} <- ... {rest} / {{{', '.join(f'{k}={term_str(v)}' for k, v in self.u.items())}}}"
+        deeds = list(reversed(self.stack))
+        if self.current is not None and (not deeds or deeds[0] is not self.current):
+            deeds.insert(0, self.current)
+        rest = "; ".join(deed_str(d) for d in deeds)
+        unif = ", ".join(f"{k}={term_str(v)}" for k, v in self.u.items())
+        return f"{self.trigger} <- ... {rest} / {{{unif}}}"
 
 
 class Intention:
     """A stack of intended means; ``ims[-1]`` is the top."""
 
-    __slots__ = ("id", "ims", "suspended", "atomic_count", "dropped", "reply")
+    __slots__ = ("atomic_count", "dropped", "id", "ims", "reply", "suspended")
 
     def __init__(self, ident: int | None = None) -> None:
         self.id = ident if ident is not None else next(_ids)
@@ -105,6 +111,16 @@ class Intention:
 
     def __repr__(self) -> str:
         return f"<intention {self.id} {[str(im.trigger) for im in self.ims]}>"
+
+
+class IntentionQueue(deque):
+    """Jason's queue of running intentions (a FIFO: SelInt polls the first one, an intention
+    that executed a step goes back to the end)."""
+
+    def take(self, i: Intention) -> None:
+        """Remove ``i`` if present."""
+        if i in self:
+            self.remove(i)
 
 
 def short(x: Any) -> str:

@@ -27,7 +27,7 @@ if TYPE_CHECKING:  # pragma: no cover
 class IAContext:
     """What an internal action sees: agent, current substitution and (in a body) intention."""
 
-    __slots__ = ("ag", "s", "intention", "im", "deed")
+    __slots__ = ("ag", "deed", "im", "intention", "s")
 
     def __init__(self, ag: Agent, s: dict, intention: Intention | None = None,
                  im: IntendedMeans | None = None, deed: Any = None) -> None:
@@ -90,6 +90,42 @@ def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Ite
     return
 
 
+def first_solution(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> dict | None:
+    """The first solution of ``f`` (fewer generator frames for the common context shapes)."""
+    tf = type(f)
+    if tf is RelExpr:
+        return eval_rel(f, s)
+    if tf is LogExpr and f.op == "&" and type(f.right) is RelExpr:
+        right = f.right
+        left = f.left
+        if (type(left) is Literal and left.args and left.functor[0] != "."
+                and not left.annots and left.tail is None):
+            for b in ag.bb.candidates(left.key):
+                if type(b) is not Literal:
+                    for s1 in query_bb(ag, left, s):
+                        s2 = eval_rel(right, s1)
+                        if s2 is not None:
+                            return s2
+                    return None
+                s1 = dict(s)
+                for x, y in zip(left.args, b.args, strict=False):
+                    if not unify(x, y, s1):
+                        break
+                else:
+                    s2 = eval_rel(right, s1)
+                    if s2 is not None:
+                        return s2
+            return None
+        for s1 in solve(ag, left, s, intention):
+            s2 = eval_rel(right, s1)
+            if s2 is not None:
+                return s2
+        return None
+    for sol in solve(ag, f, s, intention):
+        return sol
+    return None
+
+
 def eval_rel(f: RelExpr, s: dict) -> dict | None:
     """Evaluate a relational expression; returns the (possibly extended) substitution or None."""
     op = f.op
@@ -141,7 +177,7 @@ def query_bb(ag: Agent, lit: Literal, s: dict) -> Iterator[dict]:
         if type(b) is Literal:
             s2 = dict(s)
             ok = True
-            for x, y in zip(args, b.args):
+            for x, y in zip(args, b.args, strict=False):
                 if not unify(x, y, s2):
                     ok = False
                     break
@@ -160,7 +196,7 @@ def query_bb(ag: Agent, lit: Literal, s: dict) -> Iterator[dict]:
             body = rename_vars(b.body, mapping)
             s2 = dict(s)
             ok = True
-            for x, y in zip(args, head.args):
+            for x, y in zip(args, head.args, strict=False):
                 if not unify(x, y, s2):
                     ok = False
                     break
@@ -176,7 +212,7 @@ def _solve_ia(ag: Agent, f: Literal, s: dict, intention: Intention | None) -> It
     ctx = IAContext(ag, s, intention)
     try:
         r = call_ia(ctx, f)
-    except Exception:  # noqa: BLE001 - a failing internal action is a false condition
+    except Exception:
         return
     if r is True:
         yield ctx.s

@@ -43,6 +43,7 @@ from .terms import (
     PlanTerm,
     RelExpr,
     Var,
+    is_constant,
     merge_annots,
 )
 
@@ -251,7 +252,9 @@ class _ToAst(Transformer):
         if annots is not None:
             annots_t, tail = annots
             annots_t = merge_annots((), annots_t)
-        return Literal(str(atom), args or (), annots_t, tail, neg is not None)
+        lit = Literal(str(atom), args or (), annots_t, tail, neg is not None)
+        is_constant(lit)  # cache: resolving a constant literal is free
+        return lit
 
     def or_(self, meta: Any, c: list) -> LogExpr:
         return LogExpr("|", c[0], c[1])
@@ -508,5 +511,12 @@ def parse_literal(text: str) -> Literal:
     return t
 
 
-__all__ = ["AslSyntaxError", "AgentSource", "Rule", "parse_source", "parse_term", "parse_literal",
-           "Token"]
+__all__ = [
+    "AgentSource",
+    "AslSyntaxError",
+    "Rule",
+    "Token",
+    "parse_literal",
+    "parse_source",
+    "parse_term",
+]

@@ -27,27 +27,26 @@ K_FOR = "for"
 K_LOOP = "loop"                # internal: next iteration of while/for
 
 
-@dataclass(frozen=True, eq=False)
 class Trigger:
     """A triggering event ``+!g``, ``-b``, ``+?g``..."""
 
-    op: str
-    type: str
-    literal: Any
+    __slots__ = ("is_goal", "key", "literal", "op", "type")
+
+    def __init__(self, op: str, type: str, literal: Any) -> None:
+        self.op = op
+        self.type = type
+        self.literal = literal
+        self.is_goal = type != BELIEF
+        if isinstance(literal, Literal):
+            self.key = (op, type, literal.functor, len(literal.args), literal.neg)
+        else:
+            self.key = (op, type, None, 0, False)
 
     def __str__(self) -> str:
         return self.op + self.type + term_str(self.literal)
 
-    @property
-    def key(self) -> tuple:
-        lit = self.literal
-        if isinstance(lit, Literal):
-            return (self.op, self.type, lit.functor, len(lit.args), lit.neg)
-        return (self.op, self.type, None, 0, False)
-
-    @property
-    def is_goal(self) -> bool:
-        return self.type != BELIEF
+    def __repr__(self) -> str:
+        return str(self)
 
     @property
     def is_achieve(self) -> bool:
@@ -57,7 +56,7 @@ class Trigger:
 class Deed:
     """One formula of a plan body, with the source line it came from."""
 
-    __slots__ = ("kind", "term", "line", "extra")
+    __slots__ = ("extra", "kind", "line", "term")
 
     def __init__(self, kind: str, term: Any, line: int, extra: Any = None) -> None:
         self.kind = kind
@@ -91,7 +90,8 @@ def deed_str(d: Deed) -> str:
     if k == K_IF:
         parts = []
         for i, (cond, body) in enumerate(d.extra[0]):
-            parts.append(("if" if i == 0 else "elif") + " (" + term_str(cond) + ") { " + body_str(body) + " }")
+            kw = "if" if i == 0 else "elif"
+            parts.append(kw + " (" + term_str(cond) + ") { " + body_str(body) + " }")
         if d.extra[1] is not None:
             parts.append("else { " + body_str(d.extra[1]) + " }")
         return " ".join(parts)
@@ -174,10 +174,15 @@ class PlanLibrary:
         """Candidate plans for a trigger (Jason ``getCandidatePlans``)."""
         lst = self._index.get(trigger.key)
         if self._var_plans:
-            extra = [p for p in self._var_plans if p.trigger.op == trigger.op and p.trigger.type == trigger.type]
+            extra = [p for p in self._var_plans
+                     if p.trigger.op == trigger.op and p.trigger.type == trigger.type]
             if extra:
                 return sorted((lst or []) + extra, key=self.plans.index)
         return lst or []
+
+    def has_key(self, key: tuple) -> bool:
+        """True if some plan may be relevant for a trigger with this key."""
+        return key in self._index or bool(self._var_plans)
 
     def has_candidate(self, op: str, type_: str, lit: Any) -> bool:
         return bool(self.relevant(Trigger(op, type_, lit)))

@@ -10,11 +10,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from .intentions import Event, IntendedMeans, Intention
-from .logic import IAContext, eval_rel, query_bb, solve
+from .logic import IAContext, eval_rel, first_solution, query_bb, solve
 from .plans import (
     ACHIEVE,
     ADD,
-    BELIEF,
     DEL,
     K_ACHIEVE,
     K_ACHIEVE_NEW,
@@ -35,7 +34,7 @@ from .plans import (
     Trigger,
 )
 from .stdlib import SUSPEND, FailGoal, IAError, call_ia
-from .terms import SOURCE_SELF, Literal, Var, is_ground, merge_annots, term_str
+from .terms import SOURCE_SELF, Literal, is_ground, merge_annots, term_str
 from .unify import ArithError, rename_vars, resolve, unify
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -72,27 +71,20 @@ def add_self_source(lit: Literal) -> Literal:
 
 # ====================================================================== deliberate
 
-import os as _os
-_P = _os.environ.get("RASON_P", "DA,1,1,0,1").split(",")
-P_AD = _P[0] == "AD"
-P_DELADD2 = _P[1] == "2"
-P_IFCYCLE = _P[2] == "1"
-P_FAILFRONT = _P[3] == "1"
-P_ALLEV = _P[4] == "all"
-
-
 def deliberate(ag: Agent) -> bool:
-    """Handle one pending event (SelEv -> RelPl -> ApplPl -> SelAppl -> AddIM)."""
-    if not ag.events:
-        return False
-    n = len(ag.events) if P_ALLEV else 1
+    """Handle one pending event (SelEv -> RelPl -> ApplPl -> SelAppl -> AddIM).
+
+    External events nobody has a plan for are dropped before they are queued
+    (:meth:`Agent.add_event`), so they never use up a cycle, as in Jason.
+    """
     did = False
-    for _ in range(n):
+    while ag.events:
         ev = sel_ev(ag)
         if ev is None:
             break
-        handle_event(ag, ev)
         did = True
+        if handle_event(ag, ev):
+            break
     return did
 
 
@@ -137,37 +129,69 @@ def sel_appl(ag: Agent, ev: Event, relevant: list[Plan]) -> tuple[Plan, dict] | 
     return None
 
 
-def handle_event(ag: Agent, ev: Event) -> None:
+def handle_event(ag: Agent, ev: Event) -> bool:
+    """Find a plan for the event and create/extend an intention.
+
+    Returns False when an external non-goal event was discarded (Jason then selects the
+    next event in the same cycle)."""
     trig = ev.trigger
     relevant = rel_pl(ag, ev)
     i = ev.intention
     if not relevant:
+        if i is not None and not trig.is_goal:
+            _resume_after_belief_event(ag, i)
+            return True
         if i is not None:
             if trig.op == DEL and trig.is_goal:
                 ag.warn_drop(i, f"No failure event was generated for {trig}", trig)
                 ag.remove_intention(i)
-                return
+                return True
             msg = f"Found a goal for which there is no relevant plan: {trig}"
-            fail_intention(ag, i, "no_relevant", msg, code=trig.literal, no_relevant=True)
+            fail_intention(ag, i, "no_relevant", msg, code=trig.literal, from_event=trig)
         elif trig.is_goal:
-            ag.warn(f"Found a goal for which there is no relevant plan: {trig}")
-        return
+            _external_goal_failed(ag, trig, "relevant")
+        else:
+            return False
+        return True
+    if i is not None and not trig.is_goal:
+        pass  # an internal belief event with relevant plans: handled below
     lit = trig.literal
     if not is_ground(lit):
         lit = rename_vars(lit, {})
         ev = Event(Trigger(trig.op, trig.type, lit), i, ev.fail_target, ev.reply)
-    opt = sel_appl(ag, ev, relevant)
+    opt = None
+    for plan in relevant:  # ApplPl + SelAppl (inlined appl_pl for speed)
+        u: dict = {}
+        if not unify(plan.trigger.literal, lit, u):
+            continue
+        ctx = plan.context
+        if ctx is None:
+            opt = (plan, u)
+            break
+        try:
+            sol = first_solution(ag, ctx, u)
+        except (ArithError, RecursionError):
+            continue
+        if sol is not None:
+            opt = (plan, sol)
+        if opt is not None:
+            break
     if opt is None:
+        if i is not None and not trig.is_goal:
+            _resume_after_belief_event(ag, i)
+            return True
         if i is not None:
             if trig.op == DEL and trig.is_goal:
                 ag.warn_drop(i, f"No applicable plan for {trig}", trig)
                 ag.remove_intention(i)
-                return
+                return True
             msg = f"Found a goal for which there is no applicable plan: {trig}"
-            fail_intention(ag, i, "no_applicable", msg, code=trig.literal)
+            fail_intention(ag, i, "no_applicable", msg, code=trig.literal, from_event=trig)
         elif trig.is_goal:
-            ag.warn(f"Found a goal for which there is no applicable plan: {trig}")
-        return
+            _external_goal_failed(ag, trig, "applicable")
+        else:
+            return False
+        return True
     plan, u = opt
     im = IntendedMeans(plan, ev.trigger, u, ev.fail_target)
     if i is None:
@@ -176,15 +200,44 @@ def handle_event(ag: Agent, ev: Event) -> None:
     i.push(im)
     i.suspended = None
     ag.running.append(i)
+    return True
+
+
+def _resume_after_belief_event(ag: Agent, i: Intention) -> None:
+    """An internal +b/-b event had no plan: the intention just goes on after the belief deed."""
+    top = i.top()
+    if top is not None and top.stack:
+        top.stack.pop()
+    i.suspended = None
+    if i.ims and not i.dropped:
+        ag.running.append(i)
+
+
+def _external_goal_failed(ag: Agent, trig: Trigger, what: str) -> None:
+    """A goal without intention (``!!g``, a message) has no relevant/applicable plan."""
+    msg = f"Found a goal for which there is no {what} plan: {trig}"
+    lit = trig.literal
+    if trig.op == ADD and isinstance(lit, Literal) and ag.pl.has_candidate(DEL, trig.type, lit):
+        annots = [Literal("error", (Literal("no_" + what),)), Literal("error_msg", (msg,)),
+                  Literal("code", (lit,))]
+        ag.events.append(Event(Trigger(DEL, trig.type, lit.add_annots(annots))))
+        return
+    if trig.op == ADD:
+        ag.warn(f"No fail event was generated for {trig}")
+    ag.warn(msg)
 
 
 # ====================================================================== act
 
 def act(ag: Agent) -> bool:
-    """SelInt + ExecInt + ClrInt on one intention."""
+    """ProcAct (one action feedback) + SelInt + ExecInt + ClrInt on one intention."""
+    did = False
+    if ag._feedback:
+        ag.process_feedback(*ag._feedback.popleft())
+        did = True
     i = sel_int(ag)
     if i is None:
-        return False
+        return did
     exec_int(ag, i)
     return True
 
@@ -195,9 +248,9 @@ def sel_int(ag: Agent) -> Intention | None:
     if not running:
         return None
     if ag.atomic_running():
-        for k, i in enumerate(running):
+        for i in list(running):
             if i.is_atomic:
-                del running[k]
+                running.remove(i)
                 return i
     return running.popleft()
 
@@ -206,10 +259,13 @@ def exec_int(ag: Agent, i: Intention) -> None:
     """ExecInt: execute the next deed of the top intended means."""
     im = i.ims[-1]
     stack = im.stack
-    if not stack:
+    if not stack:  # a plan with an empty body: just ClrInt
         clr_int(ag, i)
+        if i.ims and i.suspended is None and not i.dropped:
+            ag.running.append(i)
         return
     d = stack[-1]
+    im.current = d
     ag.current = i
     try:
         ok = _exec_deed(ag, i, im, d)
@@ -230,7 +286,7 @@ def exec_int(ag: Agent, i: Intention) -> None:
     except RecursionError:
         fail_intention(ag, i, annots=error_annots(ag, im, d, "ia_failed", "term nested too deeply"))
         ok = None
-    except Exception as e:  # noqa: BLE001 - nothing an agent does may crash the process
+    except Exception as e:
         fail_intention(ag, i, annots=error_annots(ag, im, d, "ia_failed", f"{type(e).__name__}: {e}"))
         ok = None
     finally:
@@ -278,11 +334,15 @@ def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
             return True
         return _fail(ag, i, im, d, "ia_failed", "")
     if k == K_ADD_BEL:
-        stack.pop()
         lit = resolve(d.term, u)
         if not isinstance(lit, Literal):
             raise IAError(f"cannot add {term_str(lit)} as a belief")
-        ag.add_belief(add_self_source(lit), front=True)
+        # Jason's default intBels=sameFocus: the +b event belongs to this intention, which
+        # waits for it (its plan, if any, runs on top of this intention)
+        if ag.add_belief(add_self_source(lit), front=True, focus=i):
+            i.suspended = "event"
+            return False
+        stack.pop()
         return True
     if k == K_ACHIEVE:
         lit = resolve(d.term, u)
@@ -314,24 +374,23 @@ def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
         for sol in solve(ag, f, u, i):
             im.u = sol
             return True
-        return _fail(ag, i, im, d, "constraint_failed", f"Constraint {term_str(resolve(f, u))} was not satisfied.")
+        return _fail(ag, i, im, d, "constraint_failed",
+                     f"Constraint {term_str(resolve(f, u))} was not satisfied.")
     if k == K_DEL_ADD_BEL:
         stack.pop()
         lit = resolve(d.term, u)
         if not isinstance(lit, Literal):
             raise IAError(f"cannot add {term_str(lit)} as a belief")
         lit = add_self_source(lit)
-        # remove the first belief matching b(_,...)[source(self)]
-        pattern = Literal(lit.functor, tuple(Var("_") for _ in lit.args), lit.annots, None, lit.neg)
-        pattern = rename_vars(pattern, {})
-        for sol in query_bb(ag, pattern, {}):
-            ag.remove_belief(resolve(pattern, sol))
-            break
-        # Jason performs the addition as a separate step
-        if P_DELADD2:
-            stack.append(Deed(K_ADD_BEL, lit, d.line))
-        else:
-            ag.add_belief(lit, front=True)
+        # remove the first belief matching b(_,...)[source(self)] (external event), then add
+        for b in ag.bb.candidates(lit.key):
+            if type(b) is Literal and all(a in b.annots for a in lit.annots):
+                ag.remove_belief(b.with_annots(lit.annots))
+                break
+        if ag.add_belief(lit, front=True, focus=i):
+            stack.append(d)  # the deed stays current until its event is handled
+            i.suspended = "event"
+            return False
         return True
     if k == K_DEL_BEL:
         stack.pop()
@@ -346,7 +405,10 @@ def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
                 break
             else:
                 return True
-        ag.remove_belief(lit)
+        if ag.remove_belief(lit, focus=i):
+            stack.append(d)
+            i.suspended = "event"
+            return False
         return True
     if k == K_TEST:
         f = d.term
@@ -355,7 +417,8 @@ def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
             im.u = sol
             return True
         lit = resolve(f, u)
-        if isinstance(lit, Literal) and not lit.functor.startswith(".") and ag.pl.has_candidate(ADD, TEST, lit):
+        if (isinstance(lit, Literal) and not lit.functor.startswith(".")
+                and ag.pl.has_candidate(ADD, TEST, lit)):
             lit = add_self_source(lit)
             if not is_ground(lit):
                 lit = rename_vars(lit, {})
@@ -380,13 +443,9 @@ def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
             for sol in solve(ag, cond, u, i):
                 im.u = sol
                 stack.extend(reversed(body))
-                if not P_IFCYCLE and stack:
-                    return _exec_deed(ag, i, im, stack[-1])
                 return True
         if els is not None:
             stack.extend(reversed(els))
-            if not P_IFCYCLE and stack:
-                return _exec_deed(ag, i, im, stack[-1])
         return True
     if k == K_WHILE:
         stack.pop()
@@ -463,7 +522,7 @@ def clr_int(ag: Agent, i: Intention) -> None:
 # ====================================================================== failure
 
 def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = "",
-                   code: Any = None, annots: list | None = None, no_relevant: bool = False) -> None:
+                   code: Any = None, annots: list | None = None, from_event: Trigger | None = None) -> None:
     """generateGoalDeletion: post ``-!g`` for the nearest goal with a failure plan, else drop."""
     if annots is None:
         im = i.top()
@@ -497,8 +556,8 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
                         if isinstance(trig.literal, Literal) else trig.literal)
     else:
         shown = None
-    if no_relevant:
-        ag.warn_drop(i, f"No fail event was generated for {shown}", shown, relevant_msg=msg)
+    if from_event is not None:
+        ag.warn_drop(i, f"No fail event was generated for {from_event}", shown, relevant_msg=msg)
     else:
         ag.warn_drop(i, f"No failure event was generated for {shown}", shown)
     ag.remove_intention(i)
@@ -509,10 +568,7 @@ def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx:
     lit = t.literal.add_annots(annots) if isinstance(t.literal, Literal) else t.literal
     ag.detach(i)
     i.suspended = "failure"
-    if P_FAILFRONT:
-        ag.events.appendleft(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
-    else:
-        ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
+    ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
 
 
 def fail_goal_at(ag: Agent, i: Intention, idx: int) -> None:
@@ -534,5 +590,3 @@ def fail_goal_at(ag: Agent, i: Intention, idx: int) -> None:
     ag.warn_drop(i, f"No failure event was generated for {ims[idx].trigger}", ims[idx].trigger)
     ag.remove_intention(i)
 
-
-BELIEF_TYPE = BELIEF

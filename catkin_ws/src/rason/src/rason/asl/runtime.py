@@ -69,6 +69,7 @@ class LocalMas:
     def add_agent(self, name: str, source: str, filename: str = "<string>", seed: int | None = None,
                   src_name: str | None = None) -> Agent:
         ag = Agent(name, source, self.make_arch(name), filename, seed=seed, src_name=src_name)
+        ag.on_wake = self.notify
         self.agents[name] = ag
         return ag
 
@@ -94,11 +95,21 @@ class LocalMas:
     def finished(self) -> bool:
         return all(ag.is_idle() for ag in self.agents.values())
 
-    def run(self, timeout: float | None = None, stop: threading.Event | None = None) -> bool:
-        """Run until every agent is idle with nothing that can still happen (True) or timeout."""
+    def run(self, timeout: float | None = None, stop: threading.Event | None = None,
+            max_cycles: int | None = None, idle_hook: Callable[[], bool] | None = None) -> bool:
+        """Run until every agent is idle with nothing that can still happen (True), or until the
+        timeout (clock seconds) / ``max_cycles`` rounds (False).
+
+        ``idle_hook`` is called when every agent is idle; returning True means "something
+        happened" (e.g. a simulated environment finished an action) and the run goes on.
+        Otherwise, with actions pending, the runner blocks until an agent is woken."""
         clock = self.clock
         t_end = None if timeout is None else clock.now() + timeout
+        rounds = 0
         while True:
+            rounds += 1
+            if max_cycles is not None and rounds > max_cycles:
+                return False
             if stop is not None and stop.is_set():
                 return False
             if any(ag.stop_requested for ag in self.agents.values()):
@@ -108,7 +119,9 @@ class LocalMas:
                 if t_end is not None and clock.now() >= t_end:
                     return False
                 continue
-            if not self.finished():
+            if not self.finished() and any(ag.has_input() for ag in self.agents.values()):
+                continue
+            if idle_hook is not None and idle_hook():
                 continue
             deadlines = [d for d in (ag.next_deadline() for ag in self.agents.values()) if d is not None]
             pending = any(ag.pending_actions for ag in self.agents.values())

@@ -47,7 +47,7 @@ class Var:
 class Literal:
     """An atom or structure, possibly negated (``~``) and annotated (``[a|T]``)."""
 
-    __slots__ = ("functor", "args", "annots", "tail", "neg", "_h")
+    __slots__ = ("_c", "_g", "_h", "annots", "args", "functor", "neg", "tail")
 
     def __init__(self, functor: str, args: tuple = (), annots: tuple = (),
                  tail: Any = None, neg: bool = False) -> None:
@@ -57,6 +57,8 @@ class Literal:
         self.tail = tail
         self.neg = neg
         self._h: int | None = None
+        self._g: bool | None = None
+        self._c: bool | None = None  # constant: no variables and nothing to evaluate
 
     @property
     def arity(self) -> int:
@@ -80,8 +82,10 @@ class Literal:
         return Literal(self.functor, self.args, merge_annots(self.annots, extra), self.tail, self.neg)
 
     def has_source(self) -> bool:
-        return any(isinstance(a, Literal) and a.functor == "source" and len(a.args) == 1
-                   for a in self.annots)
+        for a in self.annots:  # noqa: SIM110 - a plain loop is faster on this hot path
+            if type(a) is Literal and a.functor == "source" and len(a.args) == 1:
+                return True
+        return False
 
     def sources(self) -> list:
         return [a.args[0] for a in self.annots
@@ -149,7 +153,7 @@ EMPTY_LIST = ListTerm()
 class ArithExpr:
     """Arithmetic expression; ``op`` in ``+ - * / div mod **`` or unary ``neg``."""
 
-    __slots__ = ("op", "left", "right")
+    __slots__ = ("left", "op", "right")
 
     def __init__(self, op: str, left: Any, right: Any = None) -> None:
         self.op = op
@@ -170,7 +174,7 @@ class ArithExpr:
 class RelExpr:
     """Relational expression: ``< <= > >= == \\== = =..``."""
 
-    __slots__ = ("op", "left", "right")
+    __slots__ = ("left", "op", "right")
 
     def __init__(self, op: str, left: Any, right: Any) -> None:
         self.op = op
@@ -191,7 +195,7 @@ class RelExpr:
 class LogExpr:
     """Logical expression: ``&``, ``|`` or ``not`` (``right`` is None for ``not``)."""
 
-    __slots__ = ("op", "left", "right")
+    __slots__ = ("left", "op", "right")
 
     def __init__(self, op: str, left: Any, right: Any = None) -> None:
         self.op = op
@@ -239,8 +243,12 @@ def format_number(x: float) -> str:
         return "NaN"
     if x in (math.inf, -math.inf):
         return "Infinity" if x > 0 else "-Infinity"
-    if x == int(x) and -_LONG_MAX <= x < _LONG_MAX:
-        return str(int(x))
+    # Jason prints Math.round(x) (a Java long, clamped) when it converts back to x exactly
+    if x == math.floor(x):
+        if -_LONG_MAX <= x < _LONG_MAX:
+            return str(int(x))
+        if x == float(_LONG_MAX):
+            return str(_LONG_MAX - 1)
     ax = abs(x)
     if 1e-3 <= ax < 1e7:
         r = repr(x)
@@ -312,6 +320,10 @@ def merge_annots(annots: tuple, extra: list | tuple) -> tuple:
     """Union of two annotation lists, sorted in Jason's term order, without duplicates."""
     if not extra:
         return annots
+    if not annots and len(extra) == 1:
+        return (extra[0],)
+    if len(extra) == 1 and extra[0] in annots:
+        return annots
     out = list(annots)
     for a in extra:
         if a not in out:
@@ -338,6 +350,23 @@ def sort_key(t: Any) -> tuple:
     return (4, term_str(t))
 
 
+def is_constant(t: Any) -> bool:
+    """True if applying a substitution cannot change ``t`` (no variables, no arithmetic)."""
+    tt = type(t)
+    if tt is float or tt is str:
+        return True
+    if tt is Literal:
+        c = t._c
+        if c is None:
+            from .unify import ARITH_FUNCTIONS
+            c = t._c = (t.tail is None and t.functor not in ARITH_FUNCTIONS and t.functor != "math.random"
+                        and all(is_constant(a) for a in t.args) and all(is_constant(a) for a in t.annots))
+        return c
+    if tt is ListTerm:
+        return t.tail is None and all(is_constant(a) for a in t.items)
+    return False
+
+
 def is_ground(t: Any) -> bool:
     """True if the term has no variables (expressions are checked recursively)."""
     if isinstance(t, (float, str)):
@@ -345,15 +374,11 @@ def is_ground(t: Any) -> bool:
     if isinstance(t, Var):
         return False
     if isinstance(t, Literal):
-        if t.tail is not None:
-            return False
-        for a in t.args:
-            if not is_ground(a):
-                return False
-        for a in t.annots:
-            if not is_ground(a):
-                return False
-        return True
+        g = t._g
+        if g is None:
+            g = t._g = (t.tail is None and all(is_ground(a) for a in t.args)
+                        and all(is_ground(a) for a in t.annots))
+        return g
     if isinstance(t, ListTerm):
         return all(is_ground(a) for a in t.items) and (t.tail is None or is_ground(t.tail))
     if isinstance(t, (ArithExpr, RelExpr, LogExpr)):

@@ -103,19 +103,23 @@ def _java_trunc_div(a: float, b: float) -> float:
 
 
 def _java_mod(a: float, b: float) -> float:
-    ia, ib = int(a), int(b)
-    if ib == 0:
-        raise ArithError("division by zero")
-    r = abs(ia) % abs(ib)
-    return float(r if ia >= 0 else -r)
+    # Jason: Java's double remainder (x % y), the sign follows the dividend
+    if b == 0 or a != a or b != b or a in (math.inf, -math.inf):
+        return math.nan
+    return math.fmod(a, b)
 
 
 def eval_arith(t: Any, s: Subst) -> float:
     """Evaluate ``t`` as a number; raises :class:`ArithError` if it is not numeric."""
-    t = walk(t, s)
-    if isinstance(t, float):
+    tt = type(t)
+    if tt is float:
         return t
-    if isinstance(t, ArithExpr):
+    if tt is Var:
+        t = walk(t, s)
+        tt = type(t)
+        if tt is float:
+            return t
+    if tt is ArithExpr:
         a = eval_arith(t.left, s)
         op = t.op
         if op == "neg":
@@ -159,15 +163,16 @@ def is_arith_function(t: Any) -> bool:
 
 def resolve(t: Any, s: Subst) -> Any:
     """Apply the substitution (Jason ``capply``); ground arithmetic is evaluated."""
-    if isinstance(t, (float, str)):
+    tt = type(t)
+    if tt is float or tt is str:
         return t
-    if isinstance(t, Var):
+    if tt is Var:
         b = s.get(t.name)
         if b is None:
             return t
         return resolve(b, s)
-    if isinstance(t, Literal):
-        if not t.args and not t.annots and t.tail is None:
+    if tt is Literal:
+        if t._c:  # known constant (computed by the parser for program literals)
             return t
         if is_arith_function(t):
             try:
@@ -178,7 +183,10 @@ def resolve(t: Any, s: Subst) -> Any:
         annots = t.annots
         tail = t.tail
         if annots or tail is not None:
+            old_annots = annots
             annots = tuple([resolve(a, s) for a in annots])
+            if tail is None and annots == old_annots:
+                return Literal(t.functor, args, old_annots, None, t.neg)
             if tail is not None:
                 tv = resolve(tail, s)
                 if isinstance(tv, ListTerm):
@@ -192,8 +200,8 @@ def resolve(t: Any, s: Subst) -> Any:
                 else:
                     tail = tv
             if len(annots) > 1:
-                annots = tuple(sorted(set(annots), key=sort_key)) if len(set(annots)) != len(annots) \
-                    else tuple(sorted(annots, key=sort_key))
+                uniq = list(dict.fromkeys(annots))
+                annots = tuple(sorted(uniq, key=sort_key))
         return Literal(t.functor, args, annots, tail, t.neg)
     if isinstance(t, ListTerm):
         items = [resolve(a, s) for a in t.items]
@@ -211,7 +219,11 @@ def resolve(t: Any, s: Subst) -> Any:
             return eval_arith(t, s)
         except (ArithError, RecursionError):
             r = t.right
-            return ArithExpr(t.op, resolve(t.left, s), None if r is None else resolve(r, s))
+            e = ArithExpr(t.op, resolve(t.left, s), None if r is None else resolve(r, s))
+            from .terms import is_ground
+            if is_ground(e):
+                return math.nan  # Jason: a ground expression over non-numbers evaluates to NaN
+            return e
     if isinstance(t, RelExpr):
         return RelExpr(t.op, resolve(t.left, s), resolve(t.right, s))
     if isinstance(t, LogExpr):
@@ -258,7 +270,7 @@ def unify(a: Any, b: Any, s: Subst) -> bool:
             return False
         if a.functor != b.functor or a.neg != b.neg or len(a.args) != len(b.args):
             return False
-        for x, y in zip(a.args, b.args):
+        for x, y in zip(a.args, b.args, strict=False):
             if not unify(x, y, s):
                 return False
         if a.annots or a.tail is not None:
@@ -405,13 +417,14 @@ def _eq(a: Any, b: Any) -> bool:
     if isinstance(a, Literal):
         if a.functor != b.functor or a.neg != b.neg or len(a.args) != len(b.args):
             return False
-        if not all(_eq(x, y) for x, y in zip(a.args, b.args)):
+        if not all(_eq(x, y) for x, y in zip(a.args, b.args, strict=False)):
             return False
         if len(a.annots) != len(b.annots):
             return False
         return all(any(_eq(x, y) for y in b.annots) for x in a.annots) and a.tail == b.tail
     if isinstance(a, ListTerm):
-        return (len(a.items) == len(b.items) and all(_eq(x, y) for x, y in zip(a.items, b.items))
+        return (len(a.items) == len(b.items)
+                and all(_eq(x, y) for x, y in zip(a.items, b.items, strict=False))
                 and _eq(a.tail, b.tail))
     return a == b
 

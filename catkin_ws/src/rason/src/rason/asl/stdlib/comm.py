@@ -37,9 +37,12 @@ def send(ctx: Any, args: list) -> Any:
     content = args[2]
     receivers = list_to_python(args[0]) if isinstance(args[0], ListTerm) else [args[0]]
     wait_answer = perf in ("askOne", "askAll") and len(args) >= 4
+    reply_to = None
+    if not wait_answer and len(args) >= 4:
+        reply_to = to_print_str(args[3]) if not isinstance(args[3], Literal) else args[3].functor
     last_id = None
     for r in receivers or []:
-        msg = Message(ag.name, _name(r), perf, content)
+        msg = Message(ag.name, _name(r), perf, content, in_reply_to=reply_to)
         last_id = msg.msg_id
         if wait_answer:
             timeout = None
@@ -49,6 +52,60 @@ def send(ctx: Any, args: list) -> Any:
         ag.send_message(msg)
     if wait_answer and last_id is not None:
         return SUSPEND
+    return True
+
+
+def _set_source(t: Any, sender: Any) -> Any:
+    if isinstance(t, ListTerm):
+        return ListTerm(tuple(_set_source(x, sender) for x in t.items), t.tail)
+    if isinstance(t, Literal):
+        return t.add_annots([Literal("source", (sender,))])
+    return t
+
+
+def _strip(t: Any) -> Any:
+    if isinstance(t, ListTerm):
+        return ListTerm(tuple(_strip(x) for x in t.items), t.tail)
+    if isinstance(t, Literal) and t.annots:
+        return t.with_annots(tuple(a for a in t.annots
+                                   if not (isinstance(a, Literal) and a.functor == "source")), t.tail)
+    return t
+
+
+@internal_action(".add_nested_source")
+def add_nested_source(ctx: Any, args: list) -> bool:
+    """``.add_nested_source(Content, Source, Result)``: adds ``source(Source)``."""
+    arg_count(args, 3)
+    return ctx.unify(args[2], _set_source(args[0], args[1]))
+
+
+@internal_action(".remove_source_annot")
+def remove_source_annot(ctx: Any, args: list) -> bool:
+    arg_count(args, 2)
+    return ctx.unify(args[1], _strip(args[0]))
+
+
+@internal_action(".clear_source_self")
+def clear_source_self(ctx: Any, args: list) -> bool:
+    """Remove ``source(self)`` from each literal of a list (askAll answers)."""
+    arg_count(args, 2)
+    items = list_to_python(args[0]) or []
+    out = []
+    self_src = Literal("source", (Literal("self"),))
+    for x in items:
+        if isinstance(x, Literal):
+            x = x.with_annots(tuple(a for a in x.annots if a != self_src), x.tail)
+        out.append(x)
+    return ctx.unify(args[1], ListTerm(tuple(out)))
+
+
+@internal_action(".signal")
+def signal(ctx: Any, args: list) -> bool:
+    from ..intentions import Event
+    from ..plans import ADD, BELIEF, Trigger
+    arg_count(args, 1)
+    if isinstance(args[0], Literal):
+        ctx.ag.add_event(Event(Trigger(ADD, BELIEF, args[0])))
     return True
 
 

@@ -119,19 +119,13 @@ def time_(ctx: Any, args: list) -> bool:
         return ctx.unify(args[0], float(int(ctx.ag.arch.clock.now() * 1000)))
     now = datetime.datetime.now()
     vals = [now.hour, now.minute, now.second, now.microsecond // 1000]
-    for a, v in zip(args, vals):
-        if not ctx.unify(a, float(v)):
-            return False
-    return True
+    return all(ctx.unify(a, float(v)) for a, v in zip(args, vals, strict=False))
 
 
 @internal_action(".date")
 def date(ctx: Any, args: list) -> bool:
     now = datetime.date.today()
-    for a, v in zip(args, [now.year, now.month, now.day]):
-        if not ctx.unify(a, float(v)):
-            return False
-    return True
+    return all(ctx.unify(a, float(v)) for a, v in zip(args, [now.year, now.month, now.day], strict=False))
 
 
 @internal_action(".random")
@@ -178,7 +172,8 @@ def _type_check(pred):
 internal_action(".string")(_type_check(lambda t: isinstance(t, str)))
 internal_action(".number")(_type_check(lambda t: isinstance(t, float)))
 internal_action(".list")(_type_check(lambda t: isinstance(t, ListTerm)))
-internal_action(".atom")(_type_check(lambda t: isinstance(t, Literal) and not t.args and not t.annots and not t.neg))
+internal_action(".atom")(_type_check(
+    lambda t: isinstance(t, Literal) and not t.args and not t.annots and not t.neg))
 internal_action(".structure")(_type_check(lambda t: isinstance(t, (Literal, ListTerm))))
 internal_action(".literal")(_type_check(lambda t: isinstance(t, Literal)))
 internal_action(".ground")(_type_check(is_ground))
@@ -191,7 +186,7 @@ def term2string(ctx: Any, args: list) -> bool:
     arg_count(args, 2)
     t, s = args
     if not isinstance(t, Var):
-        return ctx.unify(s, term_str(t) if not isinstance(t, str) else t)
+        return ctx.unify(s, term_str(t))
     if isinstance(s, str):
         try:
             return ctx.unify(t, parse_term(s))
@@ -207,6 +202,11 @@ def _as_literal(t: Any) -> Literal:
     return t
 
 
+def _self_source(lit: Literal) -> Literal:
+    from ..terms import SOURCE_SELF
+    return lit if lit.has_source() else lit.add_annots([SOURCE_SELF])
+
+
 @internal_action(".abolish")
 def abolish(ctx: Any, args: list) -> bool:
     arg_count(args, 1)
@@ -217,14 +217,14 @@ def abolish(ctx: Any, args: list) -> bool:
 @internal_action(".asserta")
 def asserta(ctx: Any, args: list) -> bool:
     arg_count(args, 1)
-    ctx.ag.add_belief(_as_literal(args[0]), front=True)
+    ctx.ag.add_belief(_self_source(_as_literal(args[0])), front=True)
     return True
 
 
 @internal_action(".assertz")
 def assertz(ctx: Any, args: list) -> bool:
     arg_count(args, 1)
-    ctx.ag.add_belief(_as_literal(args[0]), front=False)
+    ctx.ag.add_belief(_self_source(_as_literal(args[0])), front=False)
     return True
 
 

@@ -81,6 +81,34 @@ def drop_all_events(ctx: Any, args: list) -> bool:
     return True
 
 
+@internal_action(".suspend")
+def suspend(ctx: Any, args: list) -> Any:
+    """``.suspend(G)``: suspend the intentions for goal G (no argument: the current one)."""
+    from . import SUSPEND
+    arg_count(args, 0, 1)
+    if not args:
+        if ctx.intention is None:
+            return False
+        ctx.ag.suspend(ctx.intention, "suspended")
+        return SUSPEND
+    cur = False
+    for i, _ in list(ctx.ag._goal_positions(args[0], ctx.s)):
+        if i is ctx.intention:
+            cur = True
+        ctx.ag.detach(i)
+        ctx.ag.suspend(i, "suspended")
+    return SUSPEND if cur else True
+
+
+@internal_action(".resume")
+def resume(ctx: Any, args: list) -> bool:
+    arg_count(args, 1)
+    for i, _ in list(ctx.ag._goal_positions(args[0], ctx.s)):
+        if i.suspended == "suspended":
+            ctx.ag.resume(i)
+    return True
+
+
 @internal_action(".succeed_goal")
 def succeed_goal(ctx: Any, args: list) -> bool:
     arg_count(args, 1)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import functools
 from typing import Any
 
-from ..terms import ListTerm, Var, list_to_python, make_list, sort_key, to_print_str
+from ..terms import ListTerm, list_to_python, make_list, sort_key, to_print_str
 from ..unify import compare_terms, unify
 from . import IAError, arg_count, internal_action
 
@@ -163,8 +163,3 @@ def shuffle(ctx: Any, args: list) -> bool:
     items = _items(args[0])
     ctx.ag.random.shuffle(items)
     return ctx.unify(args[1], make_list(items))
-
-
-@internal_action(".list_unify_helper")
-def _unused(ctx: Any, args: list) -> bool:  # pragma: no cover - placeholder for Var import use
-    return isinstance(args[0], Var)

@@ -1,0 +1,123 @@
+// Agent faulty: thesis (Morais 2015) Appendix A.1, with ONLY the fixes documented in
+// /work/shared/reference/thesis-notes.md. Every change is marked "FIX:".
+// Added for testability (not a thesis fix): a belief diagnosis(D) recording the outcome,
+// D in both_actuators, odometry, left_actuator, right_actuator, false_positive, unknown,
+// no_fault. Those lines are marked "ADDED:".
+
+/* Initial beliefs and rules */
+
+/* Initial goals */
+
+!start.
+
+/* Plans */
+
++!start <- .wait(4000); !goToDestination.
+
++!goToDestination
+   <- .print("Moving to Destination");
+      move(1);
+      move(-1);
+      .print("Arriving at destination");
+      -+diagnosis(no_fault).                                  // ADDED: outcome belief
+
+// FIX: the heads matched the reason as the first annotation ([R1 | Rest]); in Jason the
+// failure annotations are sorted (code, code_line, error, error_msg, ...), so the reason is
+// now matched explicitly as error(R).
+-!goToDestination[error(R)]
+   : triedAlone
+   <- .print("Cannot solve problem alone, asking for help.");
+      +reason(R);
+      .broadcast(achieve, helpme).
+
+-!goToDestination[error(R)]                                   // FIX: was [R1 | Rest]
+   <- .print("something went wrong...", R);
+      !diagnoseAlone([R]);                                    // FIX: was [R1 | Rest]
+      !goToDestination.
+
++!diagnoseAlone(Reasons)
+   : .member(no_progress, Reasons)
+   | .member(bad_move, Reasons)
+   <- .print("Running local diagnosis");
+      .print("diagnose alone has failed");
+      +triedAlone;
+      .print("Finished diagnosis").
+
+//Plans to help diagnose
++!tryMove[source(R)]
+   <- .print("Trying to move for ", R);
+      move(0.3);
+      .print("It was just a false positive.");
+      -reason(_);
+      -triedAlone;
+      -+diagnosis(false_positive);                            // ADDED: outcome belief
+      .send(R, achieve, thanks).
+
+-!tryMove[source(R)]
+   <- .print(" requesting some feedback from ", R);
+      .send(R, achieve, giveFeedback).                        // FIX: was givemeFeedback
+
++found(Me)[source(R)]
+   : .my_name(Me)
+   <- .print(R, " found me, asking to track me");
+      .send(R, achieve, trackMe).
+
+// FIX: Helper gives up after a full turn and tells us so; we report unknown.
++notFound(Me)[source(R)]
+   : .my_name(Me)
+   <- .print(R, " could not find me: the fault is unknown");
+      -+diagnosis(unknown).                                   // ADDED: outcome belief
+
+// FIX (all feedback plans): the prints used the unbound variable Helper; it is R.
+// FIX (noise): a real Kinect never reports exactly the same angle and depth twice, so the
+// thesis' exact comparisons (Depth == Depth1, Deg == Deg1) read sensor noise as motion. "Moved"
+// means the depth changed by more than 5 cm or the bearing by more than 2 degrees (a 1 s
+// no_progress window at 0.25 m/s moves Faulty about 20 cm: many times these thresholds).
+moved(Deg, Depth, Deg1, Depth1) :- math.abs(Depth1 - Depth) > 0.05 | math.abs(Deg1 - Deg) > 2.
+
++!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
+   : reason(no_progress)
+   & moved(Deg, Depth, Deg1, Depth1)
+   <- .print(R, " has reported as initial info( pos ", Deg, " degrees, depth ", Depth, " meters and yaw ", Yaw, " degrees )");
+      .print("and current info( pos ", Deg1, " degrees, depth ", Depth1, " meters and yaw", Yaw1, " degrees )");
+      .print("fault in odometry system, thanks ", R);
+      -+diagnosis(odometry);                                  // ADDED: outcome belief
+      .send(R, achieve, thanks).
+
++!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
+   : reason(no_progress)
+   & not moved(Deg, Depth, Deg1, Depth1)
+   <- .print(R, " has reported as initial info( pos ", Deg, " degrees, depth ", Depth, " meters and yaw ", Yaw, " degrees )");
+      .print("and current info( pos ", Deg1, " degrees , depth ", Depth1, " meters and yaw", Yaw1, " degrees )");
+      .print(" fault in both actuators , thanks ", R);
+      -+diagnosis(both_actuators);                            // ADDED: outcome belief
+      .send(R, achieve, thanks).
+
+// FIX: the three bad_move contexts used < 8, > 8 and < -8, so a difference of exactly
+// 8 (or -8) had no plan; the false-positive band is now closed: |d| <= 8.
++!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
+   : reason(bad_move)
+   & math.abs(Yaw1 - (Yaw + (Deg1 - Deg))) <= 8
+   <- .print(R, " has reported as initial info( pos ", Deg, " degrees , depth ", Depth, " meters and yaw ", Yaw, " degrees )");
+      .print("and current info( pos ", Deg1, " degrees , depth ", Depth1, " meters and yaw", Yaw1, " degrees )");
+      .print("it was a false positive for bad_move, thanks ", R);
+      -+diagnosis(false_positive);                            // ADDED: outcome belief
+      .send(R, achieve, thanks).
+
++!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
+   : reason(bad_move)
+   & ((Yaw1 - (Yaw + (Deg1 - Deg))) > 8)
+   <- .print(R, " has reported as initial info( pos ", Deg, " degrees , depth ", Depth, " meters and yaw ", Yaw, " degrees )");
+      .print("and current info( pos ", Deg1, " degrees , depth ", Depth1, " meters and yaw", Yaw1, " degrees )");
+      .print("right actuator has problems , thanks ", R);
+      -+diagnosis(right_actuator);                            // ADDED: outcome belief
+      .send(R, achieve, thanks).
+
++!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
+   : reason(bad_move)
+   & ((Yaw1 - (Yaw + (Deg1 - Deg))) < -8)
+   <- .print(R, " has reported as initial info( pos ", Deg, " degrees , depth ", Depth, " meters and yaw ", Yaw, " degrees )");
+      .print("and current info( pos ", Deg1, " degrees , depth ", Depth1, " meters and yaw", Yaw1, " degrees )");
+      .print("left actuator has problems , thanks ", R);
+      -+diagnosis(left_actuator);                             // ADDED: outcome belief
+      .send(R, achieve, thanks).

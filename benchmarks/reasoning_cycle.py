@@ -1,0 +1,160 @@
+#!/usr/bin/env python3
+"""Reasoning-cycle benchmark: the thesis' Listing 5.4 agent on rason.asl and on PyPI agentspeak.
+
+The agent counts ``value(X)`` up to N with ``-+value(X+1); !!goToDestination`` (the thesis'
+``++value`` is a typo for ``-+``), one new intention per loop iteration. We report the mean
+time per loop iteration (µs) for:
+
+* rason.asl (this repository), in this process;
+* the PyPI ``agentspeak==0.2.2`` stock runtime on the same program (minimally adapted to its
+  dialect: no ``.time``/``.puts``), installed by this script into a throwaway venv under a
+  temporary directory and run as a subprocess (skipped with --no-agentspeak or when pip
+  cannot install it);
+* for scale, real Jason on the JVM: about 2.7 µs per iteration (reference figure).
+
+Usage: python3 benchmarks/reasoning_cycle.py [--counts 3700 100000] [--repeat 3] [--no-agentspeak]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "catkin_ws", "src", "rason", "src"))
+
+from rason.asl import Agent, AgentArch, WallClock  # noqa: E402
+
+JASON_JVM_US = 2.7
+TARGET_SPEEDUP = 3.0
+
+PERCEPTION_PLANS = "\n".join(f'+perception{k} <- .print("p{k}").' for k in range(1, 11))
+
+# Listing 5.4 (fixed: -+value). .time(T) with one argument = milliseconds (thesis' modification).
+LISTING_5_4 = """
+value(0).
+!start.
++!start : .time(X) <- +init(X); !goToDestination.
++!goToDestination : value(X) & X < {n} <- -+value(X+1); !!goToDestination.
++!goToDestination : value(X) & .time(T) & init(I) <- .puts("Done"); .print(((T - I)/X)).
+""" + PERCEPTION_PLANS
+
+# The same program in agentspeak 0.2.2's dialect (no .time/.puts; timed from outside).
+AGENTSPEAK_PROGRAM = """
+value(0).
+!start.
++!start <- !goToDestination.
++!goToDestination : value(X) & X < {n} <- -+value(X+1); !!goToDestination.
++!goToDestination : value(X) <- .print("Done", X).
+""" + PERCEPTION_PLANS
+
+AGENTSPEAK_RUNNER = r"""
+import json, sys, time
+import agentspeak.runtime, agentspeak.stdlib
+env = agentspeak.runtime.Environment()
+with open(sys.argv[1]) as f:
+    agent = env.build_agent(f, agentspeak.stdlib.actions)
+t0 = time.perf_counter()
+env.run()
+t1 = time.perf_counter()
+print(json.dumps({"elapsed": t1 - t0}))
+"""
+
+
+class QuietArch(AgentArch):
+    """No environment, console collected in memory."""
+
+    def __init__(self) -> None:
+        super().__init__(WallClock())
+        self.lines: list[str] = []
+
+    def console(self, agent_name: str, text: str) -> None:
+        self.lines.append(text)
+
+
+def bench_rason(n: int) -> tuple[float, str]:
+    """µs per iteration (wall time of the whole run / n) and the agent's own figure (ms)."""
+    arch = QuietArch()
+    ag = Agent("bench", LISTING_5_4.format(n=n), arch)
+    t0 = time.perf_counter()
+    step = ag.step
+    while step():
+        pass
+    t1 = time.perf_counter()
+    assert arch.lines and arch.lines[0] == "Done", arch.lines
+    return (t1 - t0) / n * 1e6, arch.lines[-1]
+
+
+def setup_agentspeak(tmp: str) -> str | None:
+    venv = os.path.join(tmp, "venv")
+    try:
+        subprocess.run([sys.executable, "-m", "venv", venv], check=True, capture_output=True)
+        py = os.path.join(venv, "bin", "python")
+        subprocess.run([py, "-m", "pip", "install", "-q", "agentspeak==0.2.2"], check=True,
+                       capture_output=True, timeout=600)
+        return py
+    except (subprocess.CalledProcessError, subprocess.TimeoutExpired, OSError) as e:
+        print(f"note: agentspeak==0.2.2 could not be installed ({e}); skipping it", file=sys.stderr)
+        return None
+
+
+def bench_agentspeak(py: str, n: int, tmp: str) -> float | None:
+    path = os.path.join(tmp, f"listing54_{n}.asl")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(AGENTSPEAK_PROGRAM.format(n=n))
+    proc = subprocess.run([py, "-c", AGENTSPEAK_RUNNER, path], capture_output=True, text=True, timeout=3600)
+    if proc.returncode != 0:
+        print(f"note: agentspeak run failed: {proc.stderr.strip()[-300:]}", file=sys.stderr)
+        return None
+    last = proc.stdout.strip().splitlines()[-1]
+    return json.loads(last)["elapsed"] / n * 1e6
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--counts", type=int, nargs="+", default=[3700, 100000])
+    ap.add_argument("--repeat", type=int, default=3, help="best of R runs")
+    ap.add_argument("--no-agentspeak", action="store_true")
+    args = ap.parse_args()
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 20000))
+
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="rason-bench-") as tmp:
+        py = None if args.no_agentspeak else setup_agentspeak(tmp)
+        for n in args.counts:
+            ours = []
+            own = ""
+            for _ in range(args.repeat):
+                us, own = bench_rason(n)
+                ours.append(us)
+            theirs = None
+            if py is not None:
+                runs = [bench_agentspeak(py, n, tmp) for _ in range(args.repeat)]
+                runs = [r for r in runs if r is not None]
+                theirs = min(runs) if runs else None
+            rows.append((n, min(ours), own, theirs))
+
+    print(f"Listing 5.4 (count to N, one new intention per iteration); Python {sys.version.split()[0]}")
+    print(f"{'N':>8} | {'rason.asl µs/it':>15} | {'(agent .time)':>13} | {'agentspeak 0.2.2 µs/it':>22} | "
+          f"{'speedup':>7} | {'target':>6} | {'Jason JVM µs/it':>15} | {'vs JVM':>7}")
+    print("-" * 118)
+    ok = True
+    for n, ours, own, theirs in rows:
+        ratio = f"{theirs / ours:6.2f}x" if theirs else "    n/a"
+        if theirs and theirs / ours < TARGET_SPEEDUP:
+            ok = False
+        own_us = f"{float(own) * 1000:10.2f}" if own else "n/a"
+        theirs_s = "n/a" if theirs is None else f"{theirs:.2f}"
+        print(f"{n:>8} | {ours:15.2f} | {own_us:>13} | {theirs_s:>22} | "
+              f"{ratio:>7} | {TARGET_SPEEDUP:5.1f}x | {JASON_JVM_US:15.1f} | {ours / JASON_JVM_US:6.1f}x")
+    print("target (>= 3x faster than agentspeak per iteration):", "met" if ok else "NOT met")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,193 @@
+"""Progress and trajectory checks of the motion decomposer (thesis 6.3), without rospy.
+
+A :class:`MotionMonitor` watches one ``move`` or ``turn`` through the odometry poses it is fed
+(with their ROS times, in seconds) and says when it is over:
+
+* ``OK`` - the odometry change reached ``|value|``: the straight-line distance from the start
+  pose for ``move``, the accumulated (unwrapped) yaw change in the commanded direction for
+  ``turn``.
+* ``no_progress`` - the odometry has not changed (by more than a small epsilon) for more than
+  ``no_progress_timeout`` seconds. Checked on every pose and also by :meth:`MotionMonitor.check`
+  without a new pose, so a silent odometry topic is caught too.
+* ``bad_move`` (``move`` only) - once the robot is ``min_travel`` from the start, the dot
+  product of the unit vectors start->goal and start->current dropped below ``min_alignment``
+  (0.99, about 8.1 degrees off the line).
+
+Everything here is plain arithmetic on :class:`Pose2D`, so it is unit-tested on recorded or
+synthetic odometry sequences.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+OK = "OK"
+NO_PROGRESS = "no_progress"
+BAD_MOVE = "bad_move"
+
+MOVE = "move"
+TURN = "turn"
+
+
+@dataclass(frozen=True)
+class Pose2D:
+    """A planar pose: position (m) and heading (rad, counter-clockwise from x)."""
+
+    x: float
+    y: float
+    yaw: float
+
+
+def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
+    """The heading (rotation about z) of a quaternion, in (-pi, pi]."""
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def wrap_angle(angle: float) -> float:
+    """`angle` wrapped into [-pi, pi)."""
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+
+
+@dataclass(frozen=True)
+class CheckParams:
+    """Thresholds of the checks (defaults as in the thesis where it gives one)."""
+
+    no_progress_timeout: float = 1.0     # s without odometry change -> no_progress
+    position_epsilon: float = 1e-4       # m: smaller position changes are "no change"
+    yaw_epsilon: float = math.radians(0.05)  # rad: smaller heading changes are "no change"
+    min_alignment: float = 0.99          # dot product of unit vectors below this -> bad_move
+    min_travel: float = 0.05             # m from the start before bad_move is checked
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """How a motion ended: ``result`` (OK, no_progress, bad_move) and a human message."""
+
+    result: str
+    message: str
+
+    @property
+    def ok(self) -> bool:
+        return self.result == OK
+
+
+class MotionMonitor:
+    """Watches one motion from its start pose.
+
+    Args:
+        kind: ``move`` (target in metres, negative = backwards) or ``turn`` (target in
+            radians, positive = counter-clockwise).
+        target: the signed goal.
+        start: the odometry pose when the motion started.
+        start_time: ROS time (s) of the start.
+    """
+
+    def __init__(self, kind: str, target: float, start: Pose2D, start_time: float,
+                 params: CheckParams | None = None):
+        if kind not in (MOVE, TURN):
+            raise ValueError(f"unknown motion {kind!r}")
+        self.kind = kind
+        self.target = target
+        self.start = start
+        self.params = params or CheckParams()
+        self.pose = start
+        self.turned = 0.0                    # accumulated signed yaw change (rad)
+        self._still_pose = start             # pose when the odometry last changed
+        self._still_since = start_time       # ROS time of that change
+        heading = start.yaw if target >= 0 else start.yaw + math.pi
+        self.goal_direction = (math.cos(heading), math.sin(heading))
+
+    # -- progress ---------------------------------------------------------------------------
+    @property
+    def travelled(self) -> float:
+        """Straight-line distance (m) from the start pose to the current one."""
+        return math.hypot(self.pose.x - self.start.x, self.pose.y - self.start.y)
+
+    @property
+    def progress(self) -> float:
+        """How far the motion went toward |target|, in its unit (m or rad, >= 0 forward)."""
+        if self.kind == MOVE:
+            return self.travelled
+        return self.turned if self.target >= 0 else -self.turned
+
+    @property
+    def remaining(self) -> float:
+        """|target| minus progress (m or rad); <= 0 when done."""
+        return abs(self.target) - self.progress
+
+    @property
+    def alignment(self) -> float:
+        """Dot product of the unit vectors start->goal and start->current (1 when unknown)."""
+        distance = self.travelled
+        if distance == 0.0:
+            return 1.0
+        dx, dy = self.pose.x - self.start.x, self.pose.y - self.start.y
+        return (dx * self.goal_direction[0] + dy * self.goal_direction[1]) / distance
+
+    # -- checks -----------------------------------------------------------------------------
+    def update(self, pose: Pose2D, now: float) -> Verdict | None:
+        """Take a new odometry pose at ROS time `now` (s); return the verdict if it is over."""
+        self.turned += wrap_angle(pose.yaw - self.pose.yaw)
+        self.pose = pose
+        if self._changed(pose):
+            self._still_pose, self._still_since = pose, now
+        if self.remaining <= 0.0:
+            return self._done()
+        if (self.kind == MOVE and self.travelled >= self.params.min_travel
+                and self.alignment < self.params.min_alignment):
+            angle = math.degrees(math.acos(max(-1.0, min(1.0, self.alignment))))
+            return Verdict(BAD_MOVE, f"off course: {angle:.1f} deg from the line to the goal "
+                                     f"after {self.travelled:.3f} m "
+                                     f"(dot product {self.alignment:.3f} < "
+                                     f"{self.params.min_alignment})")
+        return self.check(now)
+
+    def check(self, now: float) -> Verdict | None:
+        """The no_progress verdict if the odometry has not changed for too long at `now`."""
+        still = now - self._still_since
+        if still > self.params.no_progress_timeout:
+            return Verdict(NO_PROGRESS, f"odometry unchanged for {still:.2f} s after "
+                                        f"{self._progress_text()}")
+        return None
+
+    def _changed(self, pose: Pose2D) -> bool:
+        ref = self._still_pose
+        return (math.hypot(pose.x - ref.x, pose.y - ref.y) > self.params.position_epsilon
+                or abs(wrap_angle(pose.yaw - ref.yaw)) > self.params.yaw_epsilon)
+
+    def _progress_text(self) -> str:
+        if self.kind == MOVE:
+            return f"{self.travelled:.3f} m of {abs(self.target):.3f} m"
+        return f"{math.degrees(self.progress):.1f} deg of {math.degrees(abs(self.target)):.1f} deg"
+
+    def _done(self) -> Verdict:
+        if self.kind == MOVE:
+            return Verdict(OK, f"moved {self.travelled:.3f} m (goal {abs(self.target):.3f} m)")
+        return Verdict(OK, f"turned {math.degrees(self.turned):.1f} deg "
+                           f"(goal {math.degrees(self.target):.1f} deg)")
+
+
+def parse_target(kind: str, parameters: list[str], turn_clockwise: bool = True) -> float:
+    """The signed goal of ``move(meters)`` (m) or ``turn(degrees)`` (rad, counter-clockwise).
+
+    ``turn(d)`` with positive ``d`` turns clockwise (to the right) when `turn_clockwise`, as
+    the thesis' Helper expects (``turn(5)`` steps right; ``turn(Deg)`` with ``Deg < 0``, a
+    robot left of the image centre, turns left). Raises ValueError (-> ``bad_parameters``)
+    unless there is exactly one finite number.
+    """
+    if len(parameters) != 1:
+        raise ValueError(f"{kind} takes one number, got {len(parameters)} parameters")
+    text = parameters[0].strip()
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError(f"{kind}: {text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise ValueError(f"{kind}: {text!r} is not a finite number")
+    if kind == MOVE:
+        return value
+    if kind == TURN:
+        radians = math.radians(value)
+        return -radians if turn_clockwise else radians
+    raise ValueError(f"unknown motion {kind!r}")

@@ -1,0 +1,165 @@
+"""``./run.sh campaign [--runs N] [--out DIR]``: every scenario N times, beside the thesis.
+
+Each run is a separate demo process (its own roscore, simulator, nodes and agents) with a seed
+that varies start poses, lighting and sensor noise. Writes ``runs.csv``, ``report.md`` (tables in
+the form of thesis Tables 7.1-7.4 beside the thesis' figures, success rate per scenario) and PNG
+plots in the form of Figures 7.1-7.8 (latency by step per run, total per run).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+from rason.demo import thesis
+from rason.demo.scenario import FAULTS
+from rason.harness import PROJECT_ROOT
+
+FIELDS = ("fault", "seed", "diagnosis", "expected", "correct", "detection_s", "location_s",
+          "diagnosis_s", "total_s", "wall_s", "error")
+STEP_FIELDS = ("detection_s", "location_s", "diagnosis_s")
+
+
+def run_one(fault: str, seed: int, out: Path) -> dict:
+    """One demo run in its own process; its result.json as a dict."""
+    run_dir = out / "runs" / f"{fault}-{seed}"
+    cmd = [sys.executable, "-m", "rason.demo", "--fault", fault, "--seed", str(seed), "--quiet",
+           "--out", str(run_dir)]
+    with open(out / "runs" / f"{fault}-{seed}.log", "w") as log:
+        subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, check=False, timeout=900)
+    try:
+        return json.loads((run_dir / "result.json").read_text())
+    except (OSError, ValueError):
+        return {"fault": fault, "seed": seed, "correct": False, "error": "no result.json"}
+
+
+def progress(done: int, total: int, started: float, last: dict) -> None:
+    width = 30
+    filled = int(width * done / total)
+    elapsed = time.monotonic() - started
+    eta = elapsed / done * (total - done) if done else 0.0
+    mark = "ok" if last.get("correct") else "WRONG"
+    print(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} "
+          f"{last.get('fault', '')}-{last.get('seed', '')}: {last.get('diagnosis')} ({mark}) "
+          f"elapsed {elapsed:4.0f} s, eta {eta:4.0f} s   ", end="", flush=True)
+
+
+def fmt(value: float | None) -> str:
+    return "-" if value is None else f"{value:.2f}"
+
+
+def write_report(results: list[dict], out: Path, runs: int) -> str:
+    lines = [f"# Cooperative fault diagnosis: campaign of {runs} run(s) per scenario", "",
+             "Simulated TurtleBot 2 robots (pybullet), latencies in simulated seconds; the thesis "
+             "ran real robots (Morais 2015, ch. 7).", "",
+             "| scenario | correct (ours) | correct (thesis) | total mean (ours) | sd | "
+             "total mean (thesis) | sd |", "|---|---|---|---|---|---|---|"]
+    for fault in FAULTS:
+        mine = [r for r in results if r["fault"] == fault]
+        ok = sum(1 for r in mine if r.get("correct"))
+        totals = [r["total_s"] for r in mine if r.get("total_s") is not None]
+        mean = statistics.fmean(totals) if totals else None
+        sd = statistics.stdev(totals) if len(totals) > 1 else None
+        if fault in thesis.TABLES:
+            t_ok, t_n = thesis.successes(fault)
+            ref = f"{t_ok}/{t_n} | {thesis.mean(fault, 3):.2f} | {thesis.stdev(fault, 3):.2f}"
+        else:
+            ref = "- | - | -"
+        lines.append(f"| {fault} | {ok}/{len(mine)} | {ref.split(' | ')[0]} | {fmt(mean)} | "
+                     f"{fmt(sd)} | {' | '.join(ref.split(' | ')[1:])} |")
+    total_ok = sum(1 for r in results if r.get("correct"))
+    lines += ["", f"Overall: {total_ok}/{len(results)} correct "
+              f"({100.0 * total_ok / max(1, len(results)):.0f}%); the thesis: 19/20 (95%).", ""]
+    for fault in FAULTS:
+        mine = [r for r in results if r["fault"] == fault]
+        name = thesis.TABLES[fault][0] if fault in thesis.TABLES else "no fault"
+        lines += [f"## {fault} (form of {name})", "",
+                  "| run | seed | detection | location | diagnosis | total | diagnosis made |",
+                  "|---|---|---|---|---|---|---|"]
+        for i, r in enumerate(mine, 1):
+            lines.append(f"| {i} | {r['seed']} | {fmt(r.get('detection_s'))} | "
+                         f"{fmt(r.get('location_s'))} | {fmt(r.get('diagnosis_s'))} | "
+                         f"{fmt(r.get('total_s'))} | {r.get('diagnosis')}"
+                         f"{'' if r.get('correct') else ' (WRONG)'} |")
+        if fault in thesis.TABLES:
+            lines.append("| thesis mean | | " + " | ".join(
+                f"{thesis.mean(fault, s):.2f}" for s in range(4)) + " | |")
+        lines += ["", f"![{fault}](plots/{fault}.png)", ""]
+    text = "\n".join(lines) + "\n"
+    (out / "report.md").write_text(text)
+    return text
+
+
+def write_plots(results: list[dict], out: Path) -> None:
+    """Per scenario: stacked latency by step per run (Figs 7.1/7.3/7.5/7.7 style) and totals."""
+    plots = out / "plots"
+    plots.mkdir(exist_ok=True)
+    for fault in FAULTS:
+        mine = [r for r in results if r["fault"] == fault]
+        if not mine:
+            continue
+        fig, (steps_ax, total_ax) = plt.subplots(1, 2, figsize=(11, 4))
+        xs = list(range(1, len(mine) + 1))
+        bottom = [0.0] * len(mine)
+        for field, label in zip(STEP_FIELDS, ("fault detection", "robot location", "diagnosis"), strict=True):
+            values = [r.get(field) or 0.0 for r in mine]
+            steps_ax.bar(xs, values, bottom=bottom, label=label)
+            bottom = [b + v for b, v in zip(bottom, values, strict=True)]
+        steps_ax.set_xlabel("run")
+        steps_ax.set_ylabel("latency (simulated s)")
+        steps_ax.set_title(f"{fault}: latency by step")
+        steps_ax.legend(fontsize=8)
+        totals = [r.get("total_s") or 0.0 for r in mine]
+        colours = ["tab:green" if r.get("correct") else "tab:red" for r in mine]
+        total_ax.bar(xs, totals, color=colours)
+        if fault in thesis.TABLES:
+            total_ax.axhline(thesis.mean(fault, 3), ls="--", color="k",
+                             label=f"thesis mean {thesis.mean(fault, 3):.1f} s")
+            total_ax.legend(fontsize=8)
+        total_ax.set_xlabel("run")
+        total_ax.set_ylabel("total (simulated s)")
+        total_ax.set_title(f"{fault}: total per run (red = wrong diagnosis)")
+        fig.tight_layout()
+        fig.savefig(plots / f"{fault}.png", dpi=80)
+        plt.close(fig)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="./run.sh campaign", description=__doc__.split("\n")[0])
+    parser.add_argument("--runs", type=int, default=10, help="runs per scenario (default 10)")
+    parser.add_argument("--out", type=Path, default=PROJECT_ROOT / "out" / "campaign")
+    parser.add_argument("--faults", nargs="+", choices=FAULTS, default=list(FAULTS))
+    parser.add_argument("--first-seed", type=int, default=1)
+    args = parser.parse_args(argv)
+    (args.out / "runs").mkdir(parents=True, exist_ok=True)
+
+    jobs = [(fault, args.first_seed + i) for i in range(args.runs) for fault in args.faults]
+    results: list[dict] = []
+    started = time.monotonic()
+    for done, (fault, seed) in enumerate(jobs, 1):
+        results.append(run_one(fault, seed, args.out))
+        progress(done, len(jobs), started, results[-1])
+        with open(args.out / "runs.csv", "w", newline="") as f:
+            writer = csv.DictWriter(f, FIELDS, extrasaction="ignore")
+            writer.writeheader()
+            writer.writerows(results)
+    print()
+    write_plots(results, args.out)
+    print(write_report(results, args.out, args.runs))
+    print(f"wrote {args.out / 'runs.csv'}, {args.out / 'report.md'}, {args.out / 'plots'}")
+    return 0 if all(r.get("correct") for r in results) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,176 @@
+"""One run of the cooperative fault diagnosis (thesis ch. 6-7) in simulation, end to end.
+
+Everything is started with ``rosrun`` through the shared harness: the simulator, a fault injector
+and a motion decomposer per robot, Helper's vision synthesizer, and the two agents. The fault is
+injected with the real service (``rosservice call``) before Faulty starts.
+"""
+
+from __future__ import annotations
+
+import json
+import random
+import re
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from rason.harness import PROJECT_ROOT, HarnessError, RosHarness
+
+FAULTS = ("both_actuators", "odometry", "left_actuator", "right_actuator", "none")
+ROBOTS = ("faulty", "helper")
+WORLD = PROJECT_ROOT / "catkin_ws/src/turtlebot_sim/worlds/case_study.yaml"
+RECORDED_TOPICS = [
+    "/clock", "/jason/messages", "/faulty/jason/action", "/faulty/jason/event",
+    "/helper/jason/action", "/helper/jason/event", "/helper/jason/perception",
+    "/faulty/odom", "/faulty/cmd_vel", "/helper/cmd_vel", "/faulty/ground_truth/odom",
+    "/helper/ground_truth/odom", "/faulty/fault_injector/status", "/diagnostics",
+]
+
+
+def expected_diagnosis(fault: str) -> str:
+    """What Faulty should conclude for an injected fault."""
+    return "no_fault" if fault == "none" else fault
+
+
+@dataclass
+class RunResult:
+    """The outcome of one run; times in simulated seconds."""
+
+    fault: str
+    seed: int
+    diagnosis: str | None = None
+    expected: str = ""
+    correct: bool = False
+    detection_s: float | None = None
+    location_s: float | None = None
+    diagnosis_s: float | None = None
+    total_s: float | None = None
+    wall_s: float = 0.0
+    error: str = ""
+    out_dir: str = ""
+    console: list[str] = field(default_factory=list)
+
+    def to_json(self) -> str:
+        return json.dumps(asdict(self), indent=2)
+
+
+def _diff(a: float | None, b: float | None) -> float | None:
+    return round(b - a, 2) if a is not None and b is not None else None
+
+
+def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, echo: bool = True,
+                 sim_timeout: float = 300.0, real_time_factor: float = 1.0) -> RunResult:
+    """Run one scenario; returns its result (never raises for a failed diagnosis)."""
+    if fault not in FAULTS:
+        raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    result = RunResult(fault=fault, seed=seed, expected=expected_diagnosis(fault),
+                       out_dir=str(out_dir))
+    started = time.monotonic()
+    ros = RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs")
+    try:
+        with ros:
+            _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor)
+    except HarnessError as err:
+        result.error = str(err).splitlines()[0]
+    result.wall_s = round(time.monotonic() - started, 1)
+    result.correct = result.diagnosis == result.expected and not result.error
+    (out_dir / "result.json").write_text(result.to_json())
+    return result
+
+
+def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: bool,
+         sim_timeout: float, real_time_factor: float) -> None:
+    import rospy  # the demo process joins the run as an observer
+
+    from rason.demo.monitor import RunMonitor
+    from rason.demo.plots import save_run_picture
+
+    sim = ros.rosrun("turtlebot_sim", "sim", params={
+        "world": str(WORLD), "seed": result.seed, "real_time_factor": real_time_factor})
+    ros.wait_for_topic("/clock", timeout=60, watch=[sim])
+    for robot in ROBOTS:
+        ros.rosrun("kobuki_fault_injector", "fault_injector", ns=f"/{robot}")
+        ros.rosrun("rason", "motion_decomposer", ns=f"/{robot}")
+    ros.rosrun("rason_vision", "robot_synthesizer", ns="/helper")
+    for robot in ROBOTS:
+        ros.wait_for_service(f"/{robot}/fault_injector", timeout=30)
+        ros.wait_for_subscriber(f"/{robot}/jason/action", timeout=30)
+    ros.wait_for_topic("/helper/jason/perception", timeout=60, watch=[sim])
+    ros.init_rospy("rason_demo")
+    monitor = RunMonitor()
+    if record:
+        ros.run(["rosbag", "record", "-O", str(out_dir / "run.bag"), *RECORDED_TOPICS],
+                label="rosbag_record", echo=False)
+
+    if result.fault != "none":
+        reply = ros.check_output(["rosservice", "call", "/faulty/fault_injector",
+                                  f"fault: '{result.fault}'"])
+        _say(echo, f"[demo] injected {result.fault}: {reply.strip()}")
+
+    prefix = {robot: (f"{robot:>6} | " if echo else False) for robot in ROBOTS}
+    agents = {robot: ros.rosrun("rason", "agent", robot,
+                                str(PROJECT_ROOT / "agents" / f"{robot}.asl"),
+                                ns=f"/{robot}", echo=prefix[robot])
+              for robot in ("helper", "faulty")}
+    ros.wait_for_node("/helper/jason/helper", watch=agents.values())
+    ros.wait_for_node("/faulty/jason/faulty", watch=agents.values())
+
+    from jason_msgs.srv import Mind
+
+    ros.wait_for_service("/faulty/jason/faulty/mind", watch=agents.values())
+    mind = rospy.ServiceProxy("/faulty/jason/faulty/mind", Mind)
+    deadline = rospy.get_time() + sim_timeout
+    while rospy.get_time() < deadline:
+        if not all(a.alive() for a in agents.values()):
+            dead = [n for n, a in agents.items() if not a.alive()]
+            raise HarnessError(f"agent process died: {dead}")
+        diagnosis = _diagnosis(mind)
+        if diagnosis is not None:
+            result.diagnosis = diagnosis
+            if monitor.times.diagnosis is None:
+                monitor.times.diagnosis = rospy.get_time()
+            break
+        time.sleep(0.25)
+    else:
+        result.error = f"no diagnosis within {sim_timeout:g} simulated seconds"
+
+    t = monitor.times
+    result.detection_s = _diff(t.move_start, t.help_request)
+    result.location_s = _diff(t.help_request, t.found)
+    result.diagnosis_s = _diff(t.found, t.diagnosis)
+    result.total_s = _diff(t.move_start, t.diagnosis)
+    result.console = [line for a in agents.values() for line in a.lines() if line.startswith("[")]
+    try:
+        save_run_picture(monitor, result, out_dir / "run.png")
+    except Exception as err:
+        _say(echo, f"[demo] could not draw the run picture: {err}")
+    monitor.close()
+
+
+DIAGNOSIS = re.compile(r"diagnosis\((\w+)\)")
+
+
+def _diagnosis(mind) -> str | None:
+    """Faulty's ``diagnosis(D)`` belief, read through its mind service, or None."""
+    import rospy
+
+    try:
+        beliefs = mind().beliefs
+    except (rospy.ServiceException, rospy.ROSException):
+        return None
+    for belief in beliefs:
+        match = DIAGNOSIS.match(belief)
+        if match:
+            return match.group(1)
+    return None
+
+
+def _say(echo: bool, text: str) -> None:
+    if echo:
+        print(text, flush=True)
+
+
+def default_fault(seed: int) -> str:
+    """The fault a seed picks when none is given."""
+    return random.Random(seed).choice(FAULTS)

@@ -1,0 +1,212 @@
+"""``rosrun turtlebot_sim sim``: the simulated TurtleBot 2 robots speaking kobuki_node's topics.
+
+Private parameters:
+    ~world (str, default ``case_study.yaml``): world file (path, or name in the package's
+        ``worlds/``).
+    ~real_time_factor (float, 1.0): sim seconds per wall second; 0 = as fast as possible.
+    ~camera_rate (float, world file's ``camera.rate``, 15): Kinect frames per sim second; 0 = off.
+    ~seed (int, world file's ``seed``): randomisation seed (poses, lighting, colours, noise).
+    ~render_workers (int, 1): Kinect rendering processes (2 helps at 30 Hz on an idle machine).
+    ~odom_rate (float, 50): odometry and ground truth rate (sim Hz).
+    ~cmd_timeout (float, 0.6): sim seconds without a velocity command before the robot stops.
+    ~stats_period (float, 10): wall seconds between "turtlebot_sim stats:" log lines (rtf,
+        frames, ms per rendered frame, time spent waiting for the renderer).
+
+Topics (``<r>`` = each robot's name, relative to the node's namespace, so ``__ns:=/test1`` gives
+``/test1/faulty/...``; all stamps are sim time; /clock every physics step):
+    /clock                                   rosgraph_msgs/Clock        (published)
+    /<r>/mobile_base/commands/velocity       geometry_msgs/Twist        (subscribed)
+    /<r>/mobile_base/odom                    nav_msgs/Odometry odom -> base_footprint, wheels
+    /<r>/ground_truth/odom                   nav_msgs/Odometry world -> <r>/base_footprint
+    /<r>/camera/rgb/image_raw                sensor_msgs/Image rgb8      (robots with a Kinect)
+    /<r>/camera/depth_registered/points      sensor_msgs/PointCloud2 x y z rgb, organised
+
+The node does not set ``/use_sim_time``: set it before starting the other nodes.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import rospy
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Image, PointCloud2
+
+from turtlebot_sim import msgs
+from turtlebot_sim.render import Frame, RenderPool
+from turtlebot_sim.world import World
+
+#: Wall seconds the loop may lag behind the real-time factor before it stops trying to catch up.
+MAX_LAG = 0.25
+
+
+class RobotIO:
+    """One robot's publishers, subscriber and command bookkeeping."""
+
+    def __init__(self, world: World, name: str, has_camera: bool, timeout: float):
+        self.world = world
+        self.name = name
+        self.timeout = timeout
+        self.last_cmd = -1.0e9       # sim time of the last velocity command
+        self.odom = rospy.Publisher(f"{name}/mobile_base/odom", Odometry, queue_size=10)
+        self.truth = rospy.Publisher(f"{name}/ground_truth/odom", Odometry, queue_size=10)
+        self.optical_frame = f"{name}/camera_rgb_optical_frame"
+        self.image = self.points = None
+        if has_camera:
+            self.image = rospy.Publisher(f"{name}/camera/rgb/image_raw", Image, queue_size=2)
+            self.points = rospy.Publisher(f"{name}/camera/depth_registered/points",
+                                          PointCloud2, queue_size=2)
+        self.cmd = rospy.Subscriber(f"{name}/mobile_base/commands/velocity", Twist,
+                                    self.on_cmd_vel, queue_size=10)
+
+    def on_cmd_vel(self, msg: Twist) -> None:
+        """A velocity command: applied at once, valid for ``timeout`` sim seconds."""
+        self.world.set_cmd_vel(self.name, msg.linear.x, msg.angular.z)
+        self.last_cmd = self.world.time
+
+    def check_timeout(self) -> None:
+        """Stop the robot (like kobuki_node) when commands stopped coming."""
+        if self.last_cmd > -1.0e9 and self.world.time - self.last_cmd > self.timeout:
+            self.world.set_cmd_vel(self.name, 0.0, 0.0)
+            self.last_cmd = -1.0e9
+
+    def publish_odometry(self) -> None:
+        t = self.world.time
+        x, y, yaw, v, w = self.world.odometry(self.name)
+        self.odom.publish(msgs.odometry(t, "odom", "base_footprint", x, y, yaw, v, w))
+        gx, gy, gyaw = self.world.pose(self.name)
+        gv, gw = self.world.velocity(self.name)
+        self.truth.publish(msgs.odometry(t, "world", f"{self.name}/base_footprint",
+                                         gx, gy, gyaw, gv, gw))
+
+    def publish_frame(self, frame: Frame) -> None:
+        """Image and cloud of one Kinect frame, with the same stamp and frame id."""
+        assert self.image is not None and self.points is not None
+        self.image.publish(msgs.image(frame.stamp, self.optical_frame, frame.rgb))
+        self.points.publish(msgs.cloud(frame.stamp, self.optical_frame, frame.cloud))
+
+
+class Stats:
+    """Running figures, logged every ``period`` wall seconds (what the benchmark reads)."""
+
+    def __init__(self, period: float = 10.0):
+        self.period = period
+        self.reset(0.0)
+
+    def reset(self, sim_time: float) -> None:
+        self.wall0 = time.monotonic()
+        self.sim0 = sim_time
+        self.frames = 0
+        self.render_ms = 0.0
+        self.waited = 0.0
+
+    def due(self) -> bool:
+        return time.monotonic() - self.wall0 >= self.period
+
+    def line(self, sim_time: float) -> str:
+        wall = time.monotonic() - self.wall0
+        sim = sim_time - self.sim0
+        per_frame = self.render_ms / self.frames if self.frames else 0.0
+        return (f"turtlebot_sim stats: rtf {sim / wall:.3f} sim {sim:.2f} s wall {wall:.2f} s "
+                f"frames {self.frames} ({self.frames / max(sim, 1e-9):.1f}/sim s) "
+                f"render {per_frame:.1f} ms/frame, waited {self.waited:.2f} s for the renderer")
+
+
+class SimNode:
+    """The physics loop: step, publish /clock, odometry and Kinect frames, keep the pace."""
+
+    def __init__(self) -> None:
+        world_file = rospy.get_param("~world", "case_study.yaml")
+        seed = rospy.get_param("~seed", None)
+        self.world = World.from_yaml(world_file, seed=None if seed is None else int(seed))
+        cfg = self.world.config
+        self.rtf = float(rospy.get_param("~real_time_factor", 1.0))
+        self.camera_rate = float(rospy.get_param("~camera_rate", cfg["camera"]["rate"]))
+        workers = int(rospy.get_param("~render_workers", 1))
+        odom_rate = float(rospy.get_param("~odom_rate", 50.0))
+        timeout = float(rospy.get_param("~cmd_timeout", 0.6))
+        self.odom_every = max(1, round(1.0 / (odom_rate * self.world.dt)))
+
+        self.clock = rospy.Publisher("/clock", Clock, queue_size=10)
+        self.robots = {name: RobotIO(self.world, name, name in self.world.cameras, timeout)
+                       for name in self.world.names}
+        self.pool: RenderPool | None = None
+        if self.world.cameras and self.camera_rate > 0:
+            self.pool = RenderPool(cfg, workers=workers)
+        self.next_frame = 0.0
+        self.stats = Stats(float(rospy.get_param("~stats_period", 10.0)))
+        rospy.loginfo("turtlebot_sim: world %s, robots %s, cameras %s at %.1f Hz, "
+                      "real-time factor %s, seed %s", world_file, self.world.names,
+                      self.world.cameras, self.camera_rate, self.rtf or "max", cfg["seed"])
+
+    def run(self) -> None:
+        """Step until shutdown."""
+        wall0 = time.monotonic()
+        first = True
+        while not rospy.is_shutdown():
+            for robot in self.robots.values():
+                robot.check_timeout()
+            self.world.step()
+            self.clock.publish(msgs.clock(self.world.time))
+            if self.world.steps % self.odom_every == 0:
+                for robot in self.robots.values():
+                    robot.publish_odometry()
+            if self.pool is not None:
+                self.camera()
+            if first:
+                rospy.loginfo("turtlebot_sim: running")
+                first = False
+                self.stats.reset(self.world.time)
+            elif self.stats.due():
+                rospy.loginfo(self.stats.line(self.world.time))
+                self.stats.reset(self.world.time)
+            if self.rtf > 0:
+                ahead = wall0 + self.world.time / self.rtf - time.monotonic()
+                if ahead > 0.001:
+                    time.sleep(ahead)
+                elif ahead < -MAX_LAG:      # fell behind (load, renderer): no sprint to catch up
+                    wall0 = time.monotonic() - self.world.time / self.rtf
+
+    def camera(self) -> None:
+        """Queue the Kinect frames that are due; publish the finished ones."""
+        assert self.pool is not None
+        if self.world.time + 1e-9 >= self.next_frame:
+            self.next_frame += 1.0 / self.camera_rate
+            states = self.world.base_states()
+            for name in self.world.cameras:
+                while self.pool.busy():        # the renderer sets the pace when it lags
+                    start = time.monotonic()
+                    frames = self.pool.collect(block=True)
+                    self.stats.waited += time.monotonic() - start
+                    self.publish(frames)
+                self.pool.submit(self.world.time, name, states)
+        self.publish(self.pool.collect())
+
+    def publish(self, frames: list[Frame]) -> None:
+        for frame in frames:
+            self.robots[frame.robot].publish_frame(frame)
+            self.stats.frames += 1
+            self.stats.render_ms += frame.render_ms
+
+    def close(self) -> None:
+        """Log the last figures, stop the render workers, disconnect pybullet."""
+        rospy.loginfo(self.stats.line(self.world.time))
+        if self.pool is not None:
+            self.pool.close()
+        self.world.close()
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``rosrun turtlebot_sim sim``."""
+    rospy.init_node("turtlebot_sim", argv=argv if argv is not None else sys.argv)
+    node = SimNode()
+    try:
+        node.run()
+    except (KeyboardInterrupt, rospy.ROSInterruptException):
+        pass
+    finally:
+        node.close()
+    return 0

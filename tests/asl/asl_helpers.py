@@ -1,0 +1,80 @@
+"""Helpers shared by the rason.asl tests (no ROS needed)."""
+
+from __future__ import annotations
+
+import importlib.util
+import io
+import os
+import threading
+from typing import Any
+
+from rason.asl import Agent, AgentArch, LocalMas, Message, VirtualClock
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CONFORMANCE = os.path.join(HERE, "conformance")
+
+
+def load_compare():
+    """The suite's own compare.py (copied next to the cases)."""
+    spec = importlib.util.spec_from_file_location("asl_compare", os.path.join(CONFORMANCE, "compare.py"))
+    mod = importlib.util.module_from_spec(spec)
+    assert spec.loader is not None
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def run_source(source: str, name: str = "main", timeout: float = 10.0, **kw: Any) -> str:
+    """Run one agent in a LocalMas with a virtual clock; return its console output."""
+    out = io.StringIO()
+    mas = LocalMas(clock=VirtualClock(), out=out)
+    mas.add_agent(name, source, f"{name}.asl", **kw)
+    mas.run(timeout=timeout)
+    return out.getvalue()
+
+
+def lines(text: str, agent: str = "main") -> list[str]:
+    prefix = f"[{agent}] "
+    return [ln[len(prefix):] for ln in text.splitlines() if ln.startswith(prefix)]
+
+
+class RecordingArch(AgentArch):
+    """A test architecture: records actions/console, percepts settable from the test."""
+
+    def __init__(self) -> None:
+        super().__init__(VirtualClock())
+        self.actions: list[tuple[int, str]] = []
+        self.out: list[str] = []
+        self.percepts: list | None = None
+        self.sent: list[Message] = []
+        self.lock = threading.Lock()
+
+    def perceive(self):
+        with self.lock:
+            p, self.percepts = self.percepts, None
+        return p
+
+    def act(self, agent: Agent, action, action_id: int) -> None:
+        self.actions.append((action_id, str(action)))
+
+    def send(self, agent: Agent, message: Message) -> None:
+        self.sent.append(message)
+
+    def console(self, agent_name: str, text: str) -> None:
+        self.out.append(text)
+
+
+def subprocess_env() -> dict:
+    """Environment for ``python -m rason.asl`` subprocesses: the package must be importable."""
+    import rason
+
+    src = os.path.dirname(os.path.dirname(os.path.abspath(rason.__file__)))
+    env = dict(os.environ)
+    env["PYTHONPATH"] = src + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    return env
+
+
+def run_until_idle(ag: Agent, max_steps: int = 10000) -> int:
+    n = 0
+    while n < max_steps and ag.step():
+        n += 1
+    return n

@@ -1,0 +1,112 @@
+"""`rosrun turtlebot_sim sim` with a real roscore: velocity in, odometry, /clock, Kinect out."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.ros
+
+NS = "/simtest"
+
+
+class Latest:
+    """Collects the messages of one topic."""
+
+    def __init__(self, topic: str, msg_type: type) -> None:
+        import rospy
+
+        self.msgs: list = []
+        self.cond = threading.Condition()
+        self.sub = rospy.Subscriber(topic, msg_type, self._on, queue_size=50,
+                                    buff_size=2 ** 24)
+
+    def _on(self, msg) -> None:
+        with self.cond:
+            self.msgs.append(msg)
+            self.cond.notify_all()
+
+    def wait(self, count: int = 1, timeout: float = 20.0) -> list:
+        with self.cond:
+            assert self.cond.wait_for(lambda: len(self.msgs) >= count, timeout), \
+                f"{self.sub.name}: {len(self.msgs)} of {count} messages in {timeout} s"
+            return list(self.msgs)
+
+    def last(self):
+        with self.cond:
+            return self.msgs[-1]
+
+
+def test_sim_node_drives_publishes_odometry_clock_and_kinect(ros):
+    import rospy
+    from geometry_msgs.msg import Twist
+    from nav_msgs.msg import Odometry
+    from rosgraph_msgs.msg import Clock
+    from sensor_msgs.msg import Image, PointCloud2
+
+    from turtlebot_sim.msgs import cloud_to_arrays
+
+    sim = ros.rosrun("turtlebot_sim", "sim", ns=NS,
+                     params={"world": "case_study.yaml", "camera_rate": 15})
+    ros.wait_for_topic(f"{NS}/helper/camera/depth_registered/points", timeout=40, watch=[sim])
+    ros.init_rospy()
+    clock = Latest("/clock", Clock)
+    odom = Latest(f"{NS}/faulty/mobile_base/odom", Odometry)
+    truth = Latest(f"{NS}/faulty/ground_truth/odom", Odometry)
+    images = Latest(f"{NS}/helper/camera/rgb/image_raw", Image)
+    clouds = Latest(f"{NS}/helper/camera/depth_registered/points", PointCloud2)
+    cmd = rospy.Publisher(f"{NS}/faulty/mobile_base/commands/velocity", Twist, queue_size=1)
+    try:
+        ros.wait_for_subscriber(f"{NS}/faulty/mobile_base/commands/velocity", watch=[sim])
+        start = odom.wait()[-1]
+        assert start.header.frame_id == "odom" and start.child_frame_id == "base_footprint"
+        t0 = clock.wait()[-1].clock.to_sec()
+
+        twist = Twist()
+        twist.linear.x = 0.3
+        deadline = time.monotonic() + 2.5
+        while time.monotonic() < deadline:
+            cmd.publish(twist)
+            time.sleep(0.1)
+        moving = odom.last()
+        assert moving.pose.pose.position.x > 0.2, moving.pose.pose.position
+        assert moving.twist.twist.linear.x == pytest.approx(0.3, abs=0.05)
+        gt = truth.last()
+        assert gt.header.frame_id == "world"
+        assert gt.pose.pose.position.y == pytest.approx(-1.5, abs=0.02)
+        assert gt.pose.pose.position.x == pytest.approx(moving.pose.pose.position.x, abs=0.05)
+        t1 = clock.last().clock.to_sec()
+        assert t1 - t0 > 1.0                     # sim time advances (about real time)
+        assert moving.header.stamp.to_sec() == pytest.approx(t1, abs=0.2)
+
+        # No more commands: the 0.6 s command timeout stops the robot.
+        time.sleep(1.5)
+        assert abs(odom.last().twist.twist.linear.x) < 0.01
+
+        imgs = images.wait(3)
+        pts = clouds.wait(3)
+        img, cloud = imgs[-1], pts[-1]
+        assert (img.width, img.height, img.encoding, img.step) == (640, 480, "rgb8", 1920)
+        assert len(img.data) == 640 * 480 * 3
+        assert (cloud.width, cloud.height, cloud.is_dense) == (640, 480, False)
+        assert [(f.name, f.offset, f.datatype) for f in cloud.fields] == \
+            [("x", 0, 7), ("y", 4, 7), ("z", 8, 7), ("rgb", 12, 7)]
+        assert img.header.frame_id == cloud.header.frame_id == "helper/camera_rgb_optical_frame"
+        image_stamps = {m.header.stamp for m in imgs}
+        cloud_stamps = {m.header.stamp for m in pts}
+        assert len(image_stamps & cloud_stamps) >= 2
+        same = next(c for c in reversed(pts) if c.header.stamp in image_stamps)
+        xyz, rgb = cloud_to_arrays(same)
+        assert np.isnan(xyz[:, :, 2]).any() and (~np.isnan(xyz[:, :, 2])).any()
+        paired = next(i for i in imgs if i.header.stamp == same.header.stamp)
+        assert np.array_equal(rgb, np.frombuffer(paired.data, np.uint8).reshape(480, 640, 3))
+        stamps = sorted(s.to_sec() for s in cloud_stamps)
+        assert np.median(np.diff(stamps)) == pytest.approx(1 / 15, abs=0.01)
+        assert sim.alive()
+    finally:
+        cmd.unregister()
+        for sub in (clock, odom, truth, images, clouds):
+            sub.sub.unregister()

@@ -1,0 +1,79 @@
+"""The real path: roscore + ``rosrun rason_vision robot_synthesizer __ns:=/helper`` +
+``rosbag play bags/vision_cases.bag``; the perceptions on /helper/jason/perception are checked
+against the bag's ground truth topic."""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+
+import pytest
+from vision_truth import CASES_BAG, LITERAL, check
+
+pytestmark = pytest.mark.ros
+
+# Published values are rounded (0.1 deg, 1 cm): allow for that on top of the tolerances.
+ROUNDING = (0.05, 0.005, 0.05)
+FRAMES = 7
+
+
+def test_synthesizer_on_recorded_bag(ros):
+    import rospy
+    from jason_msgs.msg import Perception
+    from std_msgs.msg import String
+
+    ros.init_rospy()
+    perceptions: list[Perception] = []
+    truths: list[dict] = []
+    lock = threading.Lock()
+
+    def on_perception(msg: Perception) -> None:
+        with lock:
+            perceptions.append(msg)
+
+    def on_truth(msg: String) -> None:
+        with lock:
+            truths.append(json.loads(msg.data))
+
+    subs = [rospy.Subscriber("/helper/jason/perception", Perception, on_perception),
+            rospy.Subscriber("/ground_truth/faulty_relative", String, on_truth)]
+    try:
+        node = ros.rosrun("rason_vision", "robot_synthesizer", ns="/helper")
+        ros.wait_for_subscriber("/helper/camera/depth_registered/points", watch=[node])
+        ros.wait_for_topic("/helper/jason/perception", watch=[node])
+        time.sleep(0.5)  # let our subscriber connect to the node's publisher
+        # --keep-alive: an exiting rosbag may drop the last big messages still in its queues.
+        play = ros.run(["rosbag", "play", "--delay", "2", "--quiet", "--keep-alive",
+                        str(CASES_BAG)], label="rosbag_play")
+        deadline = time.monotonic() + 40
+        while time.monotonic() < deadline and play.alive():
+            with lock:
+                if len(truths) >= FRAMES and len(perceptions) >= FRAMES:
+                    break
+            time.sleep(0.1)
+        time.sleep(0.5)
+        play.stop()
+    finally:
+        for sub in subs:
+            sub.unregister()
+
+    assert node.alive(), node.output()
+    assert len(truths) == FRAMES, play.output()
+    assert len(perceptions) == len(truths), (
+        f"{len(perceptions)} perceptions for {len(truths)} frames:\n{node.output()}\n{play.output()}")
+    problems = []
+    for msg, truth in zip(perceptions, truths, strict=True):
+        assert msg.source == "robot_synthesizer_robot"
+        assert len(msg.perception) <= 1
+        found = None
+        if msg.perception:
+            match = LITERAL.match(msg.perception[0])
+            assert match, msg.perception[0]
+            assert match.group(1) == "faulty"
+            found = tuple(float(match.group(i)) for i in (2, 3, 4))
+        problem = check(found, truth, ROUNDING)
+        if problem:
+            problems.append(f"frame {truth['index']} ({truth['case']}): {problem}: "
+                            f"{list(msg.perception)}")
+    assert not problems, "\n".join(problems)
