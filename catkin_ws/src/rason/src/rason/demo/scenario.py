@@ -140,6 +140,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
     result.location_s = _diff(t.help_request, t.found)
     result.diagnosis_s = _diff(t.found, t.diagnosis)
     result.total_s = _diff(t.move_start, t.diagnosis)
+    result.correct = result.diagnosis == result.expected and not result.error
     result.console = [line for a in agents.values() for line in a.lines() if line.startswith("[")]
     try:
         save_run_picture(monitor, result, out_dir / "run.png")
