@@ -19,6 +19,7 @@ caller's process group) and end when told to or when the caller's end of the soc
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import socket
@@ -85,14 +86,9 @@ class RenderPool:
         package_root = str(Path(__file__).resolve().parents[1])
         env["PYTHONPATH"] = os.pathsep.join(
             [package_root, *filter(None, env.get("PYTHONPATH", "").split(os.pathsep))])
+        self._cfg, self._env, self._timeout = cfg, env, timeout
         for index in range(max(1, workers)):
-            ours, theirs = socket.socketpair()
-            proc = subprocess.Popen(
-                [sys.executable, "-m", "turtlebot_sim.render", str(theirs.fileno())],
-                pass_fds=[theirs.fileno()], stdin=subprocess.DEVNULL, env=env)
-            theirs.close()
-            conn = Connection(ours.detach())
-            conn.send((cfg, index))
+            conn, proc = self._spawn(index)
             self._conns.append(conn)
             self._procs.append(proc)
         self._pending: deque[tuple[int, float, str]] = deque()   # (worker, stamp, robot)
@@ -101,6 +97,29 @@ class RenderPool:
             if not conn.poll(timeout) or conn.recv() != "ready":
                 self.close()
                 raise RuntimeError("a render worker did not start")
+
+    def _spawn(self, index: int) -> tuple[Connection, subprocess.Popen]:
+        """Start render worker `index`; returns its connection (not yet known to be ready)."""
+        ours, theirs = socket.socketpair()
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "turtlebot_sim.render", str(theirs.fileno())],
+            pass_fds=[theirs.fileno()], stdin=subprocess.DEVNULL, env=self._env)
+        theirs.close()
+        conn = Connection(ours.detach())
+        conn.send((self._cfg, index))
+        return conn, proc
+
+    def _respawn(self, worker: int) -> None:
+        """Replace a worker that died (seen as a broken pipe) and wait until it is ready."""
+        with contextlib.suppress(OSError):
+            self._conns[worker].close()
+        if self._procs[worker].poll() is None:
+            self._procs[worker].kill()
+        self._procs[worker].wait(2)
+        conn, proc = self._spawn(worker)
+        self._conns[worker], self._procs[worker] = conn, proc
+        if not conn.poll(self._timeout) or conn.recv() != "ready":
+            raise RuntimeError(f"render worker {worker} died and could not be restarted")
 
     @property
     def workers(self) -> int:
@@ -122,7 +141,13 @@ class RenderPool:
             self._next = (self._next + 1) % len(self._conns)
         worker = self._next
         self._next = (self._next + 1) % len(self._conns)
-        self._conns[worker].send((robot, states))
+        try:
+            self._conns[worker].send((robot, states))
+        except OSError:
+            # TODO: find why a worker sometimes dies; until then replace it and go on.
+            print(f"turtlebot_sim: render worker {worker} died; restarting it", file=sys.stderr)
+            self._respawn(worker)
+            self._conns[worker].send((robot, states))
         self._pending.append((worker, stamp, robot))
 
     def collect(self, block: bool = False) -> list[Frame]:

@@ -122,9 +122,10 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
     mind = rospy.ServiceProxy("/faulty/jason/faulty/mind", Mind)
     deadline = rospy.get_time() + sim_timeout
     while rospy.get_time() < deadline:
-        if not all(a.alive() for a in agents.values()):
-            dead = [n for n, a in agents.items() if not a.alive()]
-            raise HarnessError(f"agent process died: {dead}")
+        watched = {**agents, "sim": sim}
+        if not all(p.alive() for p in watched.values()):
+            dead = [n for n, p in watched.items() if not p.alive()]
+            raise HarnessError(f"process died: {dead}")
         diagnosis = _diagnosis(mind)
         if diagnosis is not None:
             result.diagnosis = diagnosis
