@@ -15,7 +15,7 @@ import pytest
 
 from rason.demo.scenario import FAULTS, expected_diagnosis
 
-pytestmark = pytest.mark.ros
+pytestmark = [pytest.mark.ros, pytest.mark.demo]
 
 SEEDS = {"both_actuators": 11, "odometry": 12, "left_actuator": 13, "right_actuator": 14,
          "none": 15}
