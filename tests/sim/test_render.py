@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
-from pathlib import Path
+import socket
 
 import numpy as np
 import pytest
 
 from turtlebot_sim import config
+from turtlebot_sim.render import RenderPool
 from turtlebot_sim.world import World
 
 
@@ -53,10 +52,42 @@ def test_a_still_scene_is_not_rendered_again_but_gets_fresh_noise():
         assert world.renders == 2
 
 
-def test_render_pool_returns_frames_in_order_for_the_given_poses():
-    # In a fresh process, as the sim node uses it: in a process whose rospy threads are already
-    # running (this pytest process after the ROS tests) a second worker was seen to die at once.
-    # TODO: find that interaction; the sim node starts its pool before rospy's threads exist.
-    done = subprocess.run([sys.executable, str(Path(__file__).with_name("pool_order_check.py"))],
-                          capture_output=True, text=True, timeout=120)
-    assert done.returncode == 0, done.stdout + done.stderr
+@pytest.mark.parametrize("default_timeout", [None, 60.0])
+def test_render_pool_returns_frames_in_order_for_the_given_poses(default_timeout):
+    # 60.0: what rospy sets with socket.setdefaulttimeout() once its node runs; new sockets are
+    # then non-blocking, which made the workers quit at their first read (the sim died mid-demo).
+    previous = socket.getdefaulttimeout()
+    socket.setdefaulttimeout(default_timeout)
+    try:
+        _check_pool_order()
+    finally:
+        socket.setdefaulttimeout(previous)
+
+
+def _check_pool_order() -> None:
+    with World.from_yaml("case_study.yaml") as world, \
+            RenderPool(world.config, workers=2) as pool:
+        world.set_pose("helper", 0.0, 0.0, -math.pi / 2)     # looking at Faulty
+        facing = world.base_states()
+        world.set_pose("helper", 0.0, 0.0, math.pi / 2)      # looking away
+        away = world.base_states()
+        frames = []
+        for i, states in enumerate((facing, away, facing)):
+            if pool.busy():
+                frames += pool.collect(block=True)
+            pool.submit(i * 0.1, "helper", states)
+        while len(frames) < 3:
+            frames += pool.collect(block=True)
+        assert [f.stamp for f in frames] == [0.0, 0.1, 0.2]
+        for frame in frames:
+            assert frame.rgb.shape == (480, 640, 3) and frame.cloud.shape == (480, 640, 4)
+            assert frame.cloud.dtype == np.float32 and frame.render_ms > 0
+
+        def orange(rgb: np.ndarray) -> int:
+            r, g, b = (rgb[:, :, i].astype(int) for i in range(3))
+            return int(((r > 150) & (r > g + 60) & (r > b + 120)).sum())
+
+        assert orange(frames[0].rgb) > 100 and orange(frames[2].rgb) > 100
+        assert orange(frames[1].rgb) == 0
+        assert not pool.collect()
+

@@ -101,6 +101,11 @@ class RenderPool:
     def _spawn(self, index: int) -> tuple[Connection, subprocess.Popen]:
         """Start render worker `index`; returns its connection (not yet known to be ready)."""
         ours, theirs = socket.socketpair()
+        # Blocking on both ends, whatever socket.setdefaulttimeout() says: rospy sets a default
+        # timeout of 60 s once its node runs, which makes new sockets non-blocking, and the
+        # worker's first read then fails with EAGAIN and the worker quits (seen as a dead worker).
+        ours.setblocking(True)
+        theirs.setblocking(True)
         proc = subprocess.Popen(
             [sys.executable, "-m", "turtlebot_sim.render", str(theirs.fileno())],
             pass_fds=[theirs.fileno()], stdin=subprocess.DEVNULL, env=self._env)
@@ -144,7 +149,7 @@ class RenderPool:
         try:
             self._conns[worker].send((robot, states))
         except OSError:
-            # TODO: find why a worker sometimes dies; until then replace it and go on.
+            # A worker that crashed (it should not: see _spawn) is replaced, and the frame resent.
             print(f"turtlebot_sim: render worker {worker} died; restarting it", file=sys.stderr)
             self._respawn(worker)
             self._conns[worker].send((robot, states))
@@ -189,4 +194,5 @@ class RenderPool:
 
 
 if __name__ == "__main__":
+    os.set_blocking(int(sys.argv[1]), True)
     _worker(Connection(int(sys.argv[1])))
