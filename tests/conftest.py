@@ -18,7 +18,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from rason.harness import RosHarness
+from rason.harness import RosHarness, processes_left_by
 
 
 def _ros_available() -> bool:
@@ -56,28 +56,9 @@ def fresh_ros() -> Iterator[RosHarness]:
     harness.cleanup_logs()
 
 
-def _our_ros_processes() -> list[str]:
-    """Processes still running that a harness of this pytest process started."""
-    token = f"RASON_HARNESS_PARENT={os.getpid()}\0".encode()
-    found = []
-    for pid in os.listdir("/proc"):
-        if not pid.isdigit() or int(pid) == os.getpid():
-            continue
-        try:
-            with open(f"/proc/{pid}/environ", "rb") as f:
-                env = f.read()
-            with open(f"/proc/{pid}/cmdline", "rb") as f:
-                cmd = f.read().replace(b"\0", b" ").decode(errors="replace")
-        except OSError:
-            continue
-        if token in env + b"\0":
-            found.append(f"{pid}: {cmd[:120]}")
-    return found
-
-
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     """After the suite, no roscore, rosout or node started by the harness may be left running."""
-    leftovers = _our_ros_processes()
+    leftovers = processes_left_by(os.getpid())
     if leftovers:
         print("\nORPHAN ROS PROCESSES LEFT BY THE SUITE:\n  " + "\n  ".join(leftovers))
         session.exitstatus = 1

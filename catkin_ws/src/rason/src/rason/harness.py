@@ -39,6 +39,29 @@ PROJECT_ROOT = Path(__file__).resolve().parents[5]
 _ROSPY_MASTER: str | None = None
 
 
+def processes_left_by(parent_pid: int) -> list[str]:
+    """Processes still running that a harness in process ``parent_pid`` started ("pid: argv").
+
+    Every harness process carries ``RASON_HARNESS_PARENT=<pid>`` in its environment (and so do
+    their children), so this finds orphans even after the parent itself is gone.
+    """
+    token = f"RASON_HARNESS_PARENT={parent_pid}\0".encode()
+    found = []
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit() or int(pid) in (parent_pid, os.getpid()):
+            continue
+        try:
+            with open(f"/proc/{pid}/environ", "rb") as f:
+                env = f.read()
+            with open(f"/proc/{pid}/cmdline", "rb") as f:
+                cmd = f.read().replace(b"\0", b" ").decode(errors="replace")
+        except OSError:
+            continue
+        if token in env + b"\0":
+            found.append(f"{pid}: {cmd[:120]}")
+    return found
+
+
 class HarnessError(RuntimeError):
     """A ROS process did not start, or something waited for did not appear in time."""
 
