@@ -3,7 +3,7 @@
 
 A real ``rosrun rason agent`` node performs ``move(I)`` 1000 times against the real
 ``rosrun rason echo_decomposer`` (which acknowledges and answers at once); the agent times each
-action with ``.time`` (ms of ROS time) and prints it. Reports p50, p90, p99 and max.
+action with ``.nano_time`` (ns of ROS time) and prints it in ms. Reports p50, p90, p99 and max.
 
     ./run.sh bench action_roundtrip [--actions 1000]
 """
@@ -21,7 +21,8 @@ from rason.harness import RosHarness
 AGENT = """
 !start.
 +!start <- .wait(1500); !loop(0).
-+!loop(I) : I < {actions} <- .time(T0); move(I); .time(T1); .print("rt ", T1 - T0); !loop(I + 1).
++!loop(I) : I < {actions}
+   <- .nano_time(T0); move(I); .nano_time(T1); .print("rt ", (T1 - T0) / 1000000); !loop(I + 1).
 +!loop(I) <- .print("finished").
 """
 

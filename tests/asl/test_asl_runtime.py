@@ -152,6 +152,18 @@ def test_wait_uses_the_clock() -> None:
     assert arch.out == ["4000"]
 
 
+def test_nano_time_reads_the_same_clock_in_nanoseconds() -> None:
+    clock = VirtualClock(start=10.0)
+    arch = RecordingArch()
+    arch.clock = clock
+    ag = Agent("w", "!g.\n+!g <- .nano_time(T0); .wait(1500); .nano_time(T1); .print(T0, \" \", T1 - T0).",
+               arch)
+    run_until_idle(ag)
+    clock.advance(1.5)
+    run_until_idle(ag)
+    assert arch.out == ["10000000000 1500000000"]
+
+
 def test_ask_one_and_send_to_unknown() -> None:
     out_mas = LocalMas(clock=VirtualClock())
     import io

@@ -76,7 +76,8 @@ class Agent:
         self._wake_event = threading.Event()
         self._state_lock = threading.RLock()
         self._percepts: set = set()
-        self._has_atomic = False
+        # set once an [atomic] plan is intended: until then no intention can be atomic
+        self.atomic_used = False
         self._stop_requested = False
         # called (from any thread) whenever input arrives; a runner may use it to wake up
         self.on_wake: Any = None
@@ -87,8 +88,6 @@ class Agent:
         from .kqml import kqml_plans
         for p in parsed.plans + kqml_plans():
             self.pl.add(p)
-            if p.atomic:
-                self._has_atomic = True
         for b in reversed(parsed.beliefs):
             if isinstance(b, Rule):
                 self.bb.add_rule(b, front=True)
@@ -307,7 +306,7 @@ class Agent:
         return Intention(next(self._int_ids))
 
     def atomic_running(self) -> bool:
-        if not self._has_atomic:
+        if not self.atomic_used:
             return False
         for i in self.running:  # noqa: SIM110 - hot path, no generator
             if i.atomic_count:

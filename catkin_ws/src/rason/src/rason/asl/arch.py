@@ -19,6 +19,10 @@ class Clock:
     def now(self) -> float:
         raise NotImplementedError
 
+    def now_ns(self) -> int:
+        """The same clock in integer nanoseconds (``.nano_time``)."""
+        return int(self.now() * 1e9)
+
     def wait(self, event: threading.Event, deadline: float | None) -> None:
         """Block until ``event`` is set or ``now() >= deadline`` (None: only the event)."""
         raise NotImplementedError
@@ -29,6 +33,9 @@ class WallClock(Clock):
 
     def now(self) -> float:
         return time.monotonic()
+
+    def now_ns(self) -> int:
+        return time.monotonic_ns()
 
     def wait(self, event: threading.Event, deadline: float | None) -> None:
         if deadline is None:

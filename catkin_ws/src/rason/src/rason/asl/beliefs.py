@@ -52,12 +52,14 @@ class BeliefBase:
         When the belief is already held, only new annotations are added and the event carries
         just those annotations (Jason's behaviour).
         """
-        key = lit.key
+        key = (lit.functor, len(lit.args), lit.neg)
         lst = self._index.get(key)
         if lst is None:
-            lst = self._index[key] = []
+            self._index[key] = [lit]
+            return lit
+        args = lit.args
         for i, b in enumerate(lst):
-            if isinstance(b, Literal) and b.args == lit.args:
+            if type(b) is Literal and b.args == args:
                 new = [a for a in lit.annots if a not in b.annots]
                 if not new:
                     return None
@@ -83,16 +85,18 @@ class BeliefBase:
     def remove(self, lit: Literal) -> Literal | None:
         """Remove ``lit``'s annotations from the stored belief (whole belief when no source is
         left). Returns the literal for the ``-b`` event or None if nothing was removed."""
-        lst = self._index.get(lit.key)
+        key = (lit.functor, len(lit.args), lit.neg)
+        lst = self._index.get(key)
         if not lst:
             return None
+        args = lit.args
         for i, b in enumerate(lst):
-            if type(b) is Literal and b.args == lit.args:
+            if type(b) is Literal and b.args == args:
                 if b.annots == lit.annots:  # fast path: the whole belief goes
                     if len(lst) == 1:
-                        del self._index[lit.key]
+                        del self._index[key]
                     else:
-                        self._index[lit.key] = lst[:i] + lst[i + 1:]
+                        self._index[key] = lst[:i] + lst[i + 1:]
                     return b
                 if not lit.annots:
                     removed_annots: tuple = b.annots

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
@@ -100,7 +101,7 @@ def first_solution(ag: Agent, f: Any, s: dict, intention: Intention | None = Non
         left = f.left
         if (type(left) is Literal and left.args and left.functor[0] != "."
                 and not left.annots and left.tail is None):
-            for b in ag.bb.candidates(left.key):
+            for b in ag.bb.candidates((left.functor, len(left.args), left.neg)):
                 if type(b) is not Literal:
                     for s1 in query_bb(ag, left, s):
                         s2 = eval_rel(right, s1)
@@ -109,7 +110,9 @@ def first_solution(ag: Agent, f: Any, s: dict, intention: Intention | None = Non
                     return None
                 s1 = dict(s)
                 for x, y in zip(left.args, b.args, strict=False):
-                    if not unify(x, y, s1):
+                    if type(x) is Var and x.name not in s1:
+                        s1[x.name] = y                  # a free variable: just bind it
+                    elif not unify(x, y, s1):
                         break
                 else:
                     s2 = eval_rel(right, s1)
@@ -126,9 +129,18 @@ def first_solution(ag: Agent, f: Any, s: dict, intention: Intention | None = Non
     return None
 
 
+_NUMERIC_COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
+
+
 def eval_rel(f: RelExpr, s: dict) -> dict | None:
     """Evaluate a relational expression; returns the (possibly extended) substitution or None."""
     op = f.op
+    compare = _NUMERIC_COMPARE.get(op)
+    if compare is not None:
+        a = resolve(f.left, s)
+        b = resolve(f.right, s)
+        if type(a) is float and type(b) is float:   # the common case: two numbers (NaN fails)
+            return s if compare(a, b) else None
     if op == "=":
         s2 = dict(s)
         if unify(resolve(f.left, s), resolve(f.right, s), s2):

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from .terms import Literal, PlanTerm, Var, term_str
+from .terms import SOURCE_SELF, Literal, PlanTerm, Var, is_constant, term_str
 
 # triggering event operators and types
 ADD, DEL = "+", "-"
@@ -53,19 +53,39 @@ class Trigger:
         return self.type == ACHIEVE
 
 
-class Deed:
-    """One formula of a plan body, with the source line it came from."""
+#: Deeds whose literal gets ``source(self)`` when it has no source (goals and belief changes).
+_SELF_SOURCED = (K_ACHIEVE, K_ACHIEVE_NEW, K_ADD_BEL, K_DEL_BEL, K_DEL_ADD_BEL)
 
-    __slots__ = ("extra", "kind", "line", "term")
+
+class Deed:
+    """One formula of a plan body, with the source line it came from.
+
+    ``self_term`` is ``term`` with ``source(self)`` already added, computed once here, when
+    that cannot depend on the unifier (the annotations hold no variable and no tail); the
+    reasoning cycle then only applies the unifier. None means: add the source at run time.
+    """
+
+    __slots__ = ("extra", "kind", "line", "self_term", "term")
 
     def __init__(self, kind: str, term: Any, line: int, extra: Any = None) -> None:
         self.kind = kind
         self.term = term
         self.line = line
         self.extra = extra
+        self.self_term = _with_self_source(term) if kind in _SELF_SOURCED else None
 
     def __repr__(self) -> str:
         return deed_str(self)
+
+
+def _with_self_source(term: Any) -> Literal | None:
+    if type(term) is not Literal or term.tail is not None:
+        return None
+    if not all(is_constant(a) for a in term.annots):
+        return None
+    lit = term if term.has_source() else term.add_annots([SOURCE_SELF])
+    is_constant(lit)   # cached on the literal: resolving a constant is free
+    return lit
 
 
 def body_str(body: tuple | list) -> str:

@@ -63,6 +63,20 @@ def error_annots(ag: Agent, im: IntendedMeans | None, deed: Deed | None, kind: s
     return out + extra
 
 
+def _self_sourced(d: Deed, u: dict) -> Literal | None:
+    """The deed's literal under ``u``, with ``source(self)`` when it has no source (None: not a
+    literal)."""
+    st = d.self_term
+    if st is not None:
+        lit = resolve(st, u)
+        if type(lit) is Literal:
+            return lit
+    lit = resolve(d.term, u)
+    if not isinstance(lit, Literal):
+        return None
+    return add_self_source(lit)
+
+
 def add_self_source(lit: Literal) -> Literal:
     if lit.has_source():
         return lit
@@ -90,7 +104,7 @@ def deliberate(ag: Agent) -> bool:
 
 def sel_ev(ag: Agent) -> Event | None:
     """SelEv: the first event (FIFO); with an atomic intention running, only its own events."""
-    if ag.atomic_running():
+    if ag.atomic_used and ag.atomic_running():
         for k, ev in enumerate(ag.events):
             if ev.intention is not None and ev.intention.is_atomic:
                 del ag.events[k]
@@ -156,13 +170,18 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     if i is not None and not trig.is_goal:
         pass  # an internal belief event with relevant plans: handled below
     lit = trig.literal
-    if not is_ground(lit):
+    if not ((type(lit) is Literal and lit._g) or is_ground(lit)):
         lit = rename_vars(lit, {})
         ev = Event(Trigger(trig.op, trig.type, lit), i, ev.fail_target, ev.reply)
     opt = None
     for plan in relevant:  # ApplPl + SelAppl (inlined appl_pl for speed)
         u: dict = {}
-        if not unify(plan.trigger.literal, lit, u):
+        pattern = plan.trigger.literal
+        if type(pattern) is Literal and not pattern.annots and pattern.tail is None:
+            # same key as the event (RelPl): only the arguments remain to unify
+            if pattern.args and not _unify_args(pattern.args, lit.args, u):
+                continue
+        elif not unify(pattern, lit, u):
             continue
         ctx = plan.context
         if ctx is None:
@@ -197,9 +216,18 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     if i is None:
         i = ag.new_intention()
         i.reply = ev.reply
+    if plan.atomic:
+        ag.atomic_used = True
     i.push(im)
     i.suspended = None
     ag.running.append(i)
+    return True
+
+
+def _unify_args(xs: tuple, ys: tuple, u: dict) -> bool:
+    for x, y in zip(xs, ys, strict=False):  # noqa: SIM110 - hot path, no generator
+        if not unify(x, y, u):
+            return False
     return True
 
 
@@ -247,7 +275,7 @@ def sel_int(ag: Agent) -> Intention | None:
     running = ag.running
     if not running:
         return None
-    if ag.atomic_running():
+    if ag.atomic_used and ag.atomic_running():
         for i in list(running):
             if i.is_atomic:
                 running.remove(i)
@@ -334,32 +362,31 @@ def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
             return True
         return _fail(ag, i, im, d, "ia_failed", "")
     if k == K_ADD_BEL:
-        lit = resolve(d.term, u)
-        if not isinstance(lit, Literal):
-            raise IAError(f"cannot add {term_str(lit)} as a belief")
+        lit = _self_sourced(d, u)
+        if lit is None:
+            raise IAError(f"cannot add {term_str(resolve(d.term, u))} as a belief")
         # Jason's default intBels=sameFocus: the +b event belongs to this intention, which
         # waits for it (its plan, if any, runs on top of this intention)
-        if ag.add_belief(add_self_source(lit), front=True, focus=i):
+        if ag.add_belief(lit, front=True, focus=i):
             i.suspended = "event"
             return False
         stack.pop()
         return True
     if k == K_ACHIEVE:
-        lit = resolve(d.term, u)
-        if not isinstance(lit, Literal):
-            raise IAError(f"invalid goal {term_str(lit)}")
-        lit = add_self_source(lit)
-        if not is_ground(lit):
+        lit = _self_sourced(d, u)
+        if lit is None:
+            raise IAError(f"invalid goal {term_str(resolve(d.term, u))}")
+        if not (lit._g or is_ground(lit)):
             lit = rename_vars(lit, {})
         i.suspended = "subgoal"
         ag.events.append(Event(Trigger(ADD, ACHIEVE, lit), i))
         return False
     if k == K_ACHIEVE_NEW:
         stack.pop()
-        lit = resolve(d.term, u)
-        if not isinstance(lit, Literal):
-            raise IAError(f"invalid goal {term_str(lit)}")
-        ag.add_event(Event(Trigger(ADD, ACHIEVE, add_self_source(lit))))
+        lit = _self_sourced(d, u)
+        if lit is None:
+            raise IAError(f"invalid goal {term_str(resolve(d.term, u))}")
+        ag.add_event(Event(Trigger(ADD, ACHIEVE, lit)))
         return True
     if k == K_CONSTRAINT:
         stack.pop()
@@ -378,14 +405,14 @@ def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
                      f"Constraint {term_str(resolve(f, u))} was not satisfied.")
     if k == K_DEL_ADD_BEL:
         stack.pop()
-        lit = resolve(d.term, u)
-        if not isinstance(lit, Literal):
-            raise IAError(f"cannot add {term_str(lit)} as a belief")
-        lit = add_self_source(lit)
+        lit = _self_sourced(d, u)
+        if lit is None:
+            raise IAError(f"cannot add {term_str(resolve(d.term, u))} as a belief")
         # remove the first belief matching b(_,...)[source(self)] (external event), then add
-        for b in ag.bb.candidates(lit.key):
-            if type(b) is Literal and all(a in b.annots for a in lit.annots):
-                ag.remove_belief(b.with_annots(lit.annots))
+        annots = lit.annots
+        for b in ag.bb.candidates((lit.functor, len(lit.args), lit.neg)):
+            if type(b) is Literal and (b.annots == annots or all(a in b.annots for a in annots)):
+                ag.remove_belief(b if b.annots == annots else b.with_annots(annots))
                 break
         if ag.add_belief(lit, front=True, focus=i):
             stack.append(d)  # the deed stays current until its event is handled
@@ -394,11 +421,10 @@ def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
         return True
     if k == K_DEL_BEL:
         stack.pop()
-        lit = resolve(d.term, u)
-        if not isinstance(lit, Literal):
-            raise IAError(f"cannot remove {term_str(lit)}")
-        lit = add_self_source(lit)
-        if not is_ground(lit):
+        lit = _self_sourced(d, u)
+        if lit is None:
+            raise IAError(f"cannot remove {term_str(resolve(d.term, u))}")
+        if not (lit._g or is_ground(lit)):
             for sol in query_bb(ag, lit, u):
                 im.u = sol
                 lit = resolve(lit, sol)

@@ -120,11 +120,19 @@ def eval_arith(t: Any, s: Subst) -> float:
         if tt is float:
             return t
     if tt is ArithExpr:
-        a = eval_arith(t.left, s)
+        a = t.left
+        if type(a) is Var:
+            a = s.get(a.name, a)
+        if type(a) is not float:
+            a = eval_arith(a, s)
         op = t.op
         if op == "neg":
             return -a
-        b = eval_arith(t.right, s)
+        b = t.right
+        if type(b) is Var:
+            b = s.get(b.name, b)
+        if type(b) is not float:
+            b = eval_arith(b, s)
         if op == "+":
             return a + b
         if op == "-":
@@ -161,6 +169,15 @@ def is_arith_function(t: Any) -> bool:
 
 # ---------------------------------------------------------------- capply
 
+def _all_constant(annots: tuple) -> bool:
+    """True when every annotation is a number, a string or a known-constant literal."""
+    for a in annots:
+        ta = type(a)
+        if not (ta is float or ta is str or (ta is Literal and a._c)):
+            return False
+    return True
+
+
 def resolve(t: Any, s: Subst) -> Any:
     """Apply the substitution (Jason ``capply``); ground arithmetic is evaluated."""
     tt = type(t)
@@ -170,11 +187,14 @@ def resolve(t: Any, s: Subst) -> Any:
         b = s.get(t.name)
         if b is None:
             return t
+        tb = type(b)
+        if tb is float or tb is str:
+            return b
         return resolve(b, s)
     if tt is Literal:
         if t._c:  # known constant (computed by the parser for program literals)
             return t
-        if is_arith_function(t):
+        if t.functor[:5] == "math." and is_arith_function(t):
             try:
                 return eval_arith(t, s)
             except ArithError:
@@ -182,6 +202,8 @@ def resolve(t: Any, s: Subst) -> Any:
         args = tuple([resolve(a, s) for a in t.args]) if t.args else ()
         annots = t.annots
         tail = t.tail
+        if tail is None and _all_constant(annots):
+            return Literal(t.functor, args, annots, None, t.neg)
         if annots or tail is not None:
             old_annots = annots
             annots = tuple([resolve(a, s) for a in annots])
@@ -203,6 +225,16 @@ def resolve(t: Any, s: Subst) -> Any:
                 uniq = list(dict.fromkeys(annots))
                 annots = tuple(sorted(uniq, key=sort_key))
         return Literal(t.functor, args, annots, tail, t.neg)
+    if tt is ArithExpr:
+        try:
+            return eval_arith(t, s)
+        except (ArithError, RecursionError):
+            r = t.right
+            e = ArithExpr(t.op, resolve(t.left, s), None if r is None else resolve(r, s))
+            from .terms import is_ground
+            if is_ground(e):
+                return math.nan  # Jason: a ground expression over non-numbers evaluates to NaN
+            return e
     if isinstance(t, ListTerm):
         items = [resolve(a, s) for a in t.items]
         tail = t.tail
@@ -214,16 +246,6 @@ def resolve(t: Any, s: Subst) -> Any:
             else:
                 break
         return ListTerm(tuple(items), tail)
-    if isinstance(t, ArithExpr):
-        try:
-            return eval_arith(t, s)
-        except (ArithError, RecursionError):
-            r = t.right
-            e = ArithExpr(t.op, resolve(t.left, s), None if r is None else resolve(r, s))
-            from .terms import is_ground
-            if is_ground(e):
-                return math.nan  # Jason: a ground expression over non-numbers evaluates to NaN
-            return e
     if isinstance(t, RelExpr):
         return RelExpr(t.op, resolve(t.left, s), resolve(t.right, s))
     if isinstance(t, LogExpr):

@@ -28,6 +28,9 @@ class RosClock(Clock):
     def now(self) -> float:
         return rospy.get_time()
 
+    def now_ns(self) -> int:
+        return rospy.get_rostime().to_nsec()
+
     def wait(self, event: threading.Event, deadline: float | None) -> None:
         if deadline is None:
             event.wait()

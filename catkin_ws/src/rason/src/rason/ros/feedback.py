@@ -68,6 +68,36 @@ def parse_accepted(event: EventLike) -> int | None:
     return _as_int(event.parameters[0])
 
 
+def split_top_level(text: str) -> tuple[list[str], int, bool]:
+    """Split ``text`` at the commas outside brackets and quotes, up to the first unmatched
+    closing bracket.
+
+    Returns the stripped parts, the index where scanning stopped (that bracket, or
+    ``len(text)``) and whether every bracket and quote opened on the way was closed.
+    ``'1, f(a, b), "x,y") [z]'`` gives ``(['1', 'f(a, b)', '"x,y"'], 19, True)``.
+    """
+    parts: list[str] = []
+    depth, quote, start = 0, "", 0
+    for i, ch in enumerate(text):
+        if quote:
+            if ch == quote and text[i - 1] != "\\":
+                quote = ""
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            if depth == 0:
+                parts.append(text[start:i].strip())
+                return parts, i, True
+            depth -= 1
+        elif ch == "," and depth == 0:
+            parts.append(text[start:i].strip())
+            start = i + 1
+    parts.append(text[start:].strip())
+    return parts, len(text), depth == 0 and not quote
+
+
 def split_action(text: str) -> tuple[str, list[str]]:
     """Split Jason action text ``move(1, "a,b")`` into ``("move", ["1", '"a,b"'])``.
 
@@ -84,28 +114,11 @@ def split_action(text: str) -> tuple[str, list[str]]:
     if not name or not name[0].islower() or not rest.endswith(")"):
         raise ValueError(f"not an action: {text!r}")
     body = rest[:-1]
-    params: list[str] = []
-    depth, quote, start = 0, "", 0
-    for i, ch in enumerate(body):
-        if quote:
-            if ch == quote and body[i - 1] != "\\":
-                quote = ""
-        elif ch in "\"'":
-            quote = ch
-        elif ch in "([{":
-            depth += 1
-        elif ch in ")]}":
-            depth -= 1
-            if depth < 0:
-                raise ValueError(f"unbalanced brackets in {text!r}")
-        elif ch == "," and depth == 0:
-            params.append(body[start:i].strip())
-            start = i + 1
-    if depth or quote:
+    params, stop, balanced = split_top_level(body)
+    if stop != len(body) or not balanced:
         raise ValueError(f"unbalanced brackets or quotes in {text!r}")
-    last = body[start:].strip()
-    if last or params:
-        params.append(last)
+    if params == [""]:
+        return name, []
     if any(not p for p in params):
         raise ValueError(f"empty parameter in {text!r}")
     return name, params

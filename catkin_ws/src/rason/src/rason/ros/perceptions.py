@@ -17,6 +17,8 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Generic, TypeVar
 
+from rason.ros.feedback import split_top_level
+
 L = TypeVar("L")
 
 REPLACE = "replace"
@@ -62,22 +64,8 @@ def _arity(rest: str) -> int:
     rest = rest.lstrip()
     if not rest.startswith("("):
         return 0
-    depth, count, quote = 0, 1, ""
-    for i, ch in enumerate(rest):
-        if quote:
-            if ch == quote and rest[i - 1] != "\\":
-                quote = ""
-        elif ch in "\"'":
-            quote = ch
-        elif ch in "([{":
-            depth += 1
-        elif ch in ")]}":
-            depth -= 1
-            if depth == 0:
-                return count if rest[1:i].strip() else 0
-        elif ch == "," and depth == 1:
-            count += 1
-    return count
+    args, _, _ = split_top_level(rest[1:])
+    return 0 if args == [""] else len(args)
 
 
 @dataclass

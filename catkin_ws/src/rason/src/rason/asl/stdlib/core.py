@@ -122,6 +122,13 @@ def time_(ctx: Any, args: list) -> bool:
     return all(ctx.unify(a, float(v)) for a, v in zip(args, vals, strict=False))
 
 
+@internal_action(".nano_time")
+def nano_time(ctx: Any, args: list) -> bool:
+    """``.nano_time(T)``: nanoseconds from the agent's clock (for measuring short intervals)."""
+    arg_count(args, 1, 1)
+    return ctx.unify(args[0], float(ctx.ag.arch.clock.now_ns()))
+
+
 @internal_action(".date")
 def date(ctx: Any, args: list) -> bool:
     now = datetime.date.today()
