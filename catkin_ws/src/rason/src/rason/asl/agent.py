@@ -70,7 +70,7 @@ class Agent:
         self._rnd = self.random.random
         self._seq = itertools.count()
         self._action_ids = itertools.count(1)
-        self._int_ids = itertools.count(1)
+        self.intention_ids = itertools.count(1)
         self._inbox: deque = deque()
         self._inbox_lock = threading.Lock()
         self._wake_event = threading.Event()
@@ -129,7 +129,7 @@ class Agent:
     def step(self) -> bool:
         """One reasoning cycle; True if it did anything."""
         with self._state_lock:
-            if not RANDOM_HOOK or RANDOM_HOOK[0] != self._rnd:
+            if not RANDOM_HOOK or RANDOM_HOOK[0] is not self._rnd:
                 RANDOM_HOOK[:] = [self._rnd]
             try:
                 did = self.sense()
@@ -224,7 +224,9 @@ class Agent:
 
     # ================================================================ sense
     def sense(self) -> bool:
-        did = self.perceive()
+        """Perceive (belief update from the percepts), take mail and feedback, fire timers."""
+        percepts = self.arch.perceive()
+        did = percepts is not None and self.update_percepts(percepts)
         if self._inbox:
             # all action feedback and wake-ups, but (like Jason) one message per cycle
             with self._inbox_lock:
@@ -250,11 +252,8 @@ class Agent:
             did = self.check_timers() or did
         return did
 
-    def perceive(self) -> bool:
+    def update_percepts(self, ps: list) -> bool:
         """Belief update from percepts: add new ones, remove vanished ones (source(percept))."""
-        ps = self.arch.perceive()
-        if ps is None:
-            return False
         new = set()
         order = []
         for p in ps:
@@ -302,9 +301,6 @@ class Agent:
         return did
 
     # ================================================================ intentions
-    def new_intention(self) -> Intention:
-        return Intention(next(self._int_ids))
-
     def atomic_running(self) -> bool:
         if not self.atomic_used:
             return False

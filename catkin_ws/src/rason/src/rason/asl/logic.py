@@ -137,8 +137,16 @@ def eval_rel(f: RelExpr, s: dict) -> dict | None:
     op = f.op
     compare = _NUMERIC_COMPARE.get(op)
     if compare is not None:
-        a = resolve(f.left, s)
-        b = resolve(f.right, s)
+        a = f.left
+        if type(a) is Var:
+            a = s.get(a.name, a)
+        if type(a) is not float:
+            a = resolve(a, s)
+        b = f.right
+        if type(b) is Var:
+            b = s.get(b.name, b)
+        if type(b) is not float:
+            b = resolve(b, s)
         if type(a) is float and type(b) is float:   # the common case: two numbers (NaN fails)
             return s if compare(a, b) else None
     if op == "=":

@@ -65,7 +65,7 @@ class Deed:
     reasoning cycle then only applies the unifier. None means: add the source at run time.
     """
 
-    __slots__ = ("extra", "kind", "line", "self_term", "term")
+    __slots__ = ("extra", "kind", "line", "self_term", "self_trigger", "term")
 
     def __init__(self, kind: str, term: Any, line: int, extra: Any = None) -> None:
         self.kind = kind
@@ -73,6 +73,10 @@ class Deed:
         self.line = line
         self.extra = extra
         self.self_term = _with_self_source(term) if kind in _SELF_SOURCED else None
+        # ``!!g`` of a constant goal posts the same trigger every time
+        self.self_trigger = (Trigger(ADD, ACHIEVE, self.self_term)
+                             if kind == K_ACHIEVE_NEW and self.self_term is not None
+                             and self.self_term._c else None)
 
     def __repr__(self) -> str:
         return deed_str(self)

@@ -214,7 +214,7 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     plan, u = opt
     im = IntendedMeans(plan, ev.trigger, u, ev.fail_target)
     if i is None:
-        i = ag.new_intention()
+        i = Intention(next(ag.intention_ids))
         i.reply = ev.reply
     if plan.atomic:
         ag.atomic_used = True
@@ -383,6 +383,9 @@ def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
         return False
     if k == K_ACHIEVE_NEW:
         stack.pop()
+        if d.self_trigger is not None:
+            ag.add_event(Event(d.self_trigger))
+            return True
         lit = _self_sourced(d, u)
         if lit is None:
             raise IAError(f"invalid goal {term_str(resolve(d.term, u))}")
