@@ -12,6 +12,7 @@ from .unify import (
     ArithError,
     annot_options,
     compare_terms,
+    eval_arith,
     rename_vars,
     resolve,
     term_equals,
@@ -137,18 +138,10 @@ def eval_rel(f: RelExpr, s: dict) -> dict | None:
     op = f.op
     compare = _NUMERIC_COMPARE.get(op)
     if compare is not None:
-        a = f.left
-        if type(a) is Var:
-            a = s.get(a.name, a)
-        if type(a) is not float:
-            a = resolve(a, s)
-        b = f.right
-        if type(b) is Var:
-            b = s.get(b.name, b)
-        if type(b) is not float:
-            b = resolve(b, s)
-        if type(a) is float and type(b) is float:   # the common case: two numbers (NaN fails)
-            return s if compare(a, b) else None
+        try:   # the common case: two numbers (NaN fails)
+            return s if compare(eval_arith(f.left, s), eval_arith(f.right, s)) else None
+        except ArithError:
+            pass   # not two numbers: compared as terms below
     if op == "=":
         s2 = dict(s)
         if unify(resolve(f.left, s), resolve(f.right, s), s2):

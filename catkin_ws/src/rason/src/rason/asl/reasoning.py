@@ -118,28 +118,30 @@ def rel_pl(ag: Agent, ev: Event) -> list[Plan]:
     return ag.pl.relevant(ev.trigger)
 
 
-def appl_pl(ag: Agent, ev: Event, relevant: list[Plan]):
-    """ApplPl: yield (plan, unifier) for applicable plans, in source order (lazily)."""
-    lit = ev.trigger.literal
+def sel_appl(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | None:
+    """ApplPl + SelAppl: the first applicable plan in source order and its unifier.
+
+    Plans are checked one by one and the search stops at the first applicable one (Jason's
+    default ``selectOption``), so later contexts are never evaluated.
+    """
     for plan in relevant:
         u: dict = {}
-        if not unify(plan.trigger.literal, lit, u):
+        pattern = plan.trigger.literal
+        if type(pattern) is Literal and not pattern.annots and pattern.tail is None:
+            # same key as the event (RelPl): only the arguments remain to unify
+            if pattern.args and not _unify_args(pattern.args, lit.args, u):
+                continue
+        elif not unify(pattern, lit, u):
             continue
-        if plan.context is None:
-            yield plan, u
-            continue
+        ctx = plan.context
+        if ctx is None:
+            return plan, u
         try:
-            for sol in solve(ag, plan.context, u):
-                yield plan, sol
-                break
+            sol = first_solution(ag, ctx, u)
         except (ArithError, RecursionError):
             continue
-
-
-def sel_appl(ag: Agent, ev: Event, relevant: list[Plan]) -> tuple[Plan, dict] | None:
-    """SelAppl: the first applicable plan."""
-    for opt in appl_pl(ag, ev, relevant):
-        return opt
+        if sol is not None:
+            return plan, sol
     return None
 
 
@@ -152,65 +154,14 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     relevant = rel_pl(ag, ev)
     i = ev.intention
     if not relevant:
-        if i is not None and not trig.is_goal:
-            _resume_after_belief_event(ag, i)
-            return True
-        if i is not None:
-            if trig.op == DEL and trig.is_goal:
-                ag.warn_drop(i, f"No failure event was generated for {trig}", trig)
-                ag.remove_intention(i)
-                return True
-            msg = f"Found a goal for which there is no relevant plan: {trig}"
-            fail_intention(ag, i, "no_relevant", msg, code=trig.literal, from_event=trig)
-        elif trig.is_goal:
-            _external_goal_failed(ag, trig, "relevant")
-        else:
-            return False
-        return True
-    if i is not None and not trig.is_goal:
-        pass  # an internal belief event with relevant plans: handled below
+        return _no_plan(ag, trig, i, "relevant")
     lit = trig.literal
     if not ((type(lit) is Literal and lit._g) or is_ground(lit)):
         lit = rename_vars(lit, {})
         ev = Event(Trigger(trig.op, trig.type, lit), i, ev.fail_target, ev.reply)
-    opt = None
-    for plan in relevant:  # ApplPl + SelAppl (inlined appl_pl for speed)
-        u: dict = {}
-        pattern = plan.trigger.literal
-        if type(pattern) is Literal and not pattern.annots and pattern.tail is None:
-            # same key as the event (RelPl): only the arguments remain to unify
-            if pattern.args and not _unify_args(pattern.args, lit.args, u):
-                continue
-        elif not unify(pattern, lit, u):
-            continue
-        ctx = plan.context
-        if ctx is None:
-            opt = (plan, u)
-            break
-        try:
-            sol = first_solution(ag, ctx, u)
-        except (ArithError, RecursionError):
-            continue
-        if sol is not None:
-            opt = (plan, sol)
-        if opt is not None:
-            break
+    opt = sel_appl(ag, lit, relevant)
     if opt is None:
-        if i is not None and not trig.is_goal:
-            _resume_after_belief_event(ag, i)
-            return True
-        if i is not None:
-            if trig.op == DEL and trig.is_goal:
-                ag.warn_drop(i, f"No applicable plan for {trig}", trig)
-                ag.remove_intention(i)
-                return True
-            msg = f"Found a goal for which there is no applicable plan: {trig}"
-            fail_intention(ag, i, "no_applicable", msg, code=trig.literal, from_event=trig)
-        elif trig.is_goal:
-            _external_goal_failed(ag, trig, "applicable")
-        else:
-            return False
-        return True
+        return _no_plan(ag, trig, i, "applicable")
     plan, u = opt
     im = IntendedMeans(plan, ev.trigger, u, ev.fail_target)
     if i is None:
@@ -221,6 +172,33 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     i.push(im)
     i.suspended = None
     ag.running.append(i)
+    return True
+
+
+def _no_plan(ag: Agent, trig: Trigger, i: Intention | None, what: str) -> bool:
+    """No ``what`` (relevant/applicable) plan for the event: Jason's Rel2/Appl2 rules.
+
+    A belief event of an intention lets that intention go on; a goal of an intention fails
+    it (``-!g`` failure handling); a failed ``-!g`` drops it; an external goal posts its own
+    ``-!g`` when some plan could handle that. Returns False for a discarded external belief
+    event (the next event is selected in the same cycle).
+    """
+    if i is not None and not trig.is_goal:
+        _resume_after_belief_event(ag, i)
+        return True
+    if i is not None:
+        if trig.op == DEL and trig.is_goal:
+            text = (f"No failure event was generated for {trig}" if what == "relevant"
+                    else f"No applicable plan for {trig}")
+            ag.warn_drop(i, text, trig)
+            ag.remove_intention(i)
+            return True
+        msg = f"Found a goal for which there is no {what} plan: {trig}"
+        fail_intention(ag, i, "no_" + what, msg, code=trig.literal, from_event=trig)
+    elif trig.is_goal:
+        _external_goal_failed(ag, trig, what)
+    else:
+        return False
     return True
 
 
