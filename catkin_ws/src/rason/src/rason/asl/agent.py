@@ -470,39 +470,26 @@ class Agent:
         always queued; returns True when such an event was posted (the intention must wait).
         """
         added = self.bb.add(lit, front=front)
-        if added is None:
-            return False
-        if focus is not None:
-            ev = Event(Trigger(ADD, BELIEF, added), focus)
-            if self.event_waits:
-                self._check_event_waits(ev)
-            self.events.append(ev)
-            if self.event_waits:
-                self.check_cond_waits()
-            return True
-        if not self.event_waits and not self.pl.has_key((ADD, BELIEF, lit.functor, len(lit.args), lit.neg)):
-            return True  # fast path: nobody would see the event
-        self.add_event(Event(Trigger(ADD, BELIEF, added)))
-        if self.event_waits:
-            self.check_cond_waits()
-        return True
+        return added is not None and self._belief_changed(ADD, added, focus)
 
     def remove_belief(self, lit: Literal, focus: Intention | None = None) -> bool:
         """Remove a belief; with ``focus`` the ``-b`` event is internal (see :meth:`add_belief`)."""
         removed = self.bb.remove(lit)
-        if removed is None:
-            return False
+        return removed is not None and self._belief_changed(DEL, removed, focus)
+
+    def _belief_changed(self, op: str, lit: Literal, focus: Intention | None) -> bool:
+        """Post the ``+b``/``-b`` event of a belief change (see :meth:`add_belief`)."""
         if focus is not None:
-            ev = Event(Trigger(DEL, BELIEF, removed), focus)
+            ev = Event(Trigger(op, BELIEF, lit), focus)
             if self.event_waits:
                 self._check_event_waits(ev)
             self.events.append(ev)
             if self.event_waits:
                 self.check_cond_waits()
             return True
-        if not self.event_waits and not self.pl.has_key((DEL, BELIEF, lit.functor, len(lit.args), lit.neg)):
+        if not self.event_waits and not self.pl.has_key((op, BELIEF, lit.functor, len(lit.args), lit.neg)):
             return True  # fast path: nobody would see the event
-        self.add_event(Event(Trigger(DEL, BELIEF, removed)))
+        self.add_event(Event(Trigger(op, BELIEF, lit)))
         if self.event_waits:
             self.check_cond_waits()
         return True

@@ -150,67 +150,47 @@ class ListTerm:
 EMPTY_LIST = ListTerm()
 
 
-class ArithExpr:
+class _Expr:
+    """An operator applied to one or two terms (shared by the expression classes)."""
+
+    __slots__ = ("left", "op", "right")
+    _tag = ""
+
+    def __init__(self, op: str, left: Any, right: Any = None) -> None:
+        self.op = op
+        self.left = left
+        self.right = right
+
+    def __eq__(self, other: object) -> bool:
+        return (type(other) is type(self) and self.op == other.op  # type: ignore[attr-defined]
+                and self.left == other.left and self.right == other.right)  # type: ignore[attr-defined]
+
+    def __hash__(self) -> int:
+        return hash((self._tag, self.op, self.left, self.right))
+
+    def __repr__(self) -> str:
+        return term_str(self)
+
+
+class ArithExpr(_Expr):
     """Arithmetic expression; ``op`` in ``+ - * / div mod **`` or unary ``neg``."""
 
-    __slots__ = ("left", "op", "right")
-
-    def __init__(self, op: str, left: Any, right: Any = None) -> None:
-        self.op = op
-        self.left = left
-        self.right = right
-
-    def __eq__(self, other: object) -> bool:
-        return (isinstance(other, ArithExpr) and self.op == other.op
-                and self.left == other.left and self.right == other.right)
-
-    def __hash__(self) -> int:
-        return hash(("A", self.op, self.left, self.right))
-
-    def __repr__(self) -> str:
-        return term_str(self)
+    __slots__ = ()
+    _tag = "A"
 
 
-class RelExpr:
+class RelExpr(_Expr):
     """Relational expression: ``< <= > >= == \\== = =..``."""
 
-    __slots__ = ("left", "op", "right")
-
-    def __init__(self, op: str, left: Any, right: Any) -> None:
-        self.op = op
-        self.left = left
-        self.right = right
-
-    def __eq__(self, other: object) -> bool:
-        return (isinstance(other, RelExpr) and self.op == other.op
-                and self.left == other.left and self.right == other.right)
-
-    def __hash__(self) -> int:
-        return hash(("R", self.op, self.left, self.right))
-
-    def __repr__(self) -> str:
-        return term_str(self)
+    __slots__ = ()
+    _tag = "R"
 
 
-class LogExpr:
+class LogExpr(_Expr):
     """Logical expression: ``&``, ``|`` or ``not`` (``right`` is None for ``not``)."""
 
-    __slots__ = ("left", "op", "right")
-
-    def __init__(self, op: str, left: Any, right: Any = None) -> None:
-        self.op = op
-        self.left = left
-        self.right = right
-
-    def __eq__(self, other: object) -> bool:
-        return (isinstance(other, LogExpr) and self.op == other.op
-                and self.left == other.left and self.right == other.right)
-
-    def __hash__(self) -> int:
-        return hash(("G", self.op, self.left, self.right))
-
-    def __repr__(self) -> str:
-        return term_str(self)
+    __slots__ = ()
+    _tag = "G"
 
 
 class PlanTerm:

@@ -327,8 +327,12 @@ def unify(a: Any, b: Any, s: Subst) -> bool:
 
 
 def _list_items(t: Any, s: Subst) -> tuple[list, Any]:
-    items = list(t.items)
-    tail = t.tail
+    """A list's items followed through bound tails, and the tail left (None, or a variable)."""
+    return _items_and_tail(t.items, t.tail, s)
+
+
+def _items_and_tail(first: tuple, tail: Any, s: Subst) -> tuple[list, Any]:
+    items = list(first)
     while tail is not None:
         tail = walk(tail, s)
         if isinstance(tail, ListTerm):
@@ -366,16 +370,8 @@ def _unify_lists(a: ListTerm, b: ListTerm, s: Subst) -> bool:
 
 
 def _annot_items(lit: Literal, s: Subst) -> tuple[list, Any]:
-    items = list(lit.annots)
-    tail = lit.tail
-    while tail is not None:
-        tail = walk(tail, s)
-        if isinstance(tail, ListTerm):
-            items.extend(tail.items)
-            tail = tail.tail
-        else:
-            break
-    return items, tail
+    """A literal's annotations followed through a bound tail, and the tail left."""
+    return _items_and_tail(lit.annots, lit.tail, s)
 
 
 def unify_annots(a: Literal, b: Literal, s: Subst) -> bool:
