@@ -154,6 +154,9 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     relevant = rel_pl(ag, ev)
     i = ev.intention
     if not relevant:
+        if i is not None and not trig.is_goal:   # the common case, inlined: +b of a plan body
+            _resume_after_belief_event(ag, i)
+            return True
         return _no_plan(ag, trig, i, "relevant")
     lit = trig.literal
     if not ((type(lit) is Literal and lit._g) or is_ground(lit)):

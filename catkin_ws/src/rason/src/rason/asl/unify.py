@@ -163,8 +163,12 @@ def eval_arith(t: Any, s: Subst) -> float:
     raise ArithError(f"not a number: {t!r}")
 
 
+#: Functors that evaluate to a number (``math.random`` needs the agent's generator).
+_ARITH_NAMES = frozenset(ARITH_FUNCTIONS) | {"math.random"}
+
+
 def is_arith_function(t: Any) -> bool:
-    return isinstance(t, Literal) and (t.functor in ARITH_FUNCTIONS or t.functor == "math.random")
+    return isinstance(t, Literal) and t.functor in _ARITH_NAMES
 
 
 # ---------------------------------------------------------------- capply
@@ -194,7 +198,7 @@ def resolve(t: Any, s: Subst) -> Any:
     if tt is Literal:
         if t._c:  # known constant (computed by the parser for program literals)
             return t
-        if t.functor[:5] == "math." and is_arith_function(t):
+        if t.functor in _ARITH_NAMES:
             try:
                 return eval_arith(t, s)
             except ArithError:
