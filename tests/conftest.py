@@ -25,14 +25,18 @@ def _ros_available() -> bool:
     return shutil.which("roscore") is not None and "ROS_PACKAGE_PATH" in os.environ
 
 
-@pytest.fixture(scope="session")
-def ros_session() -> Iterator[RosHarness]:
+def _harness() -> Iterator[RosHarness]:
     if not _ros_available():
         pytest.fail("ROS is not set up: run the suite with ./run.sh test")
     harness = RosHarness()
     with harness:
         yield harness
     harness.cleanup_logs()
+
+
+@pytest.fixture(scope="session")
+def ros_session() -> Iterator[RosHarness]:
+    yield from _harness()
 
 
 @pytest.fixture
@@ -48,12 +52,7 @@ def ros(ros_session: RosHarness) -> Iterator[RosHarness]:
 
 @pytest.fixture
 def fresh_ros() -> Iterator[RosHarness]:
-    if not _ros_available():
-        pytest.fail("ROS is not set up: run the suite with ./run.sh test")
-    harness = RosHarness()
-    with harness:
-        yield harness
-    harness.cleanup_logs()
+    yield from _harness()
 
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
