@@ -221,6 +221,56 @@ def test_turn_is_not_checked_for_bad_move():
     assert run(monitor, drive(0.0288, 0.6, 5))[0] == OK
 
 
+# -- settling after the goal ------------------------------------------------------------------------
+SETTLE = CheckParams(settle_time=0.3, settle_timeout=1.0)
+
+
+def coast_then_stop(w: float, coast: float, start: Pose2D = ORIGIN):
+    """A turn at `w` that goes on for `coast` s after the goal, then stands still."""
+    poses = list(drive(0.0, w, 2.0 + coast, start))
+    last, t_last = poses[-1]
+    return poses + [(last, t_last + i / RATE) for i in range(1, int(2 * RATE))]
+
+
+def test_ok_waits_until_the_base_is_at_rest():
+    monitor = MotionMonitor(TURN, math.radians(-90), ORIGIN, 0.0, SETTLE)
+    # -0.8 rad/s reaches -90 deg after 1.96 s; the base coasts until 2.5 s, then stands still
+    verdict_time = None
+    for pose, t in coast_then_stop(-0.8, 0.5):
+        verdict = monitor.update(pose, t)
+        if t < 1.95:
+            assert not monitor.settling
+        if verdict:
+            verdict_time = t
+            break
+    assert verdict.result == OK and "at rest" in verdict.message
+    assert verdict_time == pytest.approx(2.5 + 0.3, abs=2.5 / RATE)
+    assert math.degrees(monitor.turned) < -100        # the coasting is in the final figure
+
+
+def test_a_base_that_never_stops_is_reported_at_the_settle_timeout():
+    monitor = MotionMonitor(TURN, math.radians(30), ORIGIN, 0.0, SETTLE)
+    result, t, _ = run(monitor, drive(0.0, 0.8, 5))
+    assert result == OK
+    assert t == pytest.approx(math.radians(30) / 0.8 + 1.0, abs=2.5 / RATE)
+
+
+def test_settling_is_also_checked_without_new_odometry():
+    monitor = MotionMonitor(TURN, math.radians(10), ORIGIN, 0.0, SETTLE)
+    pose, t = None, 0.0
+    for pose, t in drive(0.0, 0.8, 0.3):
+        assert monitor.update(pose, t) is None or monitor.settling
+    assert monitor.settling
+    assert monitor.check(t + 0.1) is None
+    assert monitor.check(t + 0.35).result == OK      # odometry silent (still) for 0.3 s
+
+
+def test_no_settling_reports_at_the_goal_as_the_thesis_did():
+    monitor = MotionMonitor(TURN, math.radians(90), ORIGIN, 0.0)
+    result, t, _ = run(monitor, drive(0.0, 0.8, 5))
+    assert result == OK and t == pytest.approx(math.radians(90) / 0.8, abs=1.5 / RATE)
+
+
 # -- helpers ----------------------------------------------------------------------------------------
 def test_yaw_from_quaternion():
     half = math.radians(120) / 2

@@ -21,6 +21,9 @@ Private parameters (speeds in m/s or deg/s, accelerations per second):
     ``~turn_clockwise`` (true): positive ``turn`` degrees turn right, as the thesis' Helper
     expects.
     ``~no_progress_timeout`` 1.0 s, ``~min_alignment`` 0.99, ``~min_travel`` 0.05 m.
+    ``~settle_time`` 0.3 s: after the goal, OK is reported once the odometry has been still
+    this long (at most ``~settle_timeout`` 1.0 s after the goal); 0 reports at the goal, as
+    the thesis did. Without it an agent acts on camera frames taken while the base coasts.
     ``~watchdog_rate`` 20 Hz: how often (ROS time) a silent odometry topic is checked.
 
 Control runs on every odometry message (so it keeps pace with a simulator at any real-time
@@ -98,7 +101,9 @@ class MotionDecomposer:
         self.checks = CheckParams(
             no_progress_timeout=rospy.get_param("~no_progress_timeout", 1.0),
             min_alignment=rospy.get_param("~min_alignment", 0.99),
-            min_travel=rospy.get_param("~min_travel", 0.05))
+            min_travel=rospy.get_param("~min_travel", 0.05),
+            settle_time=rospy.get_param("~settle_time", 0.3),
+            settle_timeout=rospy.get_param("~settle_timeout", 1.0))
         watchdog_rate: float = rospy.get_param("~watchdog_rate", 20.0)
 
         # -- state --------------------------------------------------------------------------
@@ -126,10 +131,13 @@ class MotionDecomposer:
         with self.lock:
             if self.motion is not None:
                 old = self.motion
-                self.finish(Verdict(PREEMPTED, f"preempted by {msg.action}"
-                                               f"({', '.join(msg.parameters)}) "
-                                               f"(action {msg.action_id})"))
-                rospy.loginfo("motion_decomposer: action %d preempted", old.action_id)
+                if old.monitor is not None and old.monitor.settling:   # it did reach its goal
+                    self.finish(old.monitor.done(", next action before it came to rest"))
+                else:
+                    self.finish(Verdict(PREEMPTED, f"preempted by {msg.action}"
+                                                   f"({', '.join(msg.parameters)}) "
+                                                   f"(action {msg.action_id})"))
+                    rospy.loginfo("motion_decomposer: action %d preempted", old.action_id)
             self.motion = Motion(msg.agent, msg.action_id, msg.action, target, now, last_step=now)
             self.publish_event(msg.agent, ACTION_ACCEPTED, [str(msg.action_id)])
             rospy.loginfo("motion_decomposer: %s %s(%s) (action %d)", msg.agent, msg.action,
@@ -182,6 +190,11 @@ class MotionDecomposer:
         verdict = motion.monitor.update(pose, now)
         if verdict is not None:
             self.finish(verdict)
+            return
+        if motion.monitor.settling:
+            if motion.speed:
+                motion.speed = 0.0
+                self.cmd_vel.publish(Twist())
             return
         limits = self.linear if motion.kind == MOVE else self.angular
         motion.speed = next_speed(motion.speed, motion.monitor.remaining,

@@ -5,7 +5,9 @@ A :class:`MotionMonitor` watches one ``move`` or ``turn`` through the odometry p
 
 * ``OK`` - the odometry change reached ``|value|``: the straight-line distance from the start
   pose for ``move``, the accumulated (unwrapped) yaw change in the commanded direction for
-  ``turn``.
+  ``turn``. With ``settle_time`` > 0 the verdict waits until the base has also come to rest
+  (odometry unchanged for that long, or ``settle_timeout`` after the goal), so that whoever
+  looks next (a camera, an agent) sees the robot where it stopped, not where it was coasting.
 * ``no_progress`` - the odometry has not changed (by more than a small epsilon) for more than
   ``no_progress_timeout`` seconds. Checked on every pose and also by :meth:`MotionMonitor.check`
   without a new pose, so a silent odometry topic is caught too.
@@ -58,6 +60,8 @@ class CheckParams:
     yaw_epsilon: float = math.radians(0.05)  # rad: smaller heading changes are "no change"
     min_alignment: float = 0.99          # dot product of unit vectors below this -> bad_move
     min_travel: float = 0.05             # m from the start before bad_move is checked
+    settle_time: float = 0.0             # s at rest required after the goal (0: report at once)
+    settle_timeout: float = 1.0          # s after the goal at which OK is reported anyway
 
 
 @dataclass(frozen=True)
@@ -95,6 +99,7 @@ class MotionMonitor:
         self.turned = 0.0                    # accumulated signed yaw change (rad)
         self._still_pose = start             # pose when the odometry last changed
         self._still_since = start_time       # ROS time of that change
+        self.reached_at: float | None = None  # ROS time the goal was reached (then: settling)
         heading = start.yaw if target >= 0 else start.yaw + math.pi
         self.goal_direction = (math.cos(heading), math.sin(heading))
 
@@ -132,8 +137,13 @@ class MotionMonitor:
         self.pose = pose
         if self._changed(pose):
             self._still_pose, self._still_since = pose, now
+        if self.reached_at is not None:
+            return self.check(now)
         if self.remaining <= 0.0:
-            return self._done()
+            if self.params.settle_time <= 0.0:
+                return self.done()
+            self.reached_at = now
+            return self.check(now)
         if (self.kind == MOVE and self.travelled >= self.params.min_travel
                 and self.alignment < self.params.min_alignment):
             angle = math.degrees(math.acos(max(-1.0, min(1.0, self.alignment))))
@@ -143,9 +153,21 @@ class MotionMonitor:
                                      f"{self.params.min_alignment})")
         return self.check(now)
 
+    @property
+    def settling(self) -> bool:
+        """True once the goal is reached while waiting for the base to come to rest."""
+        return self.reached_at is not None
+
     def check(self, now: float) -> Verdict | None:
-        """The no_progress verdict if the odometry has not changed for too long at `now`."""
+        """At `now`: OK once settled after the goal; no_progress if the odometry has not
+        changed for too long before it."""
         still = now - self._still_since
+        if self.reached_at is not None:
+            settling = now - self.reached_at
+            if min(still, settling) >= self.params.settle_time \
+                    or settling >= self.params.settle_timeout:
+                return self.done(f", at rest {settling:.2f} s after the goal")
+            return None
         if still > self.params.no_progress_timeout:
             return Verdict(NO_PROGRESS, f"odometry unchanged for {still:.2f} s after "
                                         f"{self._progress_text()}")
@@ -161,11 +183,13 @@ class MotionMonitor:
             return f"{self.travelled:.3f} m of {abs(self.target):.3f} m"
         return f"{math.degrees(self.progress):.1f} deg of {math.degrees(abs(self.target)):.1f} deg"
 
-    def _done(self) -> Verdict:
+    def done(self, note: str = "") -> Verdict:
+        """The OK verdict: the goal was reached (`note` is appended to the message)."""
         if self.kind == MOVE:
-            return Verdict(OK, f"moved {self.travelled:.3f} m (goal {abs(self.target):.3f} m)")
+            return Verdict(OK, f"moved {self.travelled:.3f} m (goal {abs(self.target):.3f} m)"
+                               + note)
         return Verdict(OK, f"turned {math.degrees(self.turned):.1f} deg "
-                           f"(goal {math.degrees(self.target):.1f} deg)")
+                           f"(goal {math.degrees(self.target):.1f} deg)" + note)
 
 
 def parse_target(kind: str, parameters: list[str], turn_clockwise: bool = True) -> float:
