@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import operator
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any
 
 from .parser import Rule
-from .terms import ArithExpr, ListTerm, Literal, LogExpr, RelExpr, Var, make_list
+from .terms import ArithExpr, ListTerm, Literal, LogExpr, RelExpr, Var, is_constant, make_list
 from .unify import (
     ArithError,
     annot_options,
@@ -128,6 +128,59 @@ def first_solution(ag: Agent, f: Any, s: dict, intention: Intention | None = Non
     for sol in solve(ag, f, s, intention):
         return sol
     return None
+
+
+def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
+    """A function computing ``first_solution(ag, f, s)`` for the commonest context shape.
+
+    Compiled (Python source, once per plan) for ``b(T1, ..., Tn) & L op R``: a belief literal
+    without annotations whose arguments are variables or constants, then a numeric comparison
+    of variables and numbers, e.g. ``value(X) & X < 3700``; None for any other context.
+    Rules, non-numbers and bound variables are handed to :func:`unify`, :func:`eval_rel` or
+    :func:`first_solution`, so both always give the same answer.
+    """
+    if not (type(f) is LogExpr and f.op == "&" and type(f.right) is RelExpr
+            and f.right.op in _NUMERIC_COMPARE):
+        return None
+    left, rel = f.left, f.right
+    if (type(left) is not Literal or not left.args or left.functor[0] == "." or left.annots
+            or left.tail is not None
+            or not all(type(a) is Var or is_constant(a) for a in left.args)
+            or not all(type(x) in (Var, float) for x in (rel.left, rel.right))):
+        return None
+    env: dict[str, Any] = {"Literal": Literal, "unify": unify, "eval_rel": eval_rel,
+                           "first_solution": first_solution, "dict": dict, "float": float,
+                           "F": f, "REL": rel, "KEY": (left.functor, len(left.args), left.neg)}
+    lines = ["def context(ag, s):",
+             "    for b in ag.bb.candidates(KEY):",
+             "        if type(b) is not Literal:",
+             "            return first_solution(ag, F, s)   # rules: the general way",
+             "        args = b.args",
+             "        s1 = dict(s)"]
+    for k, arg in enumerate(left.args):
+        env[f"A{k}"] = arg
+        if type(arg) is Var:
+            lines += [f"        v = s1.get({arg.name!r})",
+                      f"        if v is None: s1[{arg.name!r}] = args[{k}]",
+                      f"        elif not unify(A{k}, args[{k}], s1): continue"]
+        else:
+            lines.append(f"        if not unify(A{k}, args[{k}], s1): continue")
+    operands = []
+    for side, x in (("l", rel.left), ("r", rel.right)):
+        if type(x) is Var:
+            lines.append(f"        {side} = s1.get({x.name!r})")
+        else:
+            env[f"C{side}"] = x
+            lines.append(f"        {side} = C{side}")
+        operands.append(side)
+    lines += ["        if type(l) is float and type(r) is float:",
+              f"            if l {rel.op} r: return s1",
+              "            continue",
+              "        s2 = eval_rel(REL, s1)",
+              "        if s2 is not None: return s2",
+              "    return None"]
+    exec(compile("\n".join(lines) + "\n", f"<context {left.functor}/{len(left.args)}>", "exec"), env)
+    return env["context"]
 
 
 _NUMERIC_COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .terms import SOURCE_SELF, Literal, PlanTerm, Var, is_constant, term_str
+from .unify import compile_resolve
 
 # triggering event operators and types
 ADD, DEL = "+", "-"
@@ -65,7 +66,7 @@ class Deed:
     reasoning cycle then only applies the unifier. None means: add the source at run time.
     """
 
-    __slots__ = ("extra", "kind", "line", "self_term", "self_trigger", "term")
+    __slots__ = ("build", "extra", "kind", "line", "self_term", "self_trigger", "term")
 
     def __init__(self, kind: str, term: Any, line: int, extra: Any = None) -> None:
         self.kind = kind
@@ -73,6 +74,8 @@ class Deed:
         self.line = line
         self.extra = extra
         self.self_term = _with_self_source(term) if kind in _SELF_SOURCED else None
+        # resolve(self_term, u) compiled for the common shapes (plan compilation), else None
+        self.build = compile_resolve(self.self_term) if self.self_term is not None else None
         # ``!!g`` of a constant goal posts the same trigger every time
         self.self_trigger = (Trigger(ADD, ACHIEVE, self.self_term)
                              if kind == K_ACHIEVE_NEW and self.self_term is not None
@@ -141,6 +144,9 @@ class Plan:
     atomic: bool = False
     # body stored reversed, ready to be used as an intention stack
     rev_body: tuple = field(default=(), repr=False)
+    # the context compiled on first use (see reasoning.sel_appl): None = not yet tried,
+    # False = not a compilable shape
+    compiled_context: Any = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         self.rev_body = tuple(reversed(self.body))

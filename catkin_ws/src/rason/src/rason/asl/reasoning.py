@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from .intentions import Event, IntendedMeans, Intention
-from .logic import IAContext, eval_rel, first_solution, query_bb, solve
+from .logic import IAContext, compile_context, eval_rel, first_solution, query_bb, solve
 from .plans import (
     ACHIEVE,
     ADD,
@@ -68,7 +68,8 @@ def _self_sourced(d: Deed, u: dict) -> Literal | None:
     literal)."""
     st = d.self_term
     if st is not None:
-        lit = resolve(st, u)
+        build = d.build
+        lit = build(u) if build is not None else resolve(st, u)
         if type(lit) is Literal:
             return lit
     lit = resolve(d.term, u)
@@ -136,8 +137,11 @@ def sel_appl(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | N
         ctx = plan.context
         if ctx is None:
             return plan, u
+        compiled = plan.compiled_context
+        if compiled is None:
+            compiled = plan.compiled_context = compile_context(ctx) or False
         try:
-            sol = first_solution(ag, ctx, u)
+            sol = compiled(ag, u) if compiled else first_solution(ag, ctx, u)
         except (ArithError, RecursionError):
             continue
         if sol is not None:

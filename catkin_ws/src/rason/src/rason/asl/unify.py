@@ -8,6 +8,7 @@ need to backtrack.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 from .terms import (
@@ -19,6 +20,7 @@ from .terms import (
     RelExpr,
     Var,
     fresh_name,
+    is_constant,
     merge_annots,
     sort_key,
 )
@@ -256,6 +258,51 @@ def resolve(t: Any, s: Subst) -> Any:
         r = t.right
         return LogExpr(t.op, resolve(t.left, s), None if r is None else resolve(r, s))
     return t
+
+
+def compile_resolve(t: Any) -> Callable[[Subst], Any] | None:
+    """A function computing ``resolve(t, s)`` for a plan-body literal of a common shape.
+
+    Compiled (Python source, once per plan) for a literal without annotation variables or
+    tail whose arguments are each a constant, a variable, or ``+ - *`` of two operands that
+    are variables or numbers, e.g. ``value(X+1)[source(self)]``; None for any other term.
+    The function computes numbers directly and hands anything else (an unbound variable,
+    a structure) to :func:`resolve`, so both always give the same term.
+    """
+    if (type(t) is not Literal or t.tail is not None or t._c or t.functor in _ARITH_NAMES
+            or not _all_constant(t.annots)):
+        return None
+    env: dict[str, Any] = {"Literal": Literal, "resolve": resolve, "float": float,
+                           "str": str, "F": t.functor, "ANN": t.annots, "NEG": t.neg}
+    body: list[str] = []
+    for k, arg in enumerate(t.args):
+        env[f"T{k}"] = arg
+        if is_constant(arg):
+            body.append(f"a{k} = T{k}")
+        elif type(arg) is Var:
+            body += [f"a{k} = s.get({arg.name!r})",
+                     f"if a{k} is None: a{k} = T{k}",
+                     f"elif type(a{k}) is not float and type(a{k}) is not str: a{k} = resolve(a{k}, s)"]
+        elif (type(arg) is ArithExpr and arg.op in ("+", "-", "*")
+              and all(type(x) in (Var, float) for x in (arg.left, arg.right))):
+            names, checks = [], []
+            for side, x in (("l", arg.left), ("r", arg.right)):
+                name = f"{side}{k}"
+                names.append(name)
+                if type(x) is Var:
+                    body.append(f"{name} = s.get({x.name!r})")
+                    checks.append(f"type({name}) is float")
+                else:
+                    env[name] = x
+            body.append(f"a{k} = {names[0]} {arg.op} {names[1]} if {' and '.join(checks) or 'True'} "
+                        f"else resolve(T{k}, s)")
+        else:
+            return None
+    args = "".join(f"a{k}, " for k in range(len(t.args)))
+    source = "def built(s):\n" + "".join(f"    {line}\n" for line in body)
+    source += f"    return Literal(F, ({args}), ANN, None, NEG)\n"
+    exec(compile(source, f"<compiled {t.functor}/{len(t.args)}>", "exec"), env)
+    return env["built"]
 
 
 # ---------------------------------------------------------------- unification
