@@ -92,13 +92,13 @@ class Agent:
             if isinstance(b, Rule):
                 self.bb.add_rule(b, front=True)
             else:
-                lit = b if b.has_source() else b.add_annots([SOURCE_SELF])
+                lit = b.with_self_source()
                 if not is_ground(lit):
                     self.bb.add(lit, front=True)
                     continue
                 self.add_belief(lit, front=True)
         for g in parsed.goals:
-            lit = g if g.has_source() else g.add_annots([SOURCE_SELF])
+            lit = g.with_self_source()
             self.events.append(Event(Trigger(ADD, ACHIEVE, lit)))
 
     # ================================================================ public API

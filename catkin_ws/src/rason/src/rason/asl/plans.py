@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from .terms import SOURCE_SELF, Literal, PlanTerm, Var, is_constant, term_str
+from .terms import Literal, PlanTerm, Var, is_constant, term_str
 from .unify import compile_resolve
 
 # triggering event operators and types
@@ -90,7 +90,7 @@ def _with_self_source(term: Any) -> Literal | None:
         return None
     if not all(is_constant(a) for a in term.annots):
         return None
-    lit = term if term.has_source() else term.add_annots([SOURCE_SELF])
+    lit = term.with_self_source()
     is_constant(lit)   # cached on the literal: resolving a constant is free
     return lit
 

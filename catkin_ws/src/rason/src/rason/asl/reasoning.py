@@ -34,7 +34,7 @@ from .plans import (
     Trigger,
 )
 from .stdlib import SUSPEND, FailGoal, IAError, call_ia
-from .terms import SOURCE_SELF, Literal, is_ground, merge_annots, term_str
+from .terms import Literal, is_ground, term_str
 from .unify import ArithError, rename_vars, resolve, unify
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -75,13 +75,7 @@ def _self_sourced(d: Deed, u: dict) -> Literal | None:
     lit = resolve(d.term, u)
     if not isinstance(lit, Literal):
         return None
-    return add_self_source(lit)
-
-
-def add_self_source(lit: Literal) -> Literal:
-    if lit.has_source():
-        return lit
-    return Literal(lit.functor, lit.args, merge_annots(lit.annots, [SOURCE_SELF]), lit.tail, lit.neg)
+    return lit.with_self_source()
 
 
 # ====================================================================== deliberate
@@ -433,7 +427,7 @@ def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
         lit = resolve(f, u)
         if (isinstance(lit, Literal) and not lit.functor.startswith(".")
                 and ag.pl.has_candidate(ADD, TEST, lit)):
-            lit = add_self_source(lit)
+            lit = lit.with_self_source()
             if not is_ground(lit):
                 lit = rename_vars(lit, {})
             i.suspended = "subgoal"

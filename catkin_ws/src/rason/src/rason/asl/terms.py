@@ -81,6 +81,10 @@ class Literal:
         """Return a copy with ``extra`` merged into the (sorted, duplicate-free) annotations."""
         return Literal(self.functor, self.args, merge_annots(self.annots, extra), self.tail, self.neg)
 
+    def with_self_source(self) -> Literal:
+        """This literal with ``source(self)`` added, unless it names a source already."""
+        return self if self.has_source() else self.add_annots([SOURCE_SELF])
+
     def has_source(self) -> bool:
         for a in self.annots:  # noqa: SIM110 - a plain loop is faster on this hot path
             if type(a) is Literal and a.functor == "source" and len(a.args) == 1:

@@ -209,11 +209,6 @@ def _as_literal(t: Any) -> Literal:
     return t
 
 
-def _self_source(lit: Literal) -> Literal:
-    from ..terms import SOURCE_SELF
-    return lit if lit.has_source() else lit.add_annots([SOURCE_SELF])
-
-
 @internal_action(".abolish")
 def abolish(ctx: Any, args: list) -> bool:
     arg_count(args, 1)
@@ -224,14 +219,14 @@ def abolish(ctx: Any, args: list) -> bool:
 @internal_action(".asserta")
 def asserta(ctx: Any, args: list) -> bool:
     arg_count(args, 1)
-    ctx.ag.add_belief(_self_source(_as_literal(args[0])), front=True)
+    ctx.ag.add_belief(_as_literal(args[0]).with_self_source(), front=True)
     return True
 
 
 @internal_action(".assertz")
 def assertz(ctx: Any, args: list) -> bool:
     arg_count(args, 1)
-    ctx.ag.add_belief(_self_source(_as_literal(args[0])), front=False)
+    ctx.ag.add_belief(_as_literal(args[0]).with_self_source(), front=False)
     return True
 
 
