@@ -116,9 +116,9 @@ class BeliefBase:
                 else:
                     del lst2[i]
                 if lst2:
-                    self._index[lit.key] = lst2
+                    self._index[key] = lst2
                 else:
-                    del self._index[lit.key]
+                    del self._index[key]
                 if len(removed_annots) > 1:
                     removed_annots = tuple(sorted(removed_annots, key=sort_key))
                 return b.with_annots(removed_annots)

@@ -150,7 +150,7 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
         return None
     env: dict[str, Any] = {"Literal": Literal, "unify": unify, "eval_rel": eval_rel,
                            "first_solution": first_solution, "dict": dict, "float": float,
-                           "F": f, "REL": rel, "KEY": (left.functor, len(left.args), left.neg)}
+                           "F": f, "REL": rel, "KEY": left.key}
     lines = ["def context(ag, s):",
              "    for b in ag.bb.candidates(KEY):",
              "        if type(b) is not Literal:",

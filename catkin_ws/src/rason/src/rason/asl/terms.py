@@ -66,7 +66,7 @@ class Literal:
 
     @property
     def key(self) -> tuple:
-        """Index key of a belief: functor, arity, negation."""
+        """Index key of a belief: functor, arity, negation (hot paths build it inline)."""
         return (self.functor, len(self.args), self.neg)
 
     def with_annots(self, annots: tuple, tail: Any = None) -> Literal:
