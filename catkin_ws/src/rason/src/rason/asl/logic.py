@@ -93,38 +93,9 @@ def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Ite
 
 
 def first_solution(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> dict | None:
-    """The first solution of ``f`` (fewer generator frames for the common context shapes)."""
-    tf = type(f)
-    if tf is RelExpr:
+    """The first solution of ``f`` extending ``s``, or None (see also :func:`compile_context`)."""
+    if type(f) is RelExpr:
         return eval_rel(f, s)
-    if tf is LogExpr and f.op == "&" and type(f.right) is RelExpr:
-        right = f.right
-        left = f.left
-        if (type(left) is Literal and left.args and left.functor[0] != "."
-                and not left.annots and left.tail is None):
-            for b in ag.bb.candidates((left.functor, len(left.args), left.neg)):
-                if type(b) is not Literal:
-                    for s1 in query_bb(ag, left, s):
-                        s2 = eval_rel(right, s1)
-                        if s2 is not None:
-                            return s2
-                    return None
-                s1 = dict(s)
-                for x, y in zip(left.args, b.args, strict=False):
-                    if type(x) is Var and x.name not in s1:
-                        s1[x.name] = y                  # a free variable: just bind it
-                    elif not unify(x, y, s1):
-                        break
-                else:
-                    s2 = eval_rel(right, s1)
-                    if s2 is not None:
-                        return s2
-            return None
-        for s1 in solve(ag, left, s, intention):
-            s2 = eval_rel(right, s1)
-            if s2 is not None:
-                return s2
-        return None
     for sol in solve(ag, f, s, intention):
         return sol
     return None
@@ -165,14 +136,12 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
                       f"        elif not unify(A{k}, args[{k}], s1): continue"]
         else:
             lines.append(f"        if not unify(A{k}, args[{k}], s1): continue")
-    operands = []
     for side, x in (("l", rel.left), ("r", rel.right)):
         if type(x) is Var:
             lines.append(f"        {side} = s1.get({x.name!r})")
         else:
             env[f"C{side}"] = x
             lines.append(f"        {side} = C{side}")
-        operands.append(side)
     lines += ["        if type(l) is float and type(r) is float:",
               f"            if l {rel.op} r: return s1",
               "            continue",
