@@ -250,8 +250,12 @@ def test_ok_waits_until_the_base_is_at_rest():
 
 def test_a_base_that_never_stops_is_reported_at_the_settle_timeout():
     monitor = MotionMonitor(TURN, math.radians(30), ORIGIN, 0.0, SETTLE)
-    result, t, _ = run(monitor, drive(0.0, 0.8, 5))
-    assert result == OK
+    verdict, t = None, 0.0
+    for pose, t in drive(0.0, 0.8, 5):
+        verdict = monitor.update(pose, t)
+        if verdict:
+            break
+    assert verdict.result == OK and "still moving" in verdict.message
     assert t == pytest.approx(math.radians(30) / 0.8 + 1.0, abs=2.5 / RATE)
 
 

@@ -164,9 +164,10 @@ class MotionMonitor:
         still = now - self._still_since
         if self.reached_at is not None:
             settling = now - self.reached_at
-            if min(still, settling) >= self.params.settle_time \
-                    or settling >= self.params.settle_timeout:
-                return self.done(f", at rest {settling:.2f} s after the goal")
+            at_rest = min(still, settling) >= self.params.settle_time
+            if at_rest or settling >= self.params.settle_timeout:
+                state = "at rest" if at_rest else "still moving"
+                return self.done(f", {state} {settling:.2f} s after the goal")
             return None
         if still > self.params.no_progress_timeout:
             return Verdict(NO_PROGRESS, f"odometry unchanged for {still:.2f} s after "
