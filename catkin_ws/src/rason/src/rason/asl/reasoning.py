@@ -34,7 +34,7 @@ from .plans import (
     Trigger,
 )
 from .stdlib import SUSPEND, FailGoal, IAError, call_ia
-from .terms import Literal, is_ground, term_str
+from .terms import Literal, RelExpr, is_ground, term_str
 from .unify import ArithError, rename_vars, resolve, unify
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -63,9 +63,11 @@ def error_annots(ag: Agent, im: IntendedMeans | None, deed: Deed | None, kind: s
     return out + extra
 
 
-def _self_sourced(d: Deed, u: dict) -> Literal | None:
-    """The deed's literal under ``u``, with ``source(self)`` when it has no source (None: not a
-    literal)."""
+def _self_sourced(d: Deed, u: dict, error: str) -> Literal:
+    """The deed's literal under ``u``, with ``source(self)`` when it has no source.
+
+    Raises IAError with ``error`` (``{}`` = the term) when the deed's term is not a literal.
+    """
     st = d.self_term
     if st is not None:
         build = d.build
@@ -74,7 +76,7 @@ def _self_sourced(d: Deed, u: dict) -> Literal | None:
             return lit
     lit = resolve(d.term, u)
     if not isinstance(lit, Literal):
-        return None
+        raise IAError(error.format(term_str(lit)))
     return lit.with_self_source()
 
 
@@ -275,7 +277,10 @@ def exec_int(ag: Agent, i: Intention) -> None:
     im.current = d
     ag.current = i
     try:
-        ok = _exec_deed(ag, i, im, d)
+        run = _EXEC_DEED.get(d.kind)
+        if run is None:
+            raise IAError(f"unknown deed {d.kind}")
+        ok = run(ag, i, im, d)
     except FailGoal as fg:
         extra = [a for a in fg.annots if isinstance(a, Literal)]
         if extra:
@@ -314,174 +319,233 @@ def _fail(ag: Agent, i: Intention, im: IntendedMeans, d: Deed, kind: str, msg: s
     return False
 
 
-def _exec_deed(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
-    """Run one deed. Returns True to continue, False when the intention failed/was handled."""
-    k = d.kind
+def _await_own_event(i: Intention, im: IntendedMeans, d: Deed, posted: bool) -> bool:
+    """After a belief change in a body: Jason's default ``intBels=sameFocus`` makes its event
+    belong to this intention, which waits for it (a plan for it runs on top of the intention;
+    without one the intention goes on). The deed stays current until then."""
+    if not posted:
+        return True
+    im.stack.append(d)
+    i.suspended = "event"
+    return False
+
+
+# ExecInt, one function per kind of deed. Each returns True when the intention goes on, False
+# when it waits (subgoal, event, action, suspension) or failed (already handled).
+
+def _exec_internal_action(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``.ia(...)``: an internal action (may suspend the intention)."""
+    u = im.u
+    im.stack.pop()
+    ctx = IAContext(ag, u, i, im, d)
+    r = call_ia(ctx, d.term)
+    if r is True:
+        im.u = ctx.s
+        return True
+    if r is SUSPEND:
+        im.u = ctx.s
+        if not i.dropped:
+            i.suspended = i.suspended or "ia"
+        return False
+    if r is False or r is None:
+        return _fail(ag, i, im, d, "ia_failed", "")
+    if isinstance(r, dict):
+        im.u = r
+        return True
+    for sol in r:
+        im.u = sol
+        return True
+    return _fail(ag, i, im, d, "ia_failed", "")
+
+
+def _exec_add_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``+b``: add a belief; its event belongs to this intention."""
+    u = im.u
+    im.stack.pop()
+    lit = _self_sourced(d, u, "cannot add {} as a belief")
+    return _await_own_event(i, im, d, ag.add_belief(lit, front=True, focus=i))
+
+
+def _exec_achieve(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``!g``: post the subgoal's event; the intention waits for it."""
+    u = im.u
+    lit = _self_sourced(d, u, "invalid goal {}")
+    if not (lit._g or is_ground(lit)):
+        lit = rename_vars(lit, {})
+    i.suspended = "subgoal"
+    ag.events.append(Event(Trigger(ADD, ACHIEVE, lit), i))
+    return False
+
+
+def _exec_achieve_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``!!g``: post the goal as a new intention's event."""
+    u = im.u
+    im.stack.pop()
+    if d.self_trigger is not None:
+        ag.add_event(Event(d.self_trigger))
+        return True
+    lit = _self_sourced(d, u, "invalid goal {}")
+    ag.add_event(Event(Trigger(ADD, ACHIEVE, lit)))
+    return True
+
+
+def _exec_constraint(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``X > 3``, ``X = f(Y)``: a condition in the body."""
+    u = im.u
+    im.stack.pop()
+    f = d.term
+    if type(f) is RelExpr:
+        r = eval_rel(f, u)
+        if r is None:
+            return _fail(ag, i, im, d, "constraint_failed",
+                         f"Constraint {term_str(resolve(f, u))} was not satisfied.")
+        im.u = r
+        return True
+    for sol in solve(ag, f, u, i):
+        im.u = sol
+        return True
+    return _fail(ag, i, im, d, "constraint_failed",
+                 f"Constraint {term_str(resolve(f, u))} was not satisfied.")
+
+
+def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``-+b``: remove the first ``b(...)[source(self)]``, then add ``b``."""
+    u = im.u
+    im.stack.pop()
+    lit = _self_sourced(d, u, "cannot add {} as a belief")
+    # remove the first belief matching b(_,...)[source(self)] (external event), then add
+    annots = lit.annots
+    for b in ag.bb.candidates((lit.functor, len(lit.args), lit.neg)):
+        if type(b) is Literal and (b.annots == annots or all(a in b.annots for a in annots)):
+            ag.remove_belief(b if b.annots == annots else b.with_annots(annots))
+            break
+    return _await_own_event(i, im, d, ag.add_belief(lit, front=True, focus=i))
+
+
+def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``-b``: remove a belief; its event belongs to this intention."""
+    u = im.u
+    im.stack.pop()
+    lit = _self_sourced(d, u, "cannot remove {}")
+    if not (lit._g or is_ground(lit)):
+        for sol in query_bb(ag, lit, u):
+            im.u = sol
+            lit = resolve(lit, sol)
+            break
+        else:
+            return True
+    return _await_own_event(i, im, d, ag.remove_belief(lit, focus=i))
+
+
+def _exec_test_goal(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``?g``: query the beliefs, else post a ``+?g`` event."""
     u = im.u
     stack = im.stack
-    if k == K_INTERNAL:
+    f = d.term
+    for sol in solve(ag, f, u, i):
         stack.pop()
-        ctx = IAContext(ag, u, i, im, d)
-        r = call_ia(ctx, d.term)
-        if r is True:
-            im.u = ctx.s
-            return True
-        if r is SUSPEND:
-            im.u = ctx.s
-            if not i.dropped:
-                i.suspended = i.suspended or "ia"
-            return False
-        if r is False or r is None:
-            return _fail(ag, i, im, d, "ia_failed", "")
-        if isinstance(r, dict):
-            im.u = r
-            return True
-        for sol in r:
-            im.u = sol
-            return True
-        return _fail(ag, i, im, d, "ia_failed", "")
-    if k == K_ADD_BEL:
-        lit = _self_sourced(d, u)
-        if lit is None:
-            raise IAError(f"cannot add {term_str(resolve(d.term, u))} as a belief")
-        # Jason's default intBels=sameFocus: the +b event belongs to this intention, which
-        # waits for it (its plan, if any, runs on top of this intention)
-        if ag.add_belief(lit, front=True, focus=i):
-            i.suspended = "event"
-            return False
-        stack.pop()
+        im.u = sol
         return True
-    if k == K_ACHIEVE:
-        lit = _self_sourced(d, u)
-        if lit is None:
-            raise IAError(f"invalid goal {term_str(resolve(d.term, u))}")
-        if not (lit._g or is_ground(lit)):
+    lit = resolve(f, u)
+    if (isinstance(lit, Literal) and not lit.functor.startswith(".")
+            and ag.pl.has_candidate(ADD, TEST, lit)):
+        lit = lit.with_self_source()
+        if not is_ground(lit):
             lit = rename_vars(lit, {})
         i.suspended = "subgoal"
-        ag.events.append(Event(Trigger(ADD, ACHIEVE, lit), i))
+        ag.events.append(Event(Trigger(ADD, TEST, lit), i))
         return False
-    if k == K_ACHIEVE_NEW:
-        stack.pop()
-        if d.self_trigger is not None:
-            ag.add_event(Event(d.self_trigger))
-            return True
-        lit = _self_sourced(d, u)
-        if lit is None:
-            raise IAError(f"invalid goal {term_str(resolve(d.term, u))}")
-        ag.add_event(Event(Trigger(ADD, ACHIEVE, lit)))
+    stack.pop()
+    return _fail(ag, i, im, d, "test_goal_failed", f"Failed to test '{term_str(lit)}'", code=lit)
+
+
+def _exec_action(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """An environment action: the intention waits for its feedback."""
+    u = im.u
+    im.stack.pop()
+    lit = resolve(d.term, u)
+    if isinstance(lit, Literal) and lit.functor == "true" and not lit.args:
         return True
-    if k == K_CONSTRAINT:
-        stack.pop()
-        f = d.term
-        if type(f).__name__ == "RelExpr":
-            r = eval_rel(f, u)
-            if r is None:
-                return _fail(ag, i, im, d, "constraint_failed",
-                             f"Constraint {term_str(resolve(f, u))} was not satisfied.")
-            im.u = r
-            return True
-        for sol in solve(ag, f, u, i):
+    if not isinstance(lit, Literal):
+        return _fail(ag, i, im, d, "action_failed", f"invalid action {term_str(lit)}")
+    ag.start_action(i, im, d, lit)
+    return False
+
+
+def _exec_if(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``if (c) {...} elif (c) {...} else {...}``."""
+    u = im.u
+    stack = im.stack
+    stack.pop()
+    branches, els = d.extra
+    for cond, body in branches:
+        for sol in solve(ag, cond, u, i):
             im.u = sol
+            stack.extend(reversed(body))
             return True
-        return _fail(ag, i, im, d, "constraint_failed",
-                     f"Constraint {term_str(resolve(f, u))} was not satisfied.")
-    if k == K_DEL_ADD_BEL:
-        stack.pop()
-        lit = _self_sourced(d, u)
-        if lit is None:
-            raise IAError(f"cannot add {term_str(resolve(d.term, u))} as a belief")
-        # remove the first belief matching b(_,...)[source(self)] (external event), then add
-        annots = lit.annots
-        for b in ag.bb.candidates((lit.functor, len(lit.args), lit.neg)):
-            if type(b) is Literal and (b.annots == annots or all(a in b.annots for a in annots)):
-                ag.remove_belief(b if b.annots == annots else b.with_annots(annots))
-                break
-        if ag.add_belief(lit, front=True, focus=i):
-            stack.append(d)  # the deed stays current until its event is handled
-            i.suspended = "event"
-            return False
+    if els is not None:
+        stack.extend(reversed(els))
+    return True
+
+
+def _exec_while(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``while (c) {...}``."""
+    im.stack.pop()
+    _while_pass(ag, i, im, d, im.u, im.u)
+    return True
+
+
+def _while_pass(ag: Agent, i: Intention, im: IntendedMeans, loop: Deed, base: dict,
+                s: dict) -> bool:
+    """Start the next pass of the ``while`` deed ``loop`` if its condition holds under ``s``
+    (``base``: the unifier before the loop, restored after it)."""
+    for sol in solve(ag, loop.term, s, i):
+        im.u = sol
+        im.stack.append(Deed(K_LOOP, loop.term, loop.line, ("while", loop, base)))
+        im.stack.extend(reversed(loop.extra))
         return True
-    if k == K_DEL_BEL:
-        stack.pop()
-        lit = _self_sourced(d, u)
-        if lit is None:
-            raise IAError(f"cannot remove {term_str(resolve(d.term, u))}")
-        if not (lit._g or is_ground(lit)):
-            for sol in query_bb(ag, lit, u):
-                im.u = sol
-                lit = resolve(lit, sol)
-                break
-            else:
-                return True
-        if ag.remove_belief(lit, focus=i):
-            stack.append(d)
-            i.suspended = "event"
-            return False
+    return False
+
+
+def _exec_for(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``for (c) {...}``: one iteration per solution of ``c``."""
+    u = im.u
+    stack = im.stack
+    stack.pop()
+    base = u
+    sols = iter(list(solve(ag, d.term, base, i)))
+    return _for_next(stack, im, d, base, sols)
+
+
+def _exec_loop_next(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """The next iteration of a ``while`` or ``for``."""
+    stack = im.stack
+    stack.pop()
+    kind, orig, base = d.extra[0], d.extra[1], d.extra[2]
+    if kind == "while":
+        s = _merge_base(base, im.u)
+        if not _while_pass(ag, i, im, orig, base, s):
+            im.u = s
         return True
-    if k == K_TEST:
-        f = d.term
-        for sol in solve(ag, f, u, i):
-            stack.pop()
-            im.u = sol
-            return True
-        lit = resolve(f, u)
-        if (isinstance(lit, Literal) and not lit.functor.startswith(".")
-                and ag.pl.has_candidate(ADD, TEST, lit)):
-            lit = lit.with_self_source()
-            if not is_ground(lit):
-                lit = rename_vars(lit, {})
-            i.suspended = "subgoal"
-            ag.events.append(Event(Trigger(ADD, TEST, lit), i))
-            return False
-        stack.pop()
-        return _fail(ag, i, im, d, "test_goal_failed", f"Failed to test '{term_str(lit)}'", code=lit)
-    if k == K_ACTION:
-        stack.pop()
-        lit = resolve(d.term, u)
-        if isinstance(lit, Literal) and lit.functor == "true" and not lit.args:
-            return True
-        if not isinstance(lit, Literal):
-            return _fail(ag, i, im, d, "action_failed", f"invalid action {term_str(lit)}")
-        ag.start_action(i, im, d, lit)
-        return False
-    if k == K_IF:
-        stack.pop()
-        branches, els = d.extra
-        for cond, body in branches:
-            for sol in solve(ag, cond, u, i):
-                im.u = sol
-                stack.extend(reversed(body))
-                return True
-        if els is not None:
-            stack.extend(reversed(els))
-        return True
-    if k == K_WHILE:
-        stack.pop()
-        base = u
-        for sol in solve(ag, d.term, base, i):
-            im.u = sol
-            stack.append(Deed(K_LOOP, d.term, d.line, ("while", d, base)))
-            stack.extend(reversed(d.extra))
-            return True
-        return True
-    if k == K_FOR:
-        stack.pop()
-        base = u
-        sols = iter(list(solve(ag, d.term, base, i)))
-        return _for_next(stack, im, d, base, sols)
-    if k == K_LOOP:
-        stack.pop()
-        kind, orig, base = d.extra[0], d.extra[1], d.extra[2]
-        if kind == "while":
-            for sol in solve(ag, orig.term, _merge_base(base, im.u), i):
-                im.u = sol
-                stack.append(Deed(K_LOOP, orig.term, orig.line, ("while", orig, base)))
-                stack.extend(reversed(orig.extra))
-                return True
-            im.u = _merge_base(base, im.u)
-            return True
-        return _for_next(stack, im, orig, base, d.extra[3])
-    raise IAError(f"unknown deed {k}")
+    return _for_next(stack, im, orig, base, d.extra[3])
+
+
+#: ExecInt's handler for each kind of deed.
+_EXEC_DEED = {
+    K_INTERNAL: _exec_internal_action,
+    K_ADD_BEL: _exec_add_belief,
+    K_ACHIEVE: _exec_achieve,
+    K_ACHIEVE_NEW: _exec_achieve_new_focus,
+    K_CONSTRAINT: _exec_constraint,
+    K_DEL_ADD_BEL: _exec_replace_belief,
+    K_DEL_BEL: _exec_remove_belief,
+    K_TEST: _exec_test_goal,
+    K_ACTION: _exec_action,
+    K_IF: _exec_if,
+    K_WHILE: _exec_while,
+    K_FOR: _exec_for,
+    K_LOOP: _exec_loop_next,
+}
 
 
 def _merge_base(base: dict, cur: dict) -> dict:
