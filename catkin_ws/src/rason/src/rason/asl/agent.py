@@ -427,8 +427,8 @@ class Agent:
         some plan is relevant for it."""
         if self.event_waits:
             self._check_event_waits(ev)
-        elif (ev.intention is None and not self.pl.relevant(ev.trigger)
-              and not (ev.trigger.is_goal and ev.trigger.op == ADD)):
+        elif (ev.intention is None and not (ev.trigger.is_goal and ev.trigger.op == ADD)
+              and not self.pl.relevant(ev.trigger)):
             return
         self.events.append(ev)
 
