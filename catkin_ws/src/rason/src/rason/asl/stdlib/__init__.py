@@ -57,17 +57,39 @@ def internal_action(*names: str) -> Callable:
 
 
 def call_ia(ctx: Any, lit: Literal) -> Any:
+    """Run the internal action ``lit`` (arguments resolved with the context's substitution).
+
+    An unknown ``.name`` is, in Jason, only a parser warning: the literal stays a plain one and
+    runs as an environment action, which fails with ``error(action_failed)``.
+    """
     fn = IA_REGISTRY.get(lit.functor)
     if fn is None:
-        raise IAError(f"unknown internal action {lit.functor}", "unknown_internal_action")
+        raise IAError(f"unknown internal action {lit.functor}", "action_failed")
     s = ctx.s
     args = [resolve(a, s) for a in lit.args]
-    return fn(ctx, args)
+    try:
+        return fn(ctx, args)
+    except IAError as e:
+        if "{ia}" in e.message:   # Jason names the action by its class name (``sort``)
+            e.message = e.message.replace("{ia}", lit.functor.rsplit(".", 1)[-1])
+        raise
 
 
 def arg_count(args: list, *allowed: int) -> None:
+    """Jason's ``checkArguments``: fail with ``wrong_arguments`` unless len(args) is allowed."""
     if len(args) not in allowed:
-        raise IAError(f"wrong number of arguments ({len(args)})", "wrong_arguments")
+        lo, hi = min(allowed), max(allowed)
+        if lo == hi:
+            need = " One argument is expected." if lo == 1 else f" {lo} arguments are expected."
+        else:
+            need = f" From {lo} to {hi} arguments are expected."
+        raise IAError("The internal action '{ia}' has not received the required number of "
+                      "argument(s)." + need, "wrong_arguments")
+
+
+def wrong_arg(reason: str) -> IAError:
+    """Jason's ``createWrongArgument``: an ``error(wrong_arguments)`` with its message."""
+    return IAError("Wrong argument for internal action '{ia}': " + reason, "wrong_arguments")
 
 
 from . import comm, core, goals, lists, strings  # noqa: E402,F401  (registration)

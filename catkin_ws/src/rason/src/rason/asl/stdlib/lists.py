@@ -5,22 +5,23 @@ from __future__ import annotations
 import functools
 from typing import Any
 
-from ..terms import ListTerm, list_to_python, make_list, sort_key, to_print_str
+from ..terms import ListTerm, Literal, Var, list_to_python, make_list, sort_key, term_str
 from ..unify import compare_terms, unify
-from . import IAError, arg_count, internal_action
+from . import IAError, arg_count, internal_action, wrong_arg
+from .strings import java_replace_all
 
 
-def _items(t: Any) -> list:
+def _items(t: Any, what: str = "first argument must be a list") -> list:
     items = list_to_python(t)
     if items is None:
-        raise IAError(f"not a list: {t!r}", "wrong_arguments")
+        raise wrong_arg(what)
     return items
 
 
 @internal_action(".member")
 def member(ctx: Any, args: list) -> Any:
     arg_count(args, 2)
-    items = _items(args[1])
+    items = _items(args[1], "second argument must be a list")
 
     def gen():
         for x in items:
@@ -35,31 +36,56 @@ def length(ctx: Any, args: list) -> bool:
     arg_count(args, 2)
     if isinstance(args[0], str):
         return ctx.unify(args[1], float(len(args[0])))
-    return ctx.unify(args[1], float(len(_items(args[0]))))
+    items = list_to_python(args[0])
+    if items is None:   # Jason: neither a list nor a string is just false
+        return False
+    return ctx.unify(args[1], float(len(items)))
+
+
+def _plain(t: Any) -> str:
+    """Jason's ``concat.getPlainValue``: strings unquoted, quoted atoms without their quotes."""
+    if isinstance(t, str):
+        return t
+    s = term_str(t)
+    if (isinstance(t, Literal) and not t.args and not t.annots and not t.neg and len(s) > 1
+            and s[0] == "'" and s[-1] == "'"):
+        return s[1:-1]
+    return s
 
 
 @internal_action(".concat")
 def concat(ctx: Any, args: list) -> bool:
+    """Lists when the first argument is a list (every other part must be one), else strings."""
     if len(args) < 2:
         raise IAError("wrong number of arguments", "wrong_arguments")
     parts, out = args[:-1], args[-1]
-    if all(isinstance(p, ListTerm) for p in parts):
-        res: list = []
-        for p in parts:
-            res.extend(_items(p))
-        return ctx.unify(out, make_list(res))
-    return ctx.unify(out, "".join(to_print_str(p) for p in parts))
+    if isinstance(parts[0], ListTerm):
+        if not isinstance(out, (Var, ListTerm)):
+            raise IAError(f"Last argument of concat '{term_str(out)}'is not a list nor a variable.",
+                          "internal_action")
+        res: list = list(_items(parts[0]))
+        for k, p in enumerate(parts[1:], 1):
+            items = list_to_python(p)
+            if items is None:
+                raise wrong_arg(f"arg[{k}] is not a list")
+            res.extend(items)
+        return ctx.unify(make_list(res), out)
+    if not isinstance(out, (str, Var)):
+        out = term_str(out)
+    return ctx.unify("".join(_plain(p) for p in parts), out)
 
 
 @internal_action(".nth")
 def nth(ctx: Any, args: list) -> Any:
     arg_count(args, 3)
-    items = _items(args[1])
+    if not isinstance(args[0], (float, Var)):
+        raise wrong_arg(f"the first argument should be numeric or a variable -- not '{term_str(args[0])}'.")
+    items = _items(args[1], f"the second argument should be a list and not '{term_str(args[1])}'.")
     if isinstance(args[0], float):
         i = int(args[0])
         if 0 <= i < len(items):
             return ctx.unify(args[2], items[i])
-        return False
+        raise IAError(f"nth: index {i} is out of bounds ({len(items)})", "internal_action")
 
     def gen():
         for i, x in enumerate(items):
@@ -67,6 +93,10 @@ def nth(ctx: Any, args: list) -> Any:
             if unify(args[0], float(i), s2) and unify(args[2], x, s2):
                 yield s2
     return gen()
+
+
+def _plain_str(t: Any) -> str:
+    return t if isinstance(t, str) else term_str(t)
 
 
 def _cmp(a: Any, b: Any) -> int:
@@ -100,9 +130,9 @@ def sort(ctx: Any, args: list) -> bool:
 @internal_action(".reverse")
 def reverse(ctx: Any, args: list) -> bool:
     arg_count(args, 2)
-    if isinstance(args[0], str):
-        return ctx.unify(args[1], args[0][::-1])
-    return ctx.unify(args[1], make_list(list(reversed(_items(args[0])))))
+    if isinstance(args[0], ListTerm):
+        return ctx.unify(args[1], make_list(list(reversed(_items(args[0])))))
+    return ctx.unify(args[1], _plain_str(args[0])[::-1])
 
 
 @internal_action(".sum")
@@ -121,23 +151,58 @@ def empty(ctx: Any, args: list) -> bool:
 
 @internal_action(".delete")
 def delete(ctx: Any, args: list) -> bool:
-    """``.delete(X, L, R)``: remove every element unifying X (X a number = index)."""
-    arg_count(args, 3)
-    if isinstance(args[1], str):
-        return ctx.unify(args[2], args[1].replace(to_print_str(args[0]), ""))
-    items = _items(args[1])
-    if isinstance(args[0], float) and not any(isinstance(x, float) for x in items):
-        i = int(args[0])
-        res = items[:i] + items[i + 1:]
-    else:
-        res = [x for x in items if not unify(args[0], x, dict(ctx.s))]
+    """``.delete(X, L, R)``; a number X is a position, ``.delete(Start, End, L, R)`` a range.
+
+    As in Jason, bindings made by the first element that unifies with X are kept for the
+    following ones (``.delete(p(_), [p(1), p(2)], R)`` gives ``[p(2)]``).
+    """
+    arg_count(args, 3, 4)
+    if isinstance(args[0], float):
+        nxt, start = 1, int(args[0])
+        end = start + 1
+        if len(args) == 4 and isinstance(args[1], float):
+            nxt, end = 2, int(args[1])
+        where = args[nxt]
+        if isinstance(where, str):
+            if 0 <= start <= len(where) and start <= end <= len(where):
+                return ctx.unify(args[nxt + 1], where[:start] + where[end:])
+            return ctx.unify(args[nxt + 1], where)
+        items = list_to_python(where)
+        if items is not None:
+            return ctx.unify(args[nxt + 1],
+                             make_list([x for k, x in enumerate(items) if k < start or k >= end]))
+    if isinstance(args[0], str):
+        text = args[1] if isinstance(args[1], str) else term_str(args[1])
+        return ctx.unify(args[2], java_replace_all(args[0], text, ""))
+    items = list_to_python(args[1])
+    if items is None:
+        raise IAError("Incorrect use of the internal action '.delete' (see documentation).",
+                      "internal_action")
+    s = dict(ctx.s)
+    res = []
+    for x in items:
+        s2 = dict(s)
+        if unify(args[0], x, s2):
+            s = s2
+        else:
+            res.append(x)
     return ctx.unify(args[2], make_list(res))
+
+
+def _set_args(args: list) -> list:
+    """Jason's argument checks of ``.difference/.intersection/.union``; the second list's items."""
+    for k, what in ((0, "first"), (1, "second")):
+        if list_to_python(args[k]) is None:
+            raise wrong_arg(f"{what} argument '{term_str(args[k])}'is not a list.")
+    if not isinstance(args[2], (Var, ListTerm)):
+        raise wrong_arg(f"last argument '{term_str(args[2])}'is not a list nor a variable.")
+    return _items(args[1])
 
 
 @internal_action(".difference")
 def difference(ctx: Any, args: list) -> bool:
     arg_count(args, 3)
-    b = _items(args[1])
+    b = _set_args(args)
     res = sorted({x for x in _items(args[0]) if x not in b}, key=sort_key)
     return ctx.unify(args[2], make_list(res))
 
@@ -145,7 +210,7 @@ def difference(ctx: Any, args: list) -> bool:
 @internal_action(".intersection")
 def intersection(ctx: Any, args: list) -> bool:
     arg_count(args, 3)
-    b = _items(args[1])
+    b = _set_args(args)
     res = sorted({x for x in _items(args[0]) if x in b}, key=sort_key)
     return ctx.unify(args[2], make_list(res))
 
@@ -153,6 +218,7 @@ def intersection(ctx: Any, args: list) -> bool:
 @internal_action(".union")
 def union(ctx: Any, args: list) -> bool:
     arg_count(args, 3)
+    _set_args(args)
     res = sorted(set(_items(args[0])) | set(_items(args[1])), key=sort_key)
     return ctx.unify(args[2], make_list(res))
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from ..terms import Var, to_print_str
@@ -52,7 +53,30 @@ def upper_case(ctx: Any, args: list) -> bool:
     return ctx.unify(args[1], _s(args[0]).upper())
 
 
+def java_replace_all(pattern: str, text: str, replacement: str) -> str:
+    """Java's ``String.replaceAll``: ``pattern`` is a regular expression, ``$1`` a group."""
+    def expand(m: re.Match) -> str:
+        out, i, n = [], 0, len(replacement)
+        while i < n:
+            c = replacement[i]
+            if c == "\\" and i + 1 < n:
+                out.append(replacement[i + 1])
+                i += 2
+            elif c == "$" and i + 1 < n and replacement[i + 1].isdigit():
+                out.append(m.group(int(replacement[i + 1])) or "")
+                i += 2
+            else:
+                out.append(c)
+                i += 1
+        return "".join(out)
+    try:
+        return re.sub(pattern, expand, text)
+    except (re.error, IndexError):
+        return text.replace(pattern, replacement)
+
+
 @internal_action(".replace")
 def replace(ctx: Any, args: list) -> bool:
+    """``.replace(S, Old, New, R)``: Java ``replaceAll`` (Old is a regular expression)."""
     arg_count(args, 4)
-    return ctx.unify(args[3], _s(args[0]).replace(_s(args[1]), _s(args[2])))
+    return ctx.unify(args[3], java_replace_all(_s(args[1]), _s(args[0]), _s(args[2])))

@@ -1,0 +1,76 @@
+"""Jason 3.3.2 behaviours checked against Jason's own source (``jason.stdlib``, ``asSemantics``).
+
+Each test runs a small new program and asserts the exact lines Jason prints; a comment names
+the Jason class/method that decides the result when it is not obvious.
+"""
+
+from __future__ import annotations
+
+from asl_helpers import lines, run_source
+
+
+def run(body: str, extra: str = "") -> list[str]:
+    """Run ``+!s <- body.`` (plus ``extra`` plans) and return the printed lines."""
+    return lines(run_source(f"!s.\n+!s <- {body}.\n{extra}"))
+
+
+ERR = '-!s[error(E), error_msg(M)] <- .print(E, " | ", M).'
+
+
+# ------------------------------------------------------------------ lists
+def test_delete_number_is_a_position_even_in_a_list_of_numbers() -> None:
+    # jason.stdlib.delete: a numeric first argument is always an index (4 args: a range)
+    assert run('.delete(2, [1,2,3], A); .print(A); .delete(1, 3, [a,b,c,d], B); .print(B); '
+               '.delete(0, "banana", C); .print(C)') == ["[1,2]", "[a,d]", "anana"]
+
+
+def test_delete_keeps_the_bindings_of_the_first_match() -> None:
+    # jason.stdlib.delete.deleteFromList: the unifier of a match is kept for the next elements
+    assert run('.delete(p(_), [p(1), p(2), q, p(1)], L); .print(L); '
+               '.delete(b, [a,b,c,b], L2); .print(L2); .delete("an", "banana", S); .print(S)') == [
+        "[p(2),q]", "[a,c]", "ba"]
+
+
+def test_concat_strings_uses_plain_values() -> None:
+    # jason.stdlib.concat.getPlainValue: strings and quoted atoms lose their quotes
+    assert run(".concat(\"a\", 1, b, 'Q x', f(\"y\"), S); .print(S); "
+               '.concat([a], [b], [c, d], L); .print(L); .concat([1], [2], [1|T]); .print(T)') == [
+        'a1bQ xf("y")', "[a,b,c,d]", "[2]"]
+
+
+def test_length_of_a_non_list_fails_with_ia_failed() -> None:
+    # jason.stdlib.length returns false for anything but a list or a string
+    assert run(".length(f(x), N)", ERR) == ["ia_failed | "]
+
+
+def test_nth_out_of_bounds_is_an_internal_action_error() -> None:
+    # jason.stdlib.nth throws new JasonException(...): error(internal_action)
+    assert run(".nth(5, [a,b], X)", ERR) == ["internal_action | nth: index 5 is out of bounds (2)"]
+
+
+def test_wrong_argument_messages() -> None:
+    # JasonException.createWrongArgument / createWrongArgumentNb
+    assert run(".sort(a, X)", ERR) == [
+        "wrong_arguments | Wrong argument for internal action 'sort': first argument must be a list"]
+    assert run(".length([1], 2, 3)", ERR) == [
+        "wrong_arguments | The internal action 'length' has not received the required number of "
+        "argument(s). 2 arguments are expected."]
+    assert run(".member(a, b)", ERR) == [
+        "wrong_arguments | Wrong argument for internal action 'member': second argument must be a list"]
+
+
+def test_set_operations_sort_and_remove_duplicates() -> None:
+    # ListTermImpl.union/intersection/difference go through a TreeSet
+    assert run(".difference([c,a,b,a], [b], D); .print(D); .union([c,a], [b,a], U); .print(U); "
+               ".intersection([3,1,2,3], [2,3,4], I); .print(I)") == ["[a,c]", "[a,b,c]", "[2,3]"]
+
+
+def test_replace_is_a_regular_expression() -> None:
+    # jason.stdlib.replace uses String.replaceAll
+    assert run('.replace("ab12cd3", "[0-9]+", "#", R); .print(R); '
+               '.replace("a-b-c", "-", "+", R2); .print(R2)') == ["ab#cd#", "a+b+c"]
+
+
+def test_unknown_internal_action_is_an_action() -> None:
+    # as2j.literal(): an unknown .ia only warns at parse time and then runs as an action
+    assert run(".no_such_thing(1)", '-!s[error(E)] <- .print(E).') == ["action_failed"]
