@@ -74,3 +74,30 @@ def test_replace_is_a_regular_expression() -> None:
 def test_unknown_internal_action_is_an_action() -> None:
     # as2j.literal(): an unknown .ia only warns at parse time and then runs as an action
     assert run(".no_such_thing(1)", '-!s[error(E)] <- .print(E).') == ["action_failed"]
+
+
+# ------------------------------------------------------------------ failure annotations
+def test_fail_with_arguments_has_message_fail() -> None:
+    # jason.stdlib.fail: new JasonException("fail") unless an error_msg(M) argument is given
+    assert run(".fail(foo, bar(1))", '-!s[error(E), error_msg(M)|R] <- .print(E, " ", M, " ", R).') == [
+        'internal_action fail [bar(1),code(.fail(foo,bar(1))),code_line(2),code_src("file:main.asl"),'
+        'foo,source(self)]']
+    assert run(".fail(why(x), error_msg(oops))", ERR) == ["internal_action | oops"]
+
+
+def test_fail_keeps_a_user_code_annotation() -> None:
+    # TransitionSystem.setDefaultFailureAnnots adds code/code_line only when not given
+    assert run(".fail(code(mine), code_line(0))",
+               '-!s[code(C), code_line(L)] <- .print(C, " ", L).') == ["mine 0"]
+
+
+# ------------------------------------------------------------------ dropping everything
+def test_drop_all_desires_keeps_the_running_intention() -> None:
+    # drop_all_intentions clears C.I; the running intention is not in it and goes on
+    prog = ('!main.\n+!main <- !!w(1); .print("m1"); .print("m2"); .drop_all_desires; '
+            '.print("m3"); !sub; .print("m4").\n'
+            '+!w(N) <- .print("w", N); .wait({+x}); .print("never").\n+!sub <- .print("sub").')
+    assert lines(run_source(prog)) == ["m1", "w1", "m2", "m3", "sub", "m4"]
+    prog = ('!main.\n+!main <- !!w(1); .print("m1"); .print("m2"); .drop_all_intentions; .print("m3").\n'
+            '+!w(N) <- .print("w", N); .wait({+x}); .print("never").')
+    assert lines(run_source(prog)) == ["m1", "w1", "m2", "m3"]

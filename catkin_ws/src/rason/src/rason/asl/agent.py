@@ -395,11 +395,19 @@ class Agent:
                 if not (ev.trigger.op == ADD and ev.trigger.type == ACHIEVE
                         and unify(pattern, ev.trigger.literal, dict(s))))
 
-    def drop_all(self, events: bool) -> None:
+    def drop_all(self, events: bool, keep: Intention | None = None) -> None:
+        """``.drop_all_intentions`` (events=False: only events of intentions go) or
+        ``.drop_all_desires`` (every event goes). As in Jason, ``keep`` (the intention running
+        the action: it is not in the queue of intentions at that moment) carries on."""
         for i in list(self.all_intentions()):
-            self.remove_intention(i)
+            if i is not keep:
+                self.remove_intention(i)
         if events:
             self.events.clear()
+        else:
+            kept = [ev for ev in self.events if ev.intention is None or ev.intention is keep]
+            self.events.clear()
+            self.events.extend(kept)
 
     def succeed_goal(self, pattern: Any, s: dict) -> None:
         for i, idx in list(self._goal_positions(pattern, s)):

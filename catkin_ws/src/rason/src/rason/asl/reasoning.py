@@ -45,22 +45,39 @@ if TYPE_CHECKING:  # pragma: no cover
 
 def error_annots(ag: Agent, im: IntendedMeans | None, deed: Deed | None, kind: str, msg: str,
                  code: Any = None, extra: list | None = None) -> list:
-    """Jason's failure annotations: error, error_msg, code, code_src, code_line (+ extra)."""
-    out: list = [Literal("error", (Literal(kind),))]
+    """Jason's failure annotations: error, error_msg, code, code_src, code_line (+ extra).
+
+    As in ``TransitionSystem.setDefaultFailureAnnots``, ``code``, ``code_src`` and ``code_line``
+    are only added when ``extra`` has no annotation of that name.
+    """
     extra = list(extra or [])
-    if not any(isinstance(a, Literal) and a.functor == "error_msg" for a in extra):
-        out.append(Literal("error_msg", (msg,)))
-    if code is None and deed is not None:
-        code = deed.term if im is None else resolve(deed.term, im.u)
-    if code is not None and not isinstance(code, (Literal, float, str)):
-        code = Literal(term_str(code))
-    if code is not None:
-        out.append(Literal("code", (code,)))
-    if im is not None:
+    given = {a.functor for a in extra if isinstance(a, Literal)} if extra else ()
+    out: list = [Literal("error", (Literal(kind),)), Literal("error_msg", (msg,))]
+    if "code" not in given:
+        if code is None and deed is not None:
+            code = deed.term if im is None else resolve(deed.term, im.u)
+        if code is not None and not isinstance(code, (Literal, float, str)):
+            code = Literal(term_str(code))
+        if code is not None:
+            out.append(Literal("code", (code,)))
+    if im is not None and "code_src" not in given:
         out.append(Literal("code_src", (im.plan.src,)))
-    if deed is not None:
+    if deed is not None and "code_line" not in given:
         out.append(Literal("code_line", (float(deed.line),)))
     return out + extra
+
+
+def _fail_annots(args: list) -> tuple[str, list]:
+    """``.fail(A...)`` (jason.stdlib.fail): the message is the first ``error_msg(M)`` argument
+    (``"fail"`` without one) and every other argument becomes an annotation."""
+    msg, smsg = "fail", None
+    for a in args:
+        if isinstance(a, Literal) and a.functor == "error_msg" and len(a.args) == 1:
+            smsg = a
+            m = a.args[0]
+            msg = m if isinstance(m, str) else term_str(m)
+            break
+    return msg, [a for a in args if a is not smsg]
 
 
 def _self_sourced(d: Deed, u: dict, error: str) -> Literal:
@@ -282,9 +299,9 @@ def exec_int(ag: Agent, i: Intention) -> None:
             raise IAError(f"unknown deed {d.kind}")
         ok = run(ag, i, im, d)
     except FailGoal as fg:
-        extra = [a for a in fg.annots if isinstance(a, Literal)]
-        if extra:
-            annots = error_annots(ag, im, d, "internal_action", "", extra=extra)
+        if fg.annots:
+            msg, extra = _fail_annots(fg.annots)
+            annots = error_annots(ag, im, d, "internal_action", msg, extra=extra)
         else:
             annots = error_annots(ag, im, d, "ia_failed", "")
         fail_intention(ag, i, annots=annots)

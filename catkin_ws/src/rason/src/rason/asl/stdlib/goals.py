@@ -65,13 +65,17 @@ def drop_intention(ctx: Any, args: list) -> bool:
 
 @internal_action(".drop_all_desires")
 def drop_all_desires(ctx: Any, args: list) -> bool:
-    ctx.ag.drop_all(events=True)
+    """Drop every event and intention but the current one (jason.stdlib.drop_all_desires)."""
+    arg_count(args, 0)
+    ctx.ag.drop_all(events=True, keep=ctx.intention)
     return True
 
 
 @internal_action(".drop_all_intentions")
 def drop_all_intentions(ctx: Any, args: list) -> bool:
-    ctx.ag.drop_all(events=False)
+    """Drop every intention (and its events) but the current one (jason.stdlib.drop_all_intentions)."""
+    arg_count(args, 0)
+    ctx.ag.drop_all(events=False, keep=ctx.intention)
     return True
 
 
