@@ -101,3 +101,19 @@ def test_drop_all_desires_keeps_the_running_intention() -> None:
     prog = ('!main.\n+!main <- !!w(1); .print("m1"); .print("m2"); .drop_all_intentions; .print("m3").\n'
             '+!w(N) <- .print("w", N); .wait({+x}); .print("never").')
     assert lines(run_source(prog)) == ["m1", "w1", "m2", "m3"]
+
+
+# ------------------------------------------------------------------ arithmetic
+def test_int_div_is_a_32_bit_int_division() -> None:
+    # ArithExpr.ArithmeticOp.intdiv: (int) x / (int) y
+    assert run('.print(10000000000 div 3, " ", -7 div 2, " ", 7.9 div 2, " ", -7.5 mod 2)') == [
+        "715827882 -3 3 -1.5"]
+
+
+def test_list_functions() -> None:
+    # jason.functions.Sum/Average/mean/median/StdDev, Max/Min over a list
+    assert run('.print(math.sum([1,2,a,3.5]), " ", math.average([1,2]), " ", math.mean([2,4,9]), " ", '
+               'math.median([5,1,3]), " ", math.median([4,1,3,2]));'
+               '.print(math.max([3,9,2]), " ", math.min([3,9,2]), " ", math.std_dev([1,2,3]), " ", '
+               'math.sum([])); L = [4,5]; X = math.sum(L) * 2; .print(X)') == [
+        "6.5 1.5 5 3 2.5", "9 2 1 0", "18"]

@@ -71,6 +71,63 @@ ARITH_FUNCTIONS: dict[str, Any] = {
     "math.signum": lambda a: (a > 0) - (a < 0) + 0.0,
 }
 
+def _list_only(*args: Any) -> float:
+    raise TypeError("needs a list")
+
+
+def _numbers_of(t: Any) -> list | None:
+    """The numbers of a (resolved) list, as Jason's list functions take them; None if no list."""
+    if not isinstance(t, ListTerm):
+        return None
+    items = list(t.items)
+    rest = t.tail
+    while isinstance(rest, ListTerm):
+        items.extend(rest.items)
+        rest = rest.tail
+    return [x for x in items if type(x) is float]
+
+
+def _list_len(t: Any) -> int:
+    n = 0
+    while isinstance(t, ListTerm):
+        n += len(t.items)
+        t = t.tail
+    return n
+
+
+def _mean(xs: list) -> float:
+    return sum(xs) / len(xs) if xs else math.nan
+
+
+def _median(xs: list, n_items: int) -> float:
+    if len(xs) != n_items or not xs:
+        raise TypeError("math.median needs a non-empty list of numbers")
+    xs = sorted(xs)
+    k = len(xs)
+    return (xs[k // 2 - 1] + xs[k // 2]) / 2 if k % 2 == 0 else xs[k // 2]
+
+
+def _std_dev(xs: list) -> float:
+    n = len(xs)
+    mean = _mean(xs)
+    sq = sum((x - mean) * (x - mean) for x in xs)
+    return math.sqrt(_div(sq, float(n - 1))) if n != 1 else (math.nan if sq == 0 else math.inf)
+
+
+#: Jason functions over one list (``jason.functions``): math.max/min of a list start from
+#: Java's Double.MIN_VALUE/MAX_VALUE, non-numbers are skipped.
+LIST_FUNCTIONS: dict[str, Any] = {
+    "math.sum": lambda xs, n: float(sum(xs)),
+    "math.average": lambda xs, n: _mean(xs),
+    "math.mean": lambda xs, n: _mean(xs),
+    "math.median": _median,
+    "math.std_dev": lambda xs, n: _std_dev(xs),
+    "math.max": lambda xs, n: max([5e-324, *xs]),
+    "math.min": lambda xs, n: min([1.7976931348623157e308, *xs]),
+}
+for _name in LIST_FUNCTIONS:
+    ARITH_FUNCTIONS.setdefault(_name, _list_only)
+
 # set by the stdlib: math.random needs the agent's random generator
 RANDOM_HOOK: list = []
 
@@ -95,9 +152,20 @@ def _div(a: float, b: float) -> float:
     return a / b
 
 
+def _java_int(x: float) -> int:
+    """Java's ``(int) x``: toward zero, NaN is 0, clamped to 32 bits."""
+    if x != x:
+        return 0
+    if x >= 2147483647:
+        return 2147483647
+    if x <= -2147483648:
+        return -2147483648
+    return int(x)
+
+
 def _java_trunc_div(a: float, b: float) -> float:
-    # Jason: div works on longs (truncation toward zero)
-    ia, ib = int(a), int(b)
+    # Jason (ArithExpr intdiv): (int) x / (int) y, truncating toward zero
+    ia, ib = _java_int(a), _java_int(b)
     if ib == 0:
         raise ArithError("division by zero")
     q = abs(ia) // abs(ib)
@@ -153,6 +221,16 @@ def eval_arith(t: Any, s: Subst) -> float:
     if isinstance(t, Literal) and not t.neg:
         f = ARITH_FUNCTIONS.get(t.functor)
         if f is not None:
+            if len(t.args) == 1 and type(t.args[0]) is not float:
+                lf = LIST_FUNCTIONS.get(t.functor)
+                if lf is not None:
+                    arg = resolve(t.args[0], s)
+                    xs = _numbers_of(arg)
+                    if xs is not None:
+                        try:
+                            return float(lf(xs, _list_len(arg)))
+                        except TypeError as e:
+                            raise ArithError(str(e)) from None
             args = [eval_arith(a, s) for a in t.args]
             try:
                 return float(f(*args))
