@@ -117,3 +117,20 @@ def test_list_functions() -> None:
                '.print(math.max([3,9,2]), " ", math.min([3,9,2]), " ", math.std_dev([1,2,3]), " ", '
                'math.sum([])); L = [4,5]; X = math.sum(L) * 2; .print(X)') == [
         "6.5 1.5 5 3 2.5", "9 2 1 0", "18"]
+
+
+# ------------------------------------------------------------------ terms
+def test_term2string_cases() -> None:
+    # jason.stdlib.term2string: compare, term -> string, string -> term, else an error
+    assert run('.term2string(f(X), "f(X)"); .print("same"); .term2string(g(1), S); .print(S); '
+               '.term2string(A, B)', ERR) == ["same", "g(1)", "internal_action | invalid case of term2string"]
+
+
+# ------------------------------------------------------------------ atomic plans
+def test_subgoal_of_an_atomic_plan_goes_before_other_events() -> None:
+    # TransitionSystem.applySelEv: no event while an atomic intention runs; the atomic
+    # intention's own event (C.removeAtomicEvent) is selected first
+    prog = ('!a. !b.\n@la[atomic] +!a <- .print("a1"); .print("a2"); !c; .print("a3").\n'
+            '+!b <- .print("b1"); .print("b2").\n+!c <- .print("c1"); ?v(X); .print("v ", X).\n'
+            '+?v(X) <- X = 7.')
+    assert lines(run_source(prog)) == ["a1", "a2", "c1", "v 7", "a3", "b1", "b2"]

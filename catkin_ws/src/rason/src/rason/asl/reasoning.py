@@ -117,13 +117,16 @@ def deliberate(ag: Agent) -> bool:
 
 
 def sel_ev(ag: Agent) -> Event | None:
-    """SelEv: the first event (FIFO); with an atomic intention running, only its own events."""
-    if ag.atomic_used and ag.atomic_running():
+    """SelEv: the first event (FIFO), with Jason's rules for atomic intentions: no event is
+    selected while an atomic intention runs, and an event of an atomic intention (its subgoal)
+    goes before every other event (``TransitionSystem.applySelEv``)."""
+    if ag.atomic_used:
+        if ag.atomic_running():
+            return None
         for k, ev in enumerate(ag.events):
             if ev.intention is not None and ev.intention.is_atomic:
                 del ag.events[k]
                 return ev
-        return None
     return ag.events.popleft()
 
 

@@ -190,6 +190,7 @@ internal_action(".is_var")(_type_check(lambda t: isinstance(t, Var)))
 
 @internal_action(".term2string")
 def term2string(ctx: Any, args: list) -> bool:
+    """``.term2string(T, S)``: S is T's text, or T the term parsed from S (jason.stdlib.term2string)."""
     arg_count(args, 2)
     t, s = args
     if not isinstance(t, Var):
@@ -199,7 +200,7 @@ def term2string(ctx: Any, args: list) -> bool:
             return ctx.unify(t, parse_term(s))
         except AslSyntaxError:
             return False
-    raise IAError(".term2string needs a term or a string")
+    raise IAError("invalid case of term2string", "internal_action")
 
 
 # ---------------------------------------------------------------- belief base
