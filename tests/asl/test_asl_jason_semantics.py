@@ -134,3 +134,37 @@ def test_subgoal_of_an_atomic_plan_goes_before_other_events() -> None:
             '+!b <- .print("b1"); .print("b2").\n+!c <- .print("c1"); ?v(X); .print("v ", X).\n'
             '+?v(X) <- X = 7.')
     assert lines(run_source(prog)) == ["a1", "a2", "c1", "v 7", "a3", "b1", "b2"]
+
+
+# ------------------------------------------------------------------ functions
+def test_length_and_count_are_arithmetic_functions() -> None:
+    # jason.functions.Length (lists and strings) and Count (a query, as .count/2)
+    prog = ('b(1). b(2). b(3).\nn(N) :- N = .count(b(_)).\n!s.\n'
+            '+!s <- X = .length([a,b]) + 1; .print(X, " ", .length("hello"), " ", f(.length([1,2,3])));'
+            ' if (.count(b(_)) > 2) { .print(many) }; .print(.count(b(V) & V > 1));'
+            ' ?n(N); .print(N); .length([x], L); .print(L).')
+    assert lines(run_source(prog)) == ["3 5 f(3)", "many", "2", "3", "1"]
+
+
+def test_only_registered_math_functions_evaluate() -> None:
+    # asSyntax.directives.FunctionRegister: no math.pow/exp/trunc/signum; those stay literals
+    assert run('.print(math.abs(-3), " ", math.max(2,5), " ", math.min(2,5), " ", math.sqrt(16), " ", '
+               'math.floor(2.7), " ", math.ceil(2.1), " ", math.log(1), " ", math.pow(2,3))') == [
+        "3 5 2 4 2 3 0 math.pow(2,3)"]
+
+
+# ------------------------------------------------------------------ prefix/suffix/sublist
+def test_prefix_suffix_sublist_orders() -> None:
+    # jason.stdlib.prefix/suffix/sublist iterators: longest candidates first, [] last
+    assert run('.findall(X, .prefix(X,[a,b,c]), L1); .print(L1); .findall(X, .suffix(X,[a,b,c]), L2); '
+               '.print(L2); .findall(X, .sublist(X,[a,b,c]), L3); .print(L3); '
+               'if (.suffix([a],[a,b])) { .print(yes) } else { .print(no) }; .prefix(a, [a])', ERR) == [
+        "[[a,b,c],[a,b],[a],[]]", "[[a,b,c],[b,c],[c],[]]", "[[a,b,c],[a,b],[a],[b,c],[b],[c],[]]", "no",
+        "wrong_arguments | Wrong argument for internal action 'prefix': first argument must be a list "
+        "or a variable"]
+
+
+def test_add_annot() -> None:
+    # jason.stdlib.add_annot: literals (also inside a list) get the annotation, other terms stay
+    assert run('.add_annot(p(1), x, R); .print(R); .add_annot([a, p[z], "s", 3], b, R2); .print(R2)') == [
+        "p(1)[x]", '[a[b],p[b,z],"s",3]']

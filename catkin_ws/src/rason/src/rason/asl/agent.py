@@ -30,7 +30,7 @@ from .terms import (
     source,
     term_str,
 )
-from .unify import RANDOM_HOOK, resolve, unify
+from .unify import AGENT_HOOK, RANDOM_HOOK, resolve, unify
 
 
 def _strip_sources(t: Any) -> Any:
@@ -131,6 +131,7 @@ class Agent:
         with self._state_lock:
             if not RANDOM_HOOK or RANDOM_HOOK[0] is not self._rnd:
                 RANDOM_HOOK[:] = [self._rnd]
+                AGENT_HOOK[:] = [self]
             try:
                 did = self.sense()
                 did = reasoning.deliberate(self) or did

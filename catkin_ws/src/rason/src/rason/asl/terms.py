@@ -342,8 +342,8 @@ def is_constant(t: Any) -> bool:
     if tt is Literal:
         c = t._c
         if c is None:
-            from .unify import ARITH_FUNCTIONS
-            c = t._c = (t.tail is None and t.functor not in ARITH_FUNCTIONS and t.functor != "math.random"
+            from .unify import _ARITH_NAMES
+            c = t._c = (t.tail is None and t.functor not in _ARITH_NAMES
                         and all(is_constant(a) for a in t.args) and all(is_constant(a) for a in t.annots))
         return c
     if tt is ListTerm:

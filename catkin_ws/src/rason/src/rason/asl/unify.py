@@ -56,7 +56,6 @@ ARITH_FUNCTIONS: dict[str, Any] = {
     "math.ceil": lambda a: float(math.ceil(a)),
     "math.max": lambda a, b: max(a, b),
     "math.min": lambda a, b: min(a, b),
-    "math.pow": lambda a, b: _pow(a, b),
     "math.sin": math.sin,
     "math.cos": math.cos,
     "math.tan": math.tan,
@@ -64,12 +63,10 @@ ARITH_FUNCTIONS: dict[str, Any] = {
     "math.acos": math.acos,
     "math.atan": math.atan,
     "math.log": lambda a: math.log(a) if a > 0 else (-math.inf if a == 0 else math.nan),
-    "math.exp": math.exp,
     "math.pi": lambda: math.pi,
     "math.e": lambda: math.e,
-    "math.trunc": lambda a: float(math.trunc(a)),
-    "math.signum": lambda a: (a > 0) - (a < 0) + 0.0,
 }
+# (Jason 3.3.2 registers no math.pow/exp/trunc/signum: those stay plain literals)
 
 def _list_only(*args: Any) -> float:
     raise TypeError("needs a list")
@@ -128,8 +125,10 @@ LIST_FUNCTIONS: dict[str, Any] = {
 for _name in LIST_FUNCTIONS:
     ARITH_FUNCTIONS.setdefault(_name, _list_only)
 
-# set by the stdlib: math.random needs the agent's random generator
+# set by the agent at each reasoning cycle: math.random needs the agent's random generator,
+# ``.count(Q)`` the agent itself
 RANDOM_HOOK: list = []
+AGENT_HOOK: list = []
 
 
 def _pow(a: float, b: float) -> float:
@@ -219,7 +218,10 @@ def eval_arith(t: Any, s: Subst) -> float:
             return _java_mod(a, b)
         raise ArithError(op)
     if isinstance(t, Literal) and not t.neg:
-        f = ARITH_FUNCTIONS.get(t.functor)
+        fn = t.functor
+        if fn[0] == "." and len(t.args) == 1:
+            return _agent_function(fn, t.args[0], s)
+        f = ARITH_FUNCTIONS.get(fn)
         if f is not None:
             if len(t.args) == 1 and type(t.args[0]) is not float:
                 lf = LIST_FUNCTIONS.get(t.functor)
@@ -243,8 +245,30 @@ def eval_arith(t: Any, s: Subst) -> float:
     raise ArithError(f"not a number: {t!r}")
 
 
-#: Functors that evaluate to a number (``math.random`` needs the agent's generator).
-_ARITH_NAMES = frozenset(ARITH_FUNCTIONS) | {"math.random"}
+def _agent_function(fn: str, arg: Any, s: Subst) -> float:
+    """Jason's ``.length(L)`` (jason.functions.Length) and ``.count(Q)`` (jason.functions.Count)."""
+    if fn == ".length":
+        a = resolve(arg, s)
+        if isinstance(a, str):
+            return float(len(a))
+        if isinstance(a, ListTerm):
+            n = 0
+            while isinstance(a, ListTerm):
+                n += len(a.items)
+                a = a.tail
+            if a is None:
+                return float(n)
+        raise ArithError(".length of a non-list")
+    if fn == ".count" and AGENT_HOOK:
+        from .logic import solve
+        q = resolve(arg, s)
+        return float(sum(1 for _ in solve(AGENT_HOOK[0], q, {})))
+    raise ArithError(f"not a function: {fn}")
+
+
+#: Functors that evaluate to a number (``math.random`` needs the agent's generator; ``.length``
+#: and ``.count`` only with one argument, else they are the internal actions).
+_ARITH_NAMES = frozenset(ARITH_FUNCTIONS) | {"math.random", ".length", ".count"}
 
 
 def is_arith_function(t: Any) -> bool:

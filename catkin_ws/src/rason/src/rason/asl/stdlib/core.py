@@ -54,11 +54,6 @@ def fail(ctx: Any, args: list) -> bool:
     raise FailGoal(list(args))
 
 
-@internal_action(".succeed", ".noop")
-def noop(ctx: Any, args: list) -> bool:
-    return True
-
-
 # ---------------------------------------------------------------- identity
 @internal_action(".my_name")
 def my_name(ctx: Any, args: list) -> bool:
@@ -184,8 +179,6 @@ internal_action(".atom")(_type_check(
 internal_action(".structure")(_type_check(lambda t: isinstance(t, (Literal, ListTerm))))
 internal_action(".literal")(_type_check(lambda t: isinstance(t, Literal)))
 internal_action(".ground")(_type_check(is_ground))
-internal_action(".var")(_type_check(lambda t: isinstance(t, Var)))
-internal_action(".is_var")(_type_check(lambda t: isinstance(t, Var)))
 
 
 @internal_action(".term2string")

@@ -135,12 +135,6 @@ def reverse(ctx: Any, args: list) -> bool:
     return ctx.unify(args[1], _plain_str(args[0])[::-1])
 
 
-@internal_action(".sum")
-def sum_(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
-    return ctx.unify(args[1], float(sum(x for x in _items(args[0]) if isinstance(x, float))))
-
-
 @internal_action(".empty")
 def empty(ctx: Any, args: list) -> bool:
     arg_count(args, 1)
@@ -229,3 +223,66 @@ def shuffle(ctx: Any, args: list) -> bool:
     items = _items(args[0])
     ctx.ag.random.shuffle(items)
     return ctx.unify(args[1], make_list(items))
+
+
+def _sublist_args(args: list) -> list:
+    """The argument checks shared by ``.prefix .suffix .sublist``; the list's items."""
+    arg_count(args, 2)
+    if not isinstance(args[0], (ListTerm, Var)):
+        raise wrong_arg("first argument must be a list or a variable")
+    if not isinstance(args[1], ListTerm):
+        raise wrong_arg("second argument must be a list")
+    items, tail = list(args[1].items), args[1].tail
+    while isinstance(tail, ListTerm):
+        items.extend(tail.items)
+        tail = tail.tail
+    return items
+
+
+def _each_candidate(ctx: Any, pattern: Any, candidates: Any) -> Any:
+    def gen():
+        for c in candidates:
+            s2 = dict(ctx.s)
+            if unify(pattern, make_list(c), s2):
+                yield s2
+    return gen()
+
+
+@internal_action(".prefix")
+def prefix(ctx: Any, args: list) -> Any:
+    """``.prefix(P, L)``: longest prefix first, ``[]`` last (jason.stdlib.prefix)."""
+    items = _sublist_args(args)
+    return _each_candidate(ctx, args[0], (items[:n] for n in range(len(items), -1, -1)))
+
+
+@internal_action(".suffix")
+def suffix(ctx: Any, args: list) -> Any:
+    """``.suffix(S, L)``: the whole list first, ``[]`` last (jason.stdlib.suffix)."""
+    items = _sublist_args(args)
+    return _each_candidate(ctx, args[0], (items[k:] for k in range(len(items) + 1)))
+
+
+@internal_action(".sublist")
+def sublist(ctx: Any, args: list) -> Any:
+    """``.sublist(S, L)``: the prefixes of each suffix, longest first, then ``[]``
+    (jason.stdlib.sublist: [a,b,c], [a,b], [a], [b,c], [b], [c], [])."""
+    items = _sublist_args(args)
+    cands = [items[k:e] for k in range(len(items)) for e in range(len(items), k, -1)]
+    return _each_candidate(ctx, args[0], [*cands, []])
+
+
+def _add_annot(t: Any, annot: Any) -> Any:
+    if isinstance(t, ListTerm):
+        items = list_to_python(t)
+        if items is not None:
+            return make_list([_add_annot(x, annot) for x in items])
+    if isinstance(t, Literal):
+        return t.add_annots([annot])
+    return t
+
+
+@internal_action(".add_annot")
+def add_annot(ctx: Any, args: list) -> bool:
+    """``.add_annot(T, A, R)``: R is T (or each literal of the list T) with annotation A."""
+    arg_count(args, 3)
+    return ctx.unify(_add_annot(args[0], args[1]), args[2])
