@@ -168,3 +168,34 @@ def test_add_annot() -> None:
     # jason.stdlib.add_annot: literals (also inside a list) get the annotation, other terms stay
     assert run('.add_annot(p(1), x, R); .print(R); .add_annot([a, p[z], "s", 3], b, R2); .print(R2)') == [
         "p(1)[x]", '[a[b],p[b,z],"s",3]']
+
+
+# ------------------------------------------------------------------ strings
+def test_puts_interpolation() -> None:
+    # jason.stdlib.puts: #{name} is parsed as a term and applied; non-string args are skipped;
+    # a variable last argument receives the text
+    assert run('X = 5; Y = "str"; .puts("x=#{X} y=#{Y} z=#{Z} a=#{abc} n=#{12}"); '
+               '.puts("v #{X}", R); .print(R); .puts("a", 5)') == [
+        "x=5 y=str z=Z a=abc n=12", "v 5", "a"]
+
+
+def test_printf_numbers_are_doubles() -> None:
+    # jason.stdlib.printf: String.format with every number a Double (Double.toString for %s)
+    assert run('.printf("%s|%5.2f|%s|%s|%-4s|%%", 5, 3.14159, abc, "q", x); '
+               '.printf("%s %s", 1.0E7, 0.5)') == [
+        "5.0| 3.14|abc|q|x   |%", "1.0E7 0.5"]
+
+
+def test_substring_all_arities() -> None:
+    # jason.stdlib.substring: extraction when the first argument is unbound, else positions
+    # (the 4th argument of the position form is P + length - 1, as Jason computes it)
+    assert run('.substring(R2, "abcdef", 2, 4); .print(R2); .substring(R3, "abcdef", 3); .print(R3); '
+               '.findall(P, .substring("a","abbacca",P), Ps); .print(Ps); '
+               '.findall([S,E], .substring("ca","abbacca",S,E), SE); .print(SE); '
+               'if (.substring("bc", abcd)) { .print(yes) }') == ["cd", "def", "[0,3,6]", "[[5,6]]", "yes"]
+
+
+def test_case_conversion_of_atoms_gives_strings() -> None:
+    # jason.stdlib.upper_case/lower_case: a non-string uses its toString; the result is a string
+    assert run('.upper_case(abc, U); .print(U); if (U == "ABC") { .print(str) }; '
+               '.lower_case(f("HeLLo"), L); .print(L)') == ["ABC", "str", 'f("hello")']

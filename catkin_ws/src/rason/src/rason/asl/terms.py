@@ -233,10 +233,17 @@ def format_number(x: float) -> str:
             return str(int(x))
         if x == float(_LONG_MAX):
             return str(_LONG_MAX - 1)
-    ax = abs(x)
-    if 1e-3 <= ax < 1e7:
-        r = repr(x)
-        return r
+    return java_double_str(x)
+
+
+def java_double_str(x: float) -> str:
+    """Java's ``Double.toString``: ``5.0``, ``0.001``, ``1.0E7``, ``1.0E-4``."""
+    if x != x:
+        return "NaN"
+    if x in (math.inf, -math.inf):
+        return "Infinity" if x > 0 else "-Infinity"
+    if x == 0 or 1e-3 <= abs(x) < 1e7:
+        return repr(x)
     sign, digits, exp = Decimal(repr(x)).as_tuple()
     ds = "".join(map(str, digits)).rstrip("0") or "0"
     e10 = len(digits) - 1 + exp

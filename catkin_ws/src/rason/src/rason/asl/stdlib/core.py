@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import datetime
+import re
 from typing import Any
 
 from ..parser import AslSyntaxError, parse_term
@@ -12,6 +13,7 @@ from ..terms import (
     Literal,
     Var,
     is_ground,
+    java_double_str,
     list_to_python,
     make_list,
     sort_key,
@@ -19,7 +21,7 @@ from ..terms import (
     to_print_str,
 )
 from ..unify import eval_arith, resolve
-from . import SUSPEND, FailGoal, IAError, arg_count, internal_action
+from . import SUSPEND, FailGoal, IAError, arg_count, internal_action, wrong_arg
 
 
 # ---------------------------------------------------------------- console
@@ -30,20 +32,72 @@ def print_(ctx: Any, args: list) -> bool:
     return True
 
 
+_PUTS_VAR = re.compile(r"#\{([A-Za-z0-9_]+)\}")
+
+
 @internal_action(".puts")
 def puts(ctx: Any, args: list) -> bool:
-    """Print a string; ``#{Var}`` is replaced by the variable's value."""
-    text = "".join(to_print_str(a) for a in args[:1])
-    if "#{" in text:
-        import re
+    """``.puts(S[, R])`` (jason.stdlib.puts): each ``#{T}`` (T a name, number or variable) is
+    replaced by T's value; the string arguments are joined; a variable last argument gets the
+    text, else it is printed."""
+    arg_count(args, 1, 2)
+    if not isinstance(args[0], str):
+        raise wrong_arg("first argument must be a string")
 
-        def rep(m: Any) -> str:
-            v = resolve(Var(m.group(1)), ctx.s)
-            return to_print_str(v)
-        text = re.sub(r"#\{([A-Za-z_][A-Za-z0-9_]*)\}", rep, text)
-    if len(args) > 1:
-        return ctx.unify(args[1], text)
+    def rep(m: Any) -> str:
+        try:
+            t = resolve(parse_term(m.group(1)), ctx.s)
+        except AslSyntaxError:
+            return m.group(0)
+        return to_print_str(t)
+    text = "".join(_PUTS_VAR.sub(rep, a) for a in args if isinstance(a, str))
+    if isinstance(args[-1], Var):
+        return ctx.unify(text, args[-1])
     ctx.ag.console(text)
+    return True
+
+
+_JAVA_FORMAT = re.compile(r"%(\d+\$)?([-#+ 0,(]*)(\d+)?(\.\d+)?([a-zA-Z%])")
+
+
+@internal_action(".printf")
+def printf(ctx: Any, args: list) -> bool:
+    """``.printf(Format, Args...)`` (jason.stdlib.printf): Java's ``String.format``; every number
+    is a Double, so ``%d`` is an error."""
+    if not args:
+        raise IAError("The internal action 'printf' has not received the required number of "
+                      "argument(s).", "wrong_arguments")
+    if not isinstance(args[0], str):
+        raise wrong_arg("first argument must be a string (the format)")
+    values = [a.functor if isinstance(a, Literal) and not a.args and not a.annots and not a.neg
+              else a for a in args[1:]]
+    nxt = 0
+
+    def conv(m: Any) -> str:
+        nonlocal nxt
+        index, flags, width, prec, c = m.groups()
+        if c == "%":
+            return "%"
+        if c == "n":
+            return "\n"
+        if index:
+            v = values[int(index[:-1]) - 1]
+        else:
+            if nxt >= len(values):
+                raise IAError(f"Format specifier '{m.group(0)}'", "ia_failed")
+            v = values[nxt]
+            nxt += 1
+        spec = "%" + flags + (width or "") + (prec or "")
+        if c in "sS":
+            text = (java_double_str(v) if isinstance(v, float) else v if isinstance(v, str)
+                    else term_str(v))
+            out = (spec + "s") % text
+            return out.upper() if c == "S" else out
+        if c in "feE" and isinstance(v, float):
+            return (spec + c) % v
+        java_type = "java.lang.Double" if isinstance(v, float) else "java.lang.String"
+        raise IAError(f"{c} != {java_type}", "ia_failed")
+    ctx.ag.console(_JAVA_FORMAT.sub(conv, args[0]))
     return True
 
 

@@ -6,38 +6,47 @@ import re
 from typing import Any
 
 from ..terms import Var, to_print_str
-from ..unify import eval_arith, unify
-from . import arg_count, internal_action
+from ..unify import unify
+from . import IAError, arg_count, internal_action
 
 
 def _s(t: Any) -> str:
     return to_print_str(t)
 
 
+def _java_substring(s: str, begin: int, end: int) -> str:
+    if begin < 0 or end > len(s) or begin > end:
+        raise IAError(f"begin {begin}, end {end}, length {len(s)}", "ia_failed")
+    return s[begin:end]
+
+
 @internal_action(".substring")
 def substring(ctx: Any, args: list) -> Any:
-    """``.substring(Sub, S[, Pos])`` tests/enumerates positions; ``.substring(S, R, Begin[, End])``
-    extracts when R is unbound."""
+    """jason.stdlib.substring: ``.substring(Sub, S)`` tests; ``.substring(R, S, B[, E])`` with R
+    unbound extracts S[B:E]; ``.substring(Sub, S, P[, E])`` enumerates the positions P where Sub
+    occurs (E is then P + length - 1, as Jason computes it)."""
     arg_count(args, 2, 3, 4)
-    if len(args) >= 3 and isinstance(args[1], Var):
-        s = _s(args[0])
-        b = int(eval_arith(args[2], ctx.s))
-        e = int(eval_arith(args[3], ctx.s)) if len(args) == 4 else len(s)
-        return ctx.unify(args[1], s[b:e])
     sub, s = _s(args[0]), _s(args[1])
     if len(args) == 2:
         return sub in s
+    if isinstance(args[2], float) and (isinstance(args[0], Var) or isinstance(args[1], Var)):
+        src = s if isinstance(args[0], Var) else sub
+        start = int(args[2])
+        end = int(args[3]) if len(args) == 4 and isinstance(args[3], float) else len(src)
+        return ctx.unify(args[0] if isinstance(args[0], Var) else args[1],
+                         _java_substring(src, start, end))
 
     def gen():
-        start = 0
-        while True:
-            i = s.find(sub, start)
+        pos = 0
+        while pos < len(s):
+            i = s.find(sub, pos)
             if i < 0:
                 return
+            pos = i + 1
             s2 = dict(ctx.s)
-            if unify(args[2], float(i), s2):
+            if unify(args[2], float(i), s2) and (
+                    len(args) == 3 or unify(args[3], float(i - 1 + len(sub)), s2)):
                 yield s2
-            start = i + 1
     return gen()
 
 
