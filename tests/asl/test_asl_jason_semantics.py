@@ -199,3 +199,18 @@ def test_case_conversion_of_atoms_gives_strings() -> None:
     # jason.stdlib.upper_case/lower_case: a non-string uses its toString; the result is a string
     assert run('.upper_case(abc, U); .print(U); if (U == "ABC") { .print(str) }; '
                '.lower_case(f("HeLLo"), L); .print(L)') == ["ABC", "str", 'f("hello")']
+
+
+# ------------------------------------------------------------------ plans as terms
+def test_relevant_plans_add_plan_remove_plan() -> None:
+    # jason.stdlib.relevant_plans (label sources removed, 3rd arg the labels), add_plan
+    # (plan term or string, 'begin' puts it first), remove_plan by label
+    prog = ('!s.\n@p1 +!g(1) <- .print(one).\n@p2 +!g(X) : X > 1 <- .print(big).\n'
+            '+!s <- .relevant_plans({+!g(_)}, _, Ls); .print(Ls);'
+            ' .relevant_plans({+!g(1)}, [P|_]); .print(P);'
+            ' .relevant_plans("+!g(5)", _, Ls3); .print(Ls3);'
+            ' .add_plan({ @p3 +!k <- .print(kk) }); .add_plan("+!m(X) <- .print(m,X)."); !k; !m(4);'
+            ' .remove_plan(p3); .relevant_plans({+!k}, L4); .print(L4);'
+            ' .add_plan({ @p0 +!g(A) <- .print(first) }, self, begin); !g(1).')
+    assert lines(run_source(prog)) == ["[p1,p2]", "{ @p1 +!g(1) <- .print(one) }", "[p2]", "kk", "m4", "[]",
+                                       "first"]

@@ -121,6 +121,9 @@ block: "{" [stmt_list] "}"
         | list
         | "(" log_expr ")"
         | "{" [stmt_list] "}"     -> plan_term
+        | "{" "+" goaltype literal_or_var [context] [plan_body] "}"  -> plan_term_add_goal
+        | "{" "-" goaltype literal_or_var [context] [plan_body] "}"  -> plan_term_del_goal
+        | "{" label trigger [context] [plan_body] "}"               -> plan_term_labelled
 
 ?literal_or_var: literal | var
 var: VAR [annots]
@@ -294,6 +297,21 @@ class _ToAst(Transformer):
     def plan_term(self, meta: Any, c: list) -> PlanTerm:
         body = tuple(c[0]) if c and c[0] is not None else ()
         return PlanTerm(body, body_str(body))
+
+    def _plan_term(self, meta: Any, label: Any, trigger: Trigger, context: Any, body: Any) -> PlanTerm:
+        plan = Plan(label, trigger, context, tuple(body or ()), meta.line, self.src)
+        return plan.as_term()
+
+    def plan_term_add_goal(self, meta: Any, c: list) -> PlanTerm:
+        gt = ACHIEVE if str(c[0]) == "!" else TEST
+        return self._plan_term(meta, None, Trigger(ADD, gt, _fix(c[1])), c[2], c[3])
+
+    def plan_term_del_goal(self, meta: Any, c: list) -> PlanTerm:
+        gt = ACHIEVE if str(c[0]) == "!" else TEST
+        return self._plan_term(meta, None, Trigger(DEL, gt, _fix(c[1])), c[2], c[3])
+
+    def plan_term_labelled(self, meta: Any, c: list) -> PlanTerm:
+        return self._plan_term(meta, *c)
 
     # ---------------- body
     def stmt_list(self, meta: Any, c: list) -> list:

@@ -159,6 +159,16 @@ class Plan:
         return self.label.functor
 
     def __str__(self) -> str:
+        return self.as_text() + "."
+
+    def as_term(self) -> PlanTerm:
+        """This plan as a term (Jason's ``Plan.setAsPlanTerm``): ``{ @l +!g : c <- b }``."""
+        return PlanTerm(self.body, self.as_text(), self)
+
+    def body_text(self) -> str:
+        return body_str(self.body)
+
+    def as_text(self) -> str:
         s = ""
         if self.label is not None:
             s += "@" + term_str(self.label) + " "
@@ -167,7 +177,7 @@ class Plan:
             s += " : " + term_str(self.context)
         if self.body:
             s += " <- " + body_str(self.body)
-        return s + "."
+        return s
 
 
 class PlanLibrary:
@@ -220,6 +230,8 @@ class PlanLibrary:
 
 def plan_term_trigger(t: PlanTerm) -> Trigger | None:
     """Interpret ``{+b}`` / ``{-b}`` / ``{+!g}`` plan terms (used by ``.wait``)."""
+    if t.plan is not None:
+        return t.plan.trigger
     if len(t.body) != 1:
         return None
     d = t.body[0]

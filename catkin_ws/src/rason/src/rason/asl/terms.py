@@ -198,13 +198,15 @@ class LogExpr(_Expr):
 
 
 class PlanTerm:
-    """A plan/plan-body term in braces, e.g. ``{ p(1) }`` or ``{+stop}``."""
+    """A plan/plan-body term in braces, e.g. ``{ p(1) }``, ``{+stop}`` or a whole plan
+    ``{ @l +!g : c <- .print(a) }`` (then ``plan`` is the :class:`~.plans.Plan`)."""
 
-    __slots__ = ("body", "text")
+    __slots__ = ("body", "plan", "text")
 
-    def __init__(self, body: tuple, text: str) -> None:
+    def __init__(self, body: tuple, text: str, plan: Any = None) -> None:
         self.body = body
         self.text = text
+        self.plan = plan
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, PlanTerm) and self.text == other.text

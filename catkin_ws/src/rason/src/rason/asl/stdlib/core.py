@@ -319,3 +319,94 @@ def remove_plan(ctx: Any, args: list) -> bool:
 def stop_mas(ctx: Any, args: list) -> bool:
     ctx.ag.request_stop()
     return True
+
+
+# ---------------------------------------------------------------- plans
+def _to_plan(t: Any) -> Any:
+    """jason.stdlib.add_plan.transform2plan: a plan term, or a string holding one plan."""
+    from ..parser import parse_source
+    if isinstance(t, str):
+        try:
+            src = parse_source(t.replace("\\", ""), "<plan>")
+        except AslSyntaxError as e:
+            raise IAError(str(e), "internal_action") from None
+        if len(src.plans) != 1:
+            raise IAError(f"not a plan: {t}", "internal_action")
+        return src.plans[0]
+    if isinstance(t, PlanTerm) and t.plan is not None:
+        return t.plan
+    raise wrong_arg(f"The term '{term_str(t)}' ({type(t).__name__}) can not be used as a plan for .add_plan.")
+
+
+@internal_action(".add_plan")
+def add_plan(ctx: Any, args: list) -> bool:
+    """``.add_plan(P[, Source[, begin|end]])``: P a plan term, a string or a list of them; a plan
+    equal to one already in the library (same trigger, context and body) is not added again."""
+    arg_count(args, 1, 2, 3)
+    front = len(args) > 2 and term_str(args[2]) == "begin"
+    items = list_to_python(args[0]) if isinstance(args[0], ListTerm) else [args[0]]
+    pl = ctx.ag.pl
+    for t in items or []:
+        p = _to_plan(t)
+        key = (str(p.trigger), term_str(p.context) if p.context is not None else "", p.body_text())
+        if any((str(q.trigger), term_str(q.context) if q.context is not None else "", q.body_text()) == key
+               for q in pl.plans):
+            continue
+        pl.add(p, front=front)
+    return True
+
+
+def _trigger_of(t: Any) -> Any:
+    from ..parser import parse_source
+    if isinstance(t, PlanTerm):
+        trig = plan_term_trigger(t)
+        if trig is not None:
+            return trig
+    if isinstance(t, str):
+        try:
+            src = parse_source(t + ".", "<trigger>")
+            if len(src.plans) == 1:
+                return src.plans[0].trigger
+        except AslSyntaxError:
+            pass
+    raise wrong_arg(f"first argument '{term_str(t)}' must follow the syntax of a trigger.")
+
+
+@internal_action(".relevant_plans")
+def relevant_plans(ctx: Any, args: list) -> bool:
+    """``.relevant_plans(Trigger, Plans[, Labels])`` (jason.stdlib.relevant_plans): the plans
+    whose trigger unifies with Trigger, as plan terms, labels without their sources."""
+    from ..plans import Plan, Trigger
+    from ..unify import unify
+    arg_count(args, 2, 3)
+    te = _trigger_of(args[0])
+    plans, labels = [], []
+    for p in ctx.ag.pl.relevant(te):
+        if p.trigger.op != te.op or p.trigger.type != te.type or not unify(p.trigger.literal, te.literal, {}):
+            continue
+        label = p.label
+        if label is not None:
+            label = Literal(label.functor, label.args,
+                            tuple(a for a in label.annots
+                                  if not (isinstance(a, Literal) and a.functor == "source")))
+        q = Plan(label, Trigger(p.trigger.op, p.trigger.type, p.trigger.literal), p.context, p.body,
+                 p.line, p.src)
+        plans.append(q.as_term())
+        labels.append(label if label is not None else Literal("nolabel"))
+    if not ctx.unify(make_list(plans), args[1]):
+        return False
+    return len(args) < 3 or ctx.unify(make_list(labels), args[2])
+
+
+@internal_action(".plan_label")
+def plan_label(ctx: Any, args: list) -> bool:
+    """``.plan_label(P, L)``: P is the plan (as a term) whose label is L."""
+    arg_count(args, 2)
+    name = args[1].functor if isinstance(args[1], Literal) else to_print_str(args[1])
+    from ..plans import Plan
+    for p in ctx.ag.pl.plans:
+        if p.label_name() == name:
+            # the library's labels carry their source (PlanLibrary.add), which plan_label keeps
+            q = Plan(p.label.with_self_source(), p.trigger, p.context, p.body, p.line, p.src)
+            return ctx.unify(q.as_term(), args[0])
+    return False
