@@ -30,7 +30,7 @@ from .terms import (
     source,
     term_str,
 )
-from .unify import AGENT_HOOK, RANDOM_HOOK, resolve, unify
+from .unify import CURRENT, resolve, unify
 
 
 def _strip_sources(t: Any) -> Any:
@@ -67,7 +67,6 @@ class Agent:
         self.event_waits: list[tuple] = []            # (trigger|None, cond|None, intention, im)
         self.ask_waits: dict[str, tuple] = {}         # msg_id -> (intention, answer term)
         self.random = random.Random(seed)
-        self._rnd = self.random.random
         self._seq = itertools.count()
         self._action_ids = itertools.count(1)
         self.intention_ids = itertools.count(1)
@@ -129,9 +128,7 @@ class Agent:
     def step(self) -> bool:
         """One reasoning cycle; True if it did anything."""
         with self._state_lock:
-            if not RANDOM_HOOK or RANDOM_HOOK[0] is not self._rnd:
-                RANDOM_HOOK[:] = [self._rnd]
-                AGENT_HOOK[:] = [self]
+            CURRENT.agent = self
             try:
                 did = self.sense()
                 did = reasoning.deliberate(self) or did

@@ -8,6 +8,7 @@ need to backtrack.
 from __future__ import annotations
 
 import math
+import threading
 from collections.abc import Callable
 from typing import Any
 
@@ -125,10 +126,10 @@ LIST_FUNCTIONS: dict[str, Any] = {
 for _name in LIST_FUNCTIONS:
     ARITH_FUNCTIONS.setdefault(_name, _list_only)
 
-# set by the agent at each reasoning cycle: math.random needs the agent's random generator,
-# ``.count(Q)`` the agent itself
-RANDOM_HOOK: list = []
-AGENT_HOOK: list = []
+#: The agent whose reasoning cycle runs in this thread (set by ``Agent.step``): ``math.random``
+#: needs its random generator, ``.count(Q)`` its belief base. Thread-local, because a ``mas``
+#: node runs each agent in a thread of its own.
+CURRENT = threading.local()
 
 
 def _pow(a: float, b: float) -> float:
@@ -238,9 +239,10 @@ def eval_arith(t: Any, s: Subst) -> float:
                 return float(f(*args))
             except (TypeError, ValueError, OverflowError) as e:
                 raise ArithError(str(e)) from None
-        if t.functor == "math.random" and RANDOM_HOOK:
+        agent = getattr(CURRENT, "agent", None)
+        if t.functor == "math.random" and agent is not None:
             args = [eval_arith(a, s) for a in t.args]
-            r = RANDOM_HOOK[0]()
+            r = agent.random.random()
             return r * args[0] if args else r
     raise ArithError(f"not a number: {t!r}")
 
@@ -259,10 +261,11 @@ def _agent_function(fn: str, arg: Any, s: Subst) -> float:
             if a is None:
                 return float(n)
         raise ArithError(".length of a non-list")
-    if fn == ".count" and AGENT_HOOK:
+    agent = getattr(CURRENT, "agent", None)
+    if fn == ".count" and agent is not None:
         from .logic import solve
         q = resolve(arg, s)
-        return float(sum(1 for _ in solve(AGENT_HOOK[0], q, {})))
+        return float(sum(1 for _ in solve(agent, q, {})))
     raise ArithError(f"not a function: {fn}")
 
 
