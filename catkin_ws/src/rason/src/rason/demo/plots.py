@@ -60,7 +60,7 @@ def save_run_picture(monitor: RunMonitor, result: RunResult, path) -> None:
     else:
         _draw_frame(cam, *frame)
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
+    fig.savefig(path, dpi=90, bbox_inches="tight")  # keep the two-line camera title
     plt.close(fig)
 
 
