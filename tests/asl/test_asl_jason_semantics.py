@@ -214,3 +214,85 @@ def test_relevant_plans_add_plan_remove_plan() -> None:
             ' .add_plan({ @p0 +!g(A) <- .print(first) }, self, begin); !g(1).')
     assert lines(run_source(prog)) == ["[p1,p2]", "{ @p1 +!g(1) <- .print(one) }", "[p2]", "kk", "m4", "[]",
                                        "first"]
+
+
+# ------------------------------------------------------------------ goals and intentions
+def test_suspend_and_resume_a_running_intention() -> None:
+    # jason.stdlib.suspend: a running intention with the goal leaves I for PI ("suspended-<id>");
+    # jason.stdlib.resume puts it back at the end of I
+    src = ("!main.\n"
+           "+!main <- !!w; .print(m1); .suspend(w); .print(m2); .print(m3); .resume(w); "
+           ".print(m4); .print(m5).\n"
+           "+!w <- .print(w1); .print(w2); .print(w3).\n")
+    assert lines(run_source(src)) == ["m1", "w1", "m2", "m3", "w2", "m4", "w3", "m5"]
+
+
+def test_self_suspend_continues_after_the_suspend_when_resumed() -> None:
+    # jason.stdlib.suspend without argument: SELF_SUSPENDED_INT; resume removes the .suspend step
+    src = ("!main.\n"
+           "+!main <- !!w; .print(m1); .print(m2); .print(m3); .resume(w); .print(m4); .print(m5).\n"
+           "+!w <- .print(w1); .suspend; .print(w2); .print(w3).\n")
+    assert lines(run_source(src)) == ["m1", "w1", "m2", "m3", "w2", "m4", "w3", "m5"]
+
+
+def test_suspended_waiting_intention_stays_held_after_its_event() -> None:
+    # jason.stdlib.wait.WaitEvent.resume: a .suspend-ed intention goes to PI as "suspended-<id>"
+    # when its event comes, and runs only after .resume
+    src = ("!main.\n"
+           "+!main <- !!w; .print(m1); .suspend(w); .print(m2); +go; .print(m3); .print(m4); "
+           ".resume(w); .print(m5); .print(m6).\n"
+           "+!w <- .wait({+go}); .print(w_after_go).\n")
+    assert lines(run_source(src)) == ["m1", "m2", "m3", "m4", "w_after_go", "m5", "m6"]
+
+
+def test_resume_of_a_still_waiting_intention_only_clears_the_mark() -> None:
+    # jason.stdlib.resume: a PI key not starting with "suspended-" stays in PI (still waiting)
+    src = ("!main.\n"
+           "+!main <- !!w; .print(m1); .print(m2); .suspend(w); .resume(w); .print(m3); +go; "
+           ".print(m4); .print(m5).\n"
+           "+!w <- .wait({+go}); .print(w_after_go).\n")
+    assert lines(run_source(src)) == ["m1", "m2", "m3", "w_after_go", "m4", "m5"]
+
+
+def test_suspend_of_queued_events_shares_one_unifier() -> None:
+    # jason.stdlib.suspend: events go to PE; un.unifies keeps the bindings of the first match,
+    # so .suspend(b(_)) holds only +!b(1); .resume puts it back at the end of E
+    src = ("!a. !b(1). !b(2). !c.\n"
+           "+!a <- .suspend(b(_)); .print(a1); .print(a2); .resume(b(_)); .print(a3); .print(a4); "
+           ".print(a5).\n"
+           "+!b(N) <- .print(b(N)).\n"
+           "+!c <- .print(c).\n")
+    assert lines(run_source(src)) == ["a1", "b(2)", "a2", "c", "a3", "b(1)", "a4", "a5"]
+
+
+def test_intend_desire_intention_states_and_suspended() -> None:
+    # jason.stdlib.intend.allIntentions (SI, then PI...), Intention.getStateBasedOnPlace,
+    # jason.stdlib.suspended (PI), jason.stdlib.intention with `current` (state running)
+    src = ("!main.\n"
+           "+!main <- !!w; .print(a); .print(b); .findall(G, .intend(G), L); .print(L); "
+           ".findall(D, .desire(D), L2); .print(L2); "
+           "if (.intention(_, waiting)) { .print(has_waiting) }; "
+           "if (.suspended(w, _)) { .print(w_suspended) } else { .print(w_not_suspended) }; "
+           ".suspend(w); if (.intention(_, suspended)) { .print(has_suspended) }; "
+           "if (.suspended(w, _)) { .print(w_suspended) }; "
+           ".intention(Id, State, _, current); .print(State); "
+           ".current_intention(intention(Id2, _)); if (Id == Id2) { .print(same_id) }.\n"
+           "+!w <- .wait({+never}).\n")
+    assert lines(run_source(src)) == [
+        "a", "b", "[main[source(self)],w[source(self)]]", "[main[source(self)],w[source(self)]]",
+        "has_waiting", "w_suspended", "has_suspended", "w_suspended", "running", "same_id"]
+
+
+def test_intend_sees_the_selected_event_and_the_selected_intention() -> None:
+    # Circumstance.resetDeliberate runs only at the start of deliberate: in the first step of
+    # +!h both C.SE's intention and C.SI are the same intention, and intend answers twice
+    src = "!g.\n+!g <- !h.\n+!h <- .findall(G, .intend(G), L); .print(L).\n"
+    assert lines(run_source(src)) == ["[h[source(self)],h[source(self)]]"]
+
+
+def test_wait_for_a_logical_condition_binds_its_variables() -> None:
+    # jason.stdlib.wait: the formula is tested at each new event; its bindings are kept
+    src = ("!main.\n"
+           "+!main <- !!w; .print(a); +b(1); .print(b); +b(5); .print(c); .print(d).\n"
+           "+!w <- .wait(b(X) & X > 3); .print(got(X)).\n")
+    assert lines(run_source(src)) == ["a", "b", "got(5)", "c", "d"]

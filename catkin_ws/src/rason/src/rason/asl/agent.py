@@ -14,7 +14,7 @@ from typing import Any
 from . import reasoning
 from .arch import AgentArch, Message
 from .beliefs import BeliefBase
-from .intentions import Event, IntendedMeans, Intention, IntentionQueue
+from .intentions import Event, IntendedMeans, Intention, IntentionQueue, has_goal, java_map_order
 from .logic import solve
 from .parser import AgentSource, Rule, parse_source
 from .plans import ACHIEVE, ADD, BELIEF, DEL, PlanLibrary, Trigger
@@ -65,6 +65,8 @@ class Agent:
         self.pending_actions: dict[int, tuple] = {}
         self.timers: list[tuple] = []                 # heap of (deadline, seq, kind, intention, data)
         self.event_waits: list[tuple] = []            # (trigger|None, cond|None, intention, im)
+        self.pending_events: list[tuple] = []         # Jason's PE: (key, event) held by .suspend
+        self.selected_event: Event | None = None      # Jason's C.SE (the event of this cycle)
         self.ask_waits: dict[str, tuple] = {}         # msg_id -> (intention, answer term)
         self.random = random.Random(seed)
         self._seq = itertools.count()
@@ -283,7 +285,8 @@ class Agent:
                 did = True
             elif kind == "event_timeout" and i.suspended == "event_wait":
                 self.event_waits = [w for w in self.event_waits if w[2] is not i]
-                self.resume(i)
+                if not self.resume(i):
+                    continue
                 reasoning.fail_intention(self, i, annots=reasoning.error_annots(
                     self, i.top(), None, "wait_timeout", "timeout in .wait"))
                 did = True
@@ -314,7 +317,7 @@ class Agent:
         out.extend(self.running)
         out.extend(i for i in self.suspended.values() if i is not self.current)
         seen = set()
-        for ev in self.events:
+        for ev in itertools.chain(self.events, (e for _, e in self.pending_events)):
             if ev.intention is not None and ev.intention.id not in seen and ev.intention not in out:
                 seen.add(ev.intention.id)
                 out.append(ev.intention)
@@ -324,19 +327,32 @@ class Agent:
         i.suspended = why
         self.suspended[i.id] = i
 
-    def resume(self, i: Intention) -> None:
+    def resume(self, i: Intention) -> bool:
+        """What ``i`` waited for happened: back to the running queue, unless ``.suspend`` holds
+        it (then it stays in PI as ``suspended-<id>`` until ``.resume``, as in jason.stdlib.wait).
+        Returns True when ``i`` runs again."""
+        if i.sus_ia and not i.dropped:
+            i.suspended = "suspended"
+            i.pi_key = f"suspended-{i.id}"
+            self.suspended[i.id] = i
+            return False
         self.suspended.pop(i.id, None)
         i.suspended = None
+        i.pi_key = None
         if not i.dropped and i.ims:
             self.running.append(i)
+            return True
+        return False
 
-    def suspend_timer(self, i: Intention, deadline: float) -> None:
+    def suspend_timer(self, i: Intention, deadline: float, ms: float = 0.0) -> None:
         self.suspend(i, "wait")
+        i.pi_key = f"{i.id}/time{int(ms)}"
         heapq.heappush(self.timers, (deadline, next(self._seq), "wait", i, None))
 
     def suspend_event_wait(self, i: Intention, trig: Trigger | None, cond: Any,
                            deadline: float | None) -> None:
         self.suspend(i, "event_wait")
+        i.pi_key = f"{i.id}/{trig if trig is not None else term_str(cond)}"
         self.event_waits.append((trig, cond, i, i.top()))
         if deadline is not None:
             heapq.heappush(self.timers, (deadline, next(self._seq), "event_timeout", i, None))
@@ -345,6 +361,7 @@ class Agent:
         if i is None:
             return
         self.suspend(i, "ask")
+        i.pi_key = msg_id
         self.ask_waits[msg_id] = (i, answer)
         if deadline is not None:
             heapq.heappush(self.timers, (deadline, next(self._seq), "ask_timeout", i, (msg_id, answer)))
@@ -361,7 +378,11 @@ class Agent:
             del self.pending_actions[k]
         if any(ev.intention is i for ev in self.events):
             self.events = deque(ev for ev in self.events if ev.intention is not i)
+        if self.pending_events:
+            self.pending_events = [(k, ev) for k, ev in self.pending_events if ev.intention is not i]
         i.suspended = None
+        i.sus_ia = False
+        i.pi_key = None
 
     def remove_intention(self, i: Intention) -> None:
         self.detach(i)
@@ -388,10 +409,12 @@ class Agent:
         for i, _ in list(self._goal_positions(pattern, s)):
             self.remove_intention(i)
         if drop_events:
-            self.events = deque(
-                ev for ev in self.events
-                if not (ev.trigger.op == ADD and ev.trigger.type == ACHIEVE
-                        and unify(pattern, ev.trigger.literal, dict(s))))
+            def hit(ev: Event) -> bool:
+                return (ev.trigger.op == ADD and ev.trigger.type == ACHIEVE
+                        and unify(pattern, ev.trigger.literal, dict(s)))
+            self.events = deque(ev for ev in self.events if not hit(ev))
+            if self.pending_events:
+                self.pending_events = [(k, ev) for k, ev in self.pending_events if not hit(ev)]
 
     def drop_all(self, events: bool, keep: Intention | None = None) -> None:
         """``.drop_all_intentions`` (events=False: only events of intentions go) or
@@ -402,6 +425,7 @@ class Agent:
                 self.remove_intention(i)
         if events:
             self.events.clear()
+            self.pending_events.clear()
         else:
             kept = [ev for ev in self.events if ev.intention is None or ev.intention is keep]
             self.events.clear()
@@ -422,6 +446,104 @@ class Agent:
                 reasoning.clr_int(self, i)
                 if i.ims:
                     self.running.append(i)
+
+    # ---------------------------------------------------------------- .suspend / .resume
+    def suspend_goal(self, pattern: Any, s: dict, current: Intention | None) -> tuple[bool, dict]:
+        """``.suspend(G)`` (jason.stdlib.suspend), in Jason's order: intentions waiting for an
+        action (PA) or pending (PI) are marked, running ones go to PI, then the current one,
+        then events for G (or of such intentions) go to PE. As in Jason, one unifier serves
+        all the matches, so the bindings of a match restrict the next ones (and are kept).
+        Returns (the current intention suspended itself, the unifier)."""
+        pend = [i for i in self.suspended.values() if i is not current]
+        pa = sorted((i for i in pend if i.suspended is not None and i.suspended.startswith("action")),
+                    key=lambda i: i.id & 15)
+        pi = java_map_order([i for i in pend if i.pi_key is not None], lambda i: i.pi_key)
+        for i in pa + pi:
+            s2 = has_goal(i, pattern, s)
+            if s2 is not None:
+                s = s2
+                i.sus_ia = True
+                if i.pi_key is None:
+                    i.pi_key = f"suspended-{i.id}"
+        for i in list(self.running):
+            s2 = has_goal(i, pattern, s)
+            if s2 is not None:
+                s = s2
+                self.running.remove(i)
+                self.suspend(i, "suspended")
+                i.sus_ia = True
+                i.pi_key = f"suspended-{i.id}"
+        own = False
+        if current is not None:
+            s2 = has_goal(current, pattern, s)
+            if s2 is not None:
+                s = s2
+                own = True
+                self.suspend(current, "suspended")
+                current.sus_ia = True
+                current.pi_key = f"suspended-self-{current.id}"
+        if self.events:
+            keep: deque = deque()
+            c = 0
+            for ev in self.events:
+                t = ev.trigger
+                i = ev.intention
+                s2 = None
+                if t.op == ADD and t.type == ACHIEVE:
+                    s3 = dict(s)
+                    if unify(pattern, t.literal, s3):
+                        s2 = s3
+                if s2 is None and i is not None:
+                    s2 = has_goal(i, pattern, s)
+                if s2 is None:
+                    keep.append(ev)
+                    continue
+                s = s2
+                self.pending_events.append((f"suspended-{t}{c}", ev))
+                c += 1
+                if i is not None:
+                    i.sus_ia = True
+            self.events = keep
+        return own, s
+
+    def resume_goal(self, pattern: Any, s: dict) -> dict:
+        """``.resume(G)`` (jason.stdlib.resume): intentions held in PI by ``.suspend`` go back
+        to the running queue (in the order of Jason's PI map), the others only lose the mark;
+        then the held events go back to the end of the event queue. One unifier serves all
+        the matches (as in Jason); it is returned."""
+        pi = [i for i in self.suspended.values() if i.pi_key is not None]
+        for i in java_map_order(pi, lambda i: i.pi_key):
+            if not i.sus_ia:
+                continue
+            s2 = has_goal(i, pattern, s)
+            if s2 is None:
+                continue
+            s = s2
+            i.sus_ia = False
+            if (i.pi_key or "").startswith("suspended-"):
+                i.pi_key = None
+                if i.suspended == "suspended":
+                    self.resume(i)
+        for k, ev in java_map_order(list(self.pending_events), lambda kv: kv[0]):
+            t = ev.trigger
+            i = ev.intention
+            s2 = None
+            if t.op == ADD and t.type == ACHIEVE:
+                s3 = dict(s)
+                if unify(pattern, t.literal, s3):
+                    s2 = s3
+            if s2 is None and i is not None:
+                s2 = has_goal(i, pattern, s)
+            if s2 is None:
+                continue
+            s = s2
+            self.pending_events.remove((k, ev))
+            if i is not None:
+                i.sus_ia = False
+            if self.event_waits:
+                self._check_event_waits(ev)
+            self.events.append(ev)
+        return s
 
     def fail_goal(self, pattern: Any, s: dict) -> None:
         for i, idx in list(self._goal_positions(pattern, s)):
@@ -522,8 +644,7 @@ class Agent:
         i, im, action, deed = entry
         if i.dropped or i.id not in self.suspended:
             return
-        self.resume(i)
-        if ok:
+        if not self.resume(i) or ok:
             return
         self.running.remove(i)
         kind = reason or "action_failed"
@@ -560,8 +681,7 @@ class Agent:
             if unify(ans, content, s2):
                 im.u = s2
                 self.resume(i)
-            else:
-                self.resume(i)
+            elif self.resume(i):
                 self.running.remove(i)
                 reasoning.fail_intention(self, i, annots=reasoning.error_annots(
                     self, im, None, "ia_failed", "answer does not unify"))

@@ -6,8 +6,9 @@ import itertools
 from collections import deque
 from typing import Any
 
-from .plans import ADD, DEL, Deed, Plan, Trigger, deed_str
+from .plans import ACHIEVE, ADD, DEL, Deed, Plan, Trigger, deed_str
 from .terms import term_str
+from .unify import unify
 
 _ids = itertools.count(1)
 
@@ -66,7 +67,7 @@ class IntendedMeans:
 class Intention:
     """A stack of intended means; ``ims[-1]`` is the top."""
 
-    __slots__ = ("atomic_count", "dropped", "id", "ims", "reply", "suspended")
+    __slots__ = ("atomic_count", "dropped", "id", "ims", "pi_key", "reply", "sus_ia", "suspended")
 
     def __init__(self, ident: int | None = None) -> None:
         self.id = ident if ident is not None else next(_ids)
@@ -76,6 +77,11 @@ class Intention:
         # None when runnable; otherwise a short reason (e.g. "action 3", "wait", "event")
         self.suspended: str | None = None
         self.atomic_count = 0
+        # Jason's Intention.isSuspended: suspended by .suspend (orthogonal to what it waits for)
+        self.sus_ia = False
+        # its key in Jason's pending intentions (PI): "suspended-<id>" (by .suspend),
+        # "<id>/time<ms>" (.wait)... .resume and .intention follow the order of these keys
+        self.pi_key: str | None = None
 
     def push(self, im: IntendedMeans) -> None:
         self.ims.append(im)
@@ -121,6 +127,40 @@ class IntentionQueue(deque):
         """Remove ``i`` if present."""
         if i in self:
             self.remove(i)
+
+
+def has_goal(i: Intention, pattern: Any, s: dict) -> dict | None:
+    """Jason's ``Intention.hasTrigger(+!G)``: the unifier of the topmost ``+!g`` means
+    that matches, or None."""
+    for idx in range(len(i.ims) - 1, -1, -1):
+        t = i.ims[idx].trigger
+        if t.op == ADD and t.type == ACHIEVE:
+            s2 = dict(s)
+            if unify(pattern, t.literal, s2):
+                return s2
+    return None
+
+
+def _java_string_hash(s: str) -> int:
+    h = 0
+    data = s.encode("utf-16-be")
+    for k in range(0, len(data), 2):
+        h = (31 * h + (data[k] << 8 | data[k + 1])) & 0xFFFFFFFF
+    return h
+
+
+def java_map_order(items: list, key: Any) -> list:
+    """The iteration order of a Java ``ConcurrentHashMap<String, ...>`` holding ``items``
+    (inserted in list order): by bucket of the spread string hash, then insertion order.
+    Jason keeps pending intentions/events (PI, PE) in such maps."""
+    n = 16
+    while len(items) > n * 3 // 4:
+        n *= 2
+
+    def bucket(it: Any) -> int:
+        h = _java_string_hash(key(it))
+        return ((h ^ (h >> 16)) & 0x7FFFFFFF) & (n - 1)
+    return sorted(items, key=bucket)
 
 
 def short(x: Any) -> str:

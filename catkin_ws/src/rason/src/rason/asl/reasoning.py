@@ -106,10 +106,12 @@ def deliberate(ag: Agent) -> bool:
     (:meth:`Agent.add_event`), so they never use up a cycle, as in Jason.
     """
     did = False
+    ag.selected_event = None
     while ag.events:
         ev = sel_ev(ag)
         if ev is None:
             break
+        ag.selected_event = ev
         did = True
         if handle_event(ag, ev):
             break

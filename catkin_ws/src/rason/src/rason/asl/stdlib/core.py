@@ -133,7 +133,7 @@ def wait(ctx: Any, args: list) -> Any:
     first = args[0]
     clock = ag.arch.clock
     if isinstance(first, float):
-        ag.suspend_timer(ctx.intention, clock.now() + max(first, 0.0) / 1000.0)
+        ag.suspend_timer(ctx.intention, clock.now() + max(first, 0.0) / 1000.0, first)
         return SUSPEND
     timeout = None
     if len(args) >= 2 and isinstance(args[1], float):

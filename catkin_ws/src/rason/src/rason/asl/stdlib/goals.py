@@ -4,45 +4,145 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..plans import ACHIEVE, ADD
+from ..intentions import has_goal, java_map_order
+from ..plans import ACHIEVE, ADD, deed_str
+from ..terms import Literal, PlanTerm, Var, make_list, term_str
 from ..unify import unify
-from . import arg_count, internal_action
+from . import arg_count, internal_action, wrong_arg
 
 
-def _goal_literals(ag: Any, with_events: bool) -> list:
-    out = []
-    for i in ag.all_intentions():
-        for im in reversed(i.ims):
-            t = im.trigger
-            if t.op == ADD and t.type == ACHIEVE:
-                out.append(t.literal)
-    if with_events:
-        for ev in ag.events:
-            t = ev.trigger
-            if t.op == ADD and t.type == ACHIEVE:
-                out.append(t.literal)
+def _places(ag: Any) -> list:
+    """The intentions as Jason's ``Circumstance`` visits them, with their place: the selected
+    event's (SE), the current one (SI), those of queued events (E), of held events (PE),
+    waiting for an action (PA), pending (PI: ``.wait``, ask, ``.suspend``), running (I).
+    An intention held by ``.suspend`` while waiting for an action is in PA and in PI."""
+    out: list = []
+    se = ag.selected_event
+    if se is not None and se.intention is not None:
+        out.append(("SE", se.intention))
+    if ag.current is not None:
+        out.append(("SI", ag.current))
+    for ev in ag.events:
+        if ev.intention is not None:
+            out.append(("E", ev.intention))
+    for _, ev in java_map_order(ag.pending_events, lambda kv: kv[0]):
+        if ev.intention is not None:
+            out.append(("PE", ev.intention))
+    cur = ag.current
+    pend = [i for i in ag.suspended.values() if i is not cur]
+    pa = [i for i in pend if i.suspended is not None and i.suspended.startswith("action")]
+    out.extend(("PA", i) for i in sorted(pa, key=lambda i: i.id & 15))
+    pi = [i for i in pend if i.pi_key is not None]
+    out.extend(("PI", i) for i in java_map_order(pi, lambda i: i.pi_key))
+    out.extend(("I", i) for i in ag.running)
     return out
 
 
-def _enumerate(ctx: Any, pattern: Any, lits: list) -> Any:
-    def gen():
-        for lit in lits:
-            s2 = dict(ctx.s)
-            if unify(pattern, lit, s2):
-                yield s2
-    return gen()
+def im_term(im: Any) -> Literal:
+    """``im(Label, {Trigger}, {Body}, [map(Var, Value), ...])`` (Jason's IntendedMeans.getAsTerm;
+    our labels and variable names are not Jason's)."""
+    plan = im.plan
+    label = plan.label if plan.label is not None else Literal(f"l__{id(plan) % 100000}")
+    deeds = list(reversed(im.stack))
+    if im.current is not None and (not deeds or deeds[0] is not im.current) and im.stack:
+        deeds.insert(0, im.current)
+    body = PlanTerm((), "; ".join(deed_str(d) for d in deeds))
+    trig = PlanTerm((), str(im.trigger))
+    unif = make_list([Literal("map", (Var(k), v)) for k, v in im.u.items()
+                      if isinstance(k, str) and not k.startswith("_")])
+    return Literal("im", (label, trig, body, unif))
 
 
-@internal_action(".desire")
-def desire(ctx: Any, args: list) -> Any:
-    arg_count(args, 1, 2)
-    return _enumerate(ctx, args[0], _goal_literals(ctx.ag, True))
+def intention_term(i: Any) -> Literal:
+    """``intention(Id, [im(...) top first ...])`` (Jason's Intention.getAsTerm)."""
+    return Literal("intention", (float(i.id), make_list([im_term(im) for im in reversed(i.ims)])))
+
+
+def _intend_solutions(ctx: Any, pattern: Any, int_term: Any):
+    """jason.stdlib.intend.allIntentions: one solution per visited intention that has a
+    ``+!G`` means (the topmost one); an intention met at two places answers twice."""
+    for _place, i in _places(ctx.ag):
+        s2 = has_goal(i, pattern, ctx.s)
+        if s2 is None:
+            continue
+        if int_term is not None and not unify(int_term, intention_term(i), s2):
+            continue
+        yield s2
 
 
 @internal_action(".intend")
 def intend(ctx: Any, args: list) -> Any:
     arg_count(args, 1, 2)
-    return _enumerate(ctx, args[0], _goal_literals(ctx.ag, False))
+    return _intend_solutions(ctx, args[0], args[1] if len(args) == 2 else None)
+
+
+@internal_action(".desire")
+def desire(ctx: Any, args: list) -> Any:
+    """jason.stdlib.desire: the selected event, the queued events (``+!g`` triggers), then
+    every solution of ``.intend``."""
+    arg_count(args, 1, 2)
+    pattern = args[0]
+    ag = ctx.ag
+
+    def gen():
+        evs = [ag.selected_event] if ag.selected_event is not None else []
+        for ev in evs + list(ag.events):
+            t = ev.trigger
+            if t.op == ADD and t.type == ACHIEVE:
+                s2 = dict(ctx.s)
+                if unify(pattern, t.literal, s2):
+                    yield s2
+        yield from _intend_solutions(ctx, pattern, args[1] if len(args) == 2 else None)
+    return gen()
+
+
+_STATE = {"SE": "running", "SI": "running", "E": "running", "I": "running",
+          "PE": "suspended", "PA": "waiting"}
+
+
+@internal_action(".intention")
+def intention(ctx: Any, args: list) -> Any:
+    """``.intention(Id, State[, Stack[, current]])`` (jason.stdlib.intention): states as
+    ``Intention.getStateBasedOnPlace`` (running, waiting, suspended)."""
+    arg_count(args, 2, 3, 4)
+    ag = ctx.ag
+    if len(args) == 4 and term_str(args[3]) == "current":
+        i = ag.current
+        if i is None and ag.selected_event is not None:
+            i = ag.selected_event.intention
+        if i is None:
+            return False
+        s2 = dict(ctx.s)
+        ok = (unify(args[0], float(i.id), s2) and unify(args[1], Literal("running"), s2)
+              and unify(args[2], intention_term(i).args[1], s2))
+        return s2 if ok else False
+
+    def gen():
+        prev = None
+        for place, i in _places(ag):
+            if place == "SI" and i is prev:
+                continue
+            if place == "E" and i is ag.current:
+                continue
+            prev = i
+            state = ("suspended" if i.sus_ia else "waiting") if place == "PI" else _STATE[place]
+            s2 = dict(ctx.s)
+            if not (unify(args[0], float(i.id), s2) and unify(args[1], Literal(state), s2)):
+                continue
+            if len(args) >= 3 and not unify(args[2], intention_term(i).args[1], s2):
+                continue
+            yield s2
+    return gen()
+
+
+@internal_action(".current_intention")
+def current_intention(ctx: Any, args: list) -> bool:
+    """``.current_intention(I)``: ``intention(Id, [im(...)...])`` of the running intention."""
+    arg_count(args, 1)
+    i = ctx.intention
+    if i is None:
+        return False
+    return ctx.unify(args[0], intention_term(i))
 
 
 @internal_action(".drop_desire")
@@ -87,30 +187,55 @@ def drop_all_events(ctx: Any, args: list) -> bool:
 
 @internal_action(".suspend")
 def suspend(ctx: Any, args: list) -> Any:
-    """``.suspend(G)``: suspend the intentions for goal G (no argument: the current one)."""
+    """``.suspend(G)`` / ``.suspend`` (the current intention), jason.stdlib.suspend."""
     from . import SUSPEND
     arg_count(args, 0, 1)
+    ag = ctx.ag
     if not args:
-        if ctx.intention is None:
+        i = ctx.intention
+        if i is None:
             return False
-        ctx.ag.suspend(ctx.intention, "suspended")
+        ag.suspend(i, "suspended")
+        i.sus_ia = True
+        i.pi_key = f"suspended-self-{i.id}"
         return SUSPEND
-    cur = False
-    for i, _ in list(ctx.ag._goal_positions(args[0], ctx.s)):
-        if i is ctx.intention:
-            cur = True
-        ctx.ag.detach(i)
-        ctx.ag.suspend(i, "suspended")
-    return SUSPEND if cur else True
+    if not isinstance(args[0], Literal):
+        raise wrong_arg("first argument must be a literal")
+    own, ctx.s = ag.suspend_goal(args[0], ctx.s, ctx.intention)
+    return SUSPEND if own else True
 
 
 @internal_action(".resume")
 def resume(ctx: Any, args: list) -> bool:
+    """``.resume(G)``, jason.stdlib.resume."""
     arg_count(args, 1)
-    for i, _ in list(ctx.ag._goal_positions(args[0], ctx.s)):
-        if i.suspended == "suspended":
-            ctx.ag.resume(i)
+    if not isinstance(args[0], Literal):
+        raise wrong_arg("first argument must be a literal")
+    ctx.s = ctx.ag.resume_goal(args[0], ctx.s)
     return True
+
+
+@internal_action(".suspended")
+def suspended(ctx: Any, args: list) -> Any:
+    """``.suspended(G, R)`` (jason.stdlib.suspended): G is a goal of an intention waiting for
+    an action (R = ``act``) or pending in PI (R = its reason: ``suspend_ia`` for ``.suspend``)."""
+    arg_count(args, 2)
+    if not isinstance(args[0], Literal):
+        raise wrong_arg("first argument must be a literal")
+    for place, i in _places(ctx.ag):
+        if place not in ("PA", "PI"):
+            continue
+        s2 = has_goal(i, args[0], ctx.s)
+        if s2 is None:
+            continue
+        if place == "PA":
+            reason: Any = Literal("act")
+        elif i.sus_ia and (i.pi_key or "").startswith("suspended-"):
+            reason = Literal("suspend_ia")
+        else:
+            reason = Literal(i.suspended or "no_reason")
+        return s2 if unify(args[1], reason, s2) else False
+    return False
 
 
 @internal_action(".succeed_goal")
