@@ -14,7 +14,15 @@ from typing import Any
 from . import reasoning
 from .arch import AgentArch, Message
 from .beliefs import BeliefBase
-from .intentions import Event, IntendedMeans, Intention, IntentionQueue, has_goal, java_map_order
+from .intentions import (
+    Event,
+    IntendedMeans,
+    Intention,
+    IntentionQueue,
+    event_has_goal,
+    has_goal,
+    java_map_order,
+)
 from .logic import solve
 from .parser import AgentSource, Rule, parse_source
 from .plans import ACHIEVE, ADD, BELIEF, DEL, PlanLibrary, Trigger
@@ -486,23 +494,15 @@ class Agent:
             keep: deque = deque()
             c = 0
             for ev in self.events:
-                t = ev.trigger
-                i = ev.intention
-                s2 = None
-                if t.op == ADD and t.type == ACHIEVE:
-                    s3 = dict(s)
-                    if unify(pattern, t.literal, s3):
-                        s2 = s3
-                if s2 is None and i is not None:
-                    s2 = has_goal(i, pattern, s)
+                s2 = event_has_goal(ev, pattern, s)
                 if s2 is None:
                     keep.append(ev)
                     continue
                 s = s2
-                self.pending_events.append((f"suspended-{t}{c}", ev))
+                self.pending_events.append((f"suspended-{ev.trigger}{c}", ev))
                 c += 1
-                if i is not None:
-                    i.sus_ia = True
+                if ev.intention is not None:
+                    ev.intention.sus_ia = True
             self.events = keep
         return own, s
 
@@ -525,21 +525,13 @@ class Agent:
                 if i.suspended == "suspended":
                     self.resume(i)
         for k, ev in java_map_order(list(self.pending_events), lambda kv: kv[0]):
-            t = ev.trigger
-            i = ev.intention
-            s2 = None
-            if t.op == ADD and t.type == ACHIEVE:
-                s3 = dict(s)
-                if unify(pattern, t.literal, s3):
-                    s2 = s3
-            if s2 is None and i is not None:
-                s2 = has_goal(i, pattern, s)
+            s2 = event_has_goal(ev, pattern, s)
             if s2 is None:
                 continue
             s = s2
             self.pending_events.remove((k, ev))
-            if i is not None:
-                i.sus_ia = False
+            if ev.intention is not None:
+                ev.intention.sus_ia = False
             if self.event_waits:
                 self._check_event_waits(ev)
             self.events.append(ev)

@@ -141,6 +141,17 @@ def has_goal(i: Intention, pattern: Any, s: dict) -> dict | None:
     return None
 
 
+def event_has_goal(ev: Event, pattern: Any, s: dict) -> dict | None:
+    """The unifier when ``ev`` is ``+!G`` itself or an event of an intention that has ``+!G``
+    (what ``.suspend``/``.resume`` look for in the events), or None."""
+    t = ev.trigger
+    if t.op == ADD and t.type == ACHIEVE:
+        s2 = dict(s)
+        if unify(pattern, t.literal, s2):
+            return s2
+    return None if ev.intention is None else has_goal(ev.intention, pattern, s)
+
+
 def _java_string_hash(s: str) -> int:
     h = 0
     data = s.encode("utf-16-be")
