@@ -6,8 +6,8 @@ import datetime
 import re
 from typing import Any
 
-from ..parser import AslSyntaxError, parse_term
-from ..plans import PlanTerm, plan_term_trigger
+from ..parser import AslSyntaxError, parse_source, parse_term
+from ..plans import Plan, PlanTerm, Trigger, plan_term_trigger
 from ..terms import (
     ListTerm,
     Literal,
@@ -20,7 +20,7 @@ from ..terms import (
     term_str,
     to_print_str,
 )
-from ..unify import eval_arith, resolve
+from ..unify import eval_arith, resolve, unify
 from . import SUSPEND, FailGoal, IAError, arg_count, internal_action, wrong_arg
 
 
@@ -210,7 +210,6 @@ def range_(ctx: Any, args: list) -> Any:
         v = start
         while (v <= end) if step > 0 else (v >= end):
             s2 = dict(ctx.s)
-            from ..unify import unify
             if unify(args[0], v, s2):
                 yield s2
             v += step
@@ -324,7 +323,6 @@ def stop_mas(ctx: Any, args: list) -> bool:
 # ---------------------------------------------------------------- plans
 def _to_plan(t: Any) -> Any:
     """jason.stdlib.add_plan.transform2plan: a plan term, or a string holding one plan."""
-    from ..parser import parse_source
     if isinstance(t, str):
         try:
             src = parse_source(t.replace("\\", ""), "<plan>")
@@ -348,16 +346,20 @@ def add_plan(ctx: Any, args: list) -> bool:
     pl = ctx.ag.pl
     for t in items or []:
         p = _to_plan(t)
-        key = (str(p.trigger), term_str(p.context) if p.context is not None else "", p.body_text())
-        if any((str(q.trigger), term_str(q.context) if q.context is not None else "", q.body_text()) == key
-               for q in pl.plans):
+        if any(_same_plan(p, q) for q in pl.plans):
             continue
         pl.add(p, front=front)
     return True
 
 
+def _same_plan(p: Plan, q: Plan) -> bool:
+    """Same trigger, context and body (labels aside): ``.add_plan`` does not add it twice."""
+    def key(x: Plan) -> tuple:
+        return (str(x.trigger), "" if x.context is None else term_str(x.context), x.body_text())
+    return key(p) == key(q)
+
+
 def _trigger_of(t: Any) -> Any:
-    from ..parser import parse_source
     if isinstance(t, PlanTerm):
         trig = plan_term_trigger(t)
         if trig is not None:
@@ -376,8 +378,6 @@ def _trigger_of(t: Any) -> Any:
 def relevant_plans(ctx: Any, args: list) -> bool:
     """``.relevant_plans(Trigger, Plans[, Labels])`` (jason.stdlib.relevant_plans): the plans
     whose trigger unifies with Trigger, as plan terms, labels without their sources."""
-    from ..plans import Plan, Trigger
-    from ..unify import unify
     arg_count(args, 2, 3)
     te = _trigger_of(args[0])
     plans, labels = [], []
@@ -403,7 +403,6 @@ def plan_label(ctx: Any, args: list) -> bool:
     """``.plan_label(P, L)``: P is the plan (as a term) whose label is L."""
     arg_count(args, 2)
     name = args[1].functor if isinstance(args[1], Literal) else to_print_str(args[1])
-    from ..plans import Plan
     for p in ctx.ag.pl.plans:
         if p.label_name() == name:
             # the library's labels carry their source (PlanLibrary.add), which plan_label keeps
