@@ -6,7 +6,11 @@ the Jason class/method that decides the result when it is not obvious.
 
 from __future__ import annotations
 
+import io
+
 from asl_helpers import lines, run_source
+
+from rason.asl import LocalMas, VirtualClock
 
 
 def run(body: str, extra: str = "") -> list[str]:
@@ -296,3 +300,94 @@ def test_wait_for_a_logical_condition_binds_its_variables() -> None:
            "+!main <- !!w; .print(a); +b(1); .print(b); +b(5); .print(c); .print(d).\n"
            "+!w <- .wait(b(X) & X > 3); .print(got(X)).\n")
     assert lines(run_source(src)) == ["a", "b", "got(5)", "c", "d"]
+
+
+# ------------------------------------------------------------------ communication
+def mas(timeout: float = 10.0, **agents: str) -> str:
+    """Run the agents (name=source) in a LocalMas with a virtual clock; return the output."""
+    out = io.StringIO()
+    m = LocalMas(clock=VirtualClock(), out=out)
+    for name, src in agents.items():
+        m.add_agent(name, src, f"{name}.asl")
+    m.run(timeout=timeout)
+    return out.getvalue()
+
+
+def test_askone_prefers_the_self_sourced_belief() -> None:
+    # kqmlPlans.asl @kqmlReceivedAskOne1a: Content[source(self)] first, then any source (1b)
+    out = mas(a="""!s.
++!s <- .send(b, tell, x(1)); .send(b, askOne, x(X), A); .print(A);
+       .send(b, askOne, y(Y), B); .print(B).""",
+              b="x(5).\ny(2)[source(c)].")
+    assert lines(out, "a") == ["x(5)[source(b)]", "y(2)[source(b),source(c)]"]
+
+
+def test_askall_keeps_other_sources_and_drops_self() -> None:
+    # kqmlPlans.asl @kqmlReceivedAskAll2: findall of Content[source(AGS)], then clear_source(self)
+    out = mas(a="""!s.
++!s <- .send(b, tell, x(1)); .send(b, askAll, x(_), L); .print(L);
+       .send(b, askAll, none(_), E); .print(E).""",
+              b="x(5).")
+    assert lines(out, "a") == ["[x(1)[source(a),source(b)],x(5)[source(b)]]", "[]"]
+
+
+def test_tell_and_achieve_of_lists_go_through_the_kqml_plans() -> None:
+    # kqmlPlans.asl @kqmlReceivedTellList / @kqmlReceivedAchieveList: one ++b / !!g per element
+    out = mas(a="!s.\n+!s <- .send(b, tell, [p(1), q, p(X)]); .send(b, achieve, [g(1), g(2)]).",
+              b="""+p(X)[source(S)] <- .print("p ", X, " ", S).
++q[source(S)] <- .print("q ", S).
++!g(X)[source(S)] <- .print("g ", X, " ", S).""")
+    got = lines(out, "b")
+    assert [x for x in got if x[0] != "g"] == ["p 1 a", "q a"]
+    assert [x for x in got if x[0] == "g"] == ["g 1 a", "g 2 a"]
+
+
+def test_user_kqml_received_plans_see_tell_and_achieve() -> None:
+    # TransitionSystem.applyProcMsg: no shortcut for tell/achieve with user kqml_received plans
+    out = mas(a="!s.\n+!s <- .send(b, tell, t(1)); .send(b, achieve, g); .send(b, hello, h(2)).",
+              b="""+!kqml_received(S, P, C, _) <- .print(S, " ", P, " ", C).""")
+    assert lines(out, "b") == ["a tell t(1)", "a achieve g", "a hello h(2)"]
+
+
+def test_signal_is_a_belief_event_without_a_belief() -> None:
+    # TransitionSystem.applyProcMsg: signal -> +content[source(sender)] event, nothing in the BB
+    out = mas(a="!s.\n+!s <- .send(b, signal, alarm(3)).",
+              b="""+alarm(X)[source(S)] <- .print("alarm ", X, " ", S);
+   if (alarm(_)) { .print("believed") } else { .print("not believed") }.""")
+    assert lines(out, "b") == ["alarm 3 a", "not believed"]
+
+
+def test_askone_to_a_list_of_receivers_answers_a_list() -> None:
+    # TransitionSystem.applyProcMsg: AnsList___ collects one answer per receiver
+    out = mas(a="!s.\n+!s <- .send([b, c], askOne, v(X), L); .length(L, N); .print(N).",
+              b="v(1).", c="v(2).")
+    assert lines(out, "a") == ["2"]
+
+
+def test_ask_answer_that_does_not_unify_fails_with_ask_failed() -> None:
+    # TransitionSystem.resumeSyncAskIntention: error(ask_failed)
+    out = mas(a="""!s.
++!s <- .send(b, askOne, v(X), w(1)).
+-!s[error(E)] <- .print(E).""", b="v(1).")
+    assert lines(out, "a") == ["ask_failed"]
+
+
+def test_ask_timeout_gives_timeout() -> None:
+    # jason.stdlib.send: the fourth argument unifies with timeout when no answer came in time
+    out = mas(a="!s.\n+!s <- .send(b, askOne, v(X), A, 500); .print(A).",
+              b="+?v(X) <- .wait(2000); X = 1.")
+    assert lines(out, "a") == ["timeout"]
+
+
+def test_untell_of_a_list_removes_nothing() -> None:
+    # kqmlPlans.asl @kqmlReceivedUnTell: --[...] is a list, not a belief, so nothing happens
+    out = mas(a="!s.\n+!s <- .send(b, tell, p(1)); .send(b, untell, [p(1)]); .send(b, tell, k).",
+              b="""-p(X) <- .print("-p ", X).
++k <- .count(p(_), N); .print(N).""")
+    assert lines(out, "b") == ["1"]
+
+
+def test_send_to_self_atom_is_own_name() -> None:
+    # jason.stdlib.send.delegateSendToArch: receiver self is the agent itself
+    assert run(".send(self, achieve, g)", '+!g[source(S)] <- .print("g from ", S).') == [
+        "g from self"]

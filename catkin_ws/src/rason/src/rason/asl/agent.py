@@ -300,11 +300,13 @@ class Agent:
                 did = True
             elif kind == "ask_timeout" and i.suspended == "ask":
                 mid, ans = data
-                if self.ask_waits.pop(mid, None) is not None:
+                w = self.ask_waits.pop(mid, None)
+                if w is not None:
+                    # jason.stdlib.send: ``timeout``, or the answers so far for a list of receivers
                     self.resume(i)
                     im = i.top()
                     s2 = dict(im.u)
-                    if unify(ans, Literal("timeout"), s2):
+                    if unify(ans, Literal("timeout") if w[3] is None else make_list(w[4]), s2):
                         im.u = s2
                     did = True
         return did
@@ -365,12 +367,15 @@ class Agent:
         if deadline is not None:
             heapq.heappush(self.timers, (deadline, next(self._seq), "event_timeout", i, None))
 
-    def register_ask(self, msg_id: str, i: Intention | None, answer: Any, deadline: float | None) -> None:
+    def register_ask(self, msg_id: str, i: Intention | None, answer: Any, deadline: float | None,
+                     perf: str = "askOne", n: int | None = None) -> None:
+        """An intention waits for the answer to ask ``msg_id`` (``n``: number of receivers when
+        they were given as a list, then the answer is the list of their answers)."""
         if i is None:
             return
         self.suspend(i, "ask")
         i.pi_key = msg_id
-        self.ask_waits[msg_id] = (i, answer)
+        self.ask_waits[msg_id] = (i, answer, perf, n, [])
         if deadline is not None:
             heapq.heappush(self.timers, (deadline, next(self._seq), "ask_timeout", i, (msg_id, answer)))
 
@@ -655,42 +660,80 @@ class Agent:
             raise IAError(f"cannot send to {msg.receiver}: {e}") from None
 
     def process_message(self, m: Message) -> None:
+        """One message (Jason's ``TransitionSystem.applyProcMsg``): an answer resumes the
+        intention that asked; a literal told/achieved/signalled is handled directly unless the
+        program has its own ``kqml_received`` plans; anything else is a ``+!kqml_received``."""
         src = SOURCE_SELF if m.sender == self.name else source(m.sender)
         content = m.content
         if m.in_reply_to is not None and m.in_reply_to in self.ask_waits:
-            i, ans = self.ask_waits.pop(m.in_reply_to)
-            if i.dropped or i.id not in self.suspended:
-                return
-            if m.performative == "untell":
-                content = FALSE
-            elif isinstance(content, Literal) and content != FALSE:
-                content = content.add_annots([src])
-            elif isinstance(content, ListTerm):
-                content = make_list([c.add_annots([src]) if isinstance(c, Literal) else c
-                                     for c in content.items])
-            im = i.top()
-            s2 = dict(im.u)
-            if unify(ans, content, s2):
-                im.u = s2
-                self.resume(i)
-            elif self.resume(i):
-                self.running.remove(i)
-                reasoning.fail_intention(self, i, annots=reasoning.error_annots(
-                    self, im, None, "ia_failed", "answer does not unify"))
+            self._ask_answer(m)
             return
+        if m.in_reply_to is not None and m.in_reply_to.startswith("samid"):
+            return  # an answer after the ask's timeout is ignored
         perf = m.performative
-        if perf == "tell":
-            items = content.items if isinstance(content, ListTerm) else (content,)
-            for c in items:
-                if isinstance(c, Literal) and not (m.in_reply_to and c == FALSE):
-                    self.add_belief(_strip_sources(c).add_annots([src]), front=True)
-        elif perf == "achieve" and isinstance(content, Literal):
-            self.add_event(Event(Trigger(ADD, ACHIEVE, _strip_sources(content).add_annots([src]))))
-        else:
-            # the other performatives go through the (default) kqml_received plans
-            sender = Literal("self") if m.sender == self.name else Literal(m.sender)
-            received = Literal("kqml_received", (sender, Literal(perf), content, Literal(m.msg_id)))
-            self.add_event(Event(Trigger(ADD, ACHIEVE, received)))
+        if (perf in ("tell", "achieve", "signal") and type(content) is Literal
+                and not self._user_kqml_plans()):
+            lit = _strip_sources(content).add_annots([src])
+            if perf == "tell":
+                self.add_belief(lit, front=True)
+            elif perf == "achieve":
+                self.add_event(Event(Trigger(ADD, ACHIEVE, lit)))
+            else:
+                self.add_event(Event(Trigger(ADD, BELIEF, lit)))
+            return
+        sender = Literal("self") if m.sender == self.name else Literal(m.sender)
+        received = Literal("kqml_received", (sender, Literal(perf), content, Literal(m.msg_id)))
+        self.add_event(Event(Trigger(ADD, ACHIEVE, received)))
+
+    def _user_kqml_plans(self) -> bool:
+        """Jason's ``PlanLibrary.hasUserKqmlReceivedPlans``."""
+        from .kqml import KQML_SRC
+        return any(p.src != KQML_SRC for p in self.pl.relevant(_KQML_RECEIVED))
+
+    def _ask_answer(self, m: Message) -> None:
+        """The answer to a ``.send(R, askOne|askAll, C, A)`` that suspended an intention: an
+        untell of an askOne is ``false``, a literal (each literal of an askAll list) gets the
+        sender's source; with a list of receivers ``A`` is the list of all the answers."""
+        mid = m.in_reply_to
+        i, ans, perf, n, got = self.ask_waits[mid]
+        sender = Literal(m.sender)
+        content = m.content
+        if m.performative == "untell" and perf == "askOne":
+            content = FALSE
+        elif isinstance(content, Literal):
+            content = content.add_annots([Literal("source", (sender,))])
+        elif perf == "askAll" and isinstance(content, ListTerm):
+            content = make_list([c.add_annots([Literal("source", (sender,))])
+                                 if isinstance(c, Literal) else c for c in content.items])
+        if n is not None:
+            got.append(content)
+            if len(got) < n:
+                return
+            content = make_list(got)
+        del self.ask_waits[mid]
+        self._resume_ask(i, ans, content)
+
+    def _resume_ask(self, i: Intention, ans: Any, content: Any) -> None:
+        """Unify the answer with the ``.send``'s fourth argument and resume the intention;
+        when they do not unify the intention fails with ``ask_failed`` (resumeSyncAskIntention)."""
+        if i.dropped or i.id not in self.suspended:
+            return
+        im = i.top()
+        s2 = dict(im.u)
+        if unify(ans, content, s2):
+            im.u = s2
+            self.resume(i)
+        elif self.resume(i):
+            self.running.remove(i)
+            msg = (f"reply of an ask message ('{term_str(content)}') does not unify with fourth "
+                   f"argument of .send ('{term_str(resolve(ans, im.u))}')")
+            reasoning.fail_intention(self, i, annots=reasoning.error_annots(
+                self, im, im.current, "ask_failed", msg))
+
+
+#: the event of a message handled by (default or user) plans
+_KQML_RECEIVED = Trigger(ADD, ACHIEVE, Literal("kqml_received", (Literal("s"), Literal("p"),
+                                                                  Literal("c"), Literal("m"))))
 
 
 def load_agent_source(path: str) -> str:

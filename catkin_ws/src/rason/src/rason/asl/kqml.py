@@ -1,15 +1,60 @@
 """Default plans for KQML performatives (Jason's ``kqmlPlans.asl``), appended to every agent.
 
-As in Jason, ``tell`` and ``achieve`` are handled directly; the other performatives become a
-``+!kqml_received(Sender, Performative, Content, MsgId)`` event handled by these plans, which a
-program may override with its own ``kqml_received`` plans.
+As in Jason (``TransitionSystem.applyProcMsg``), a ``tell``/``achieve``/``signal`` of one literal is
+handled directly unless the program has its own ``kqml_received`` plans; everything else becomes
+a ``+!kqml_received(Sender, Performative, Content, MsgId)`` event handled by these plans (after the
+program's own). ``Content[source(A)]`` queries are written with ``.add_annot`` here.
 """
 
 KQML_PLANS = r"""
+@kqmlReceivedTellStructure
++!kqml_received(Sender, tell, Content, _)
+   :  .literal(Content) & .ground(Content) & not .list(Content) &
+      .add_nested_source(Content, Sender, CA)
+   <- ++CA.
+
+@kqmlReceivedTellList
++!kqml_received(Sender, tell, Content, _)
+   :  .list(Content)
+   <- !add_all_kqml_received(Sender, Content).
+
+@kqmlReceivedTellList1
++!add_all_kqml_received(_, []).
+
+@kqmlReceivedTellList2
++!add_all_kqml_received(Sender, [H|T])
+   :  .literal(H) & .ground(H)
+   <- .add_nested_source(H, Sender, CA);
+      ++CA;
+      !add_all_kqml_received(Sender, T).
+
+@kqmlReceivedTellList3
++!add_all_kqml_received(Sender, [_|T])
+   <- !add_all_kqml_received(Sender, T).
+
 @kqmlReceivedUnTell
 +!kqml_received(Sender, untell, Content, _)
    <- .add_nested_source(Content, Sender, CA);
-      -CA.
+      --CA.
+
+@kqmlReceivedAchieve
++!kqml_received(Sender, achieve, Content, _)
+   :  not .list(Content) & .add_nested_source(Content, Sender, CA)
+   <- !!CA.
+
+@kqmlReceivedAchieveList
++!kqml_received(Sender, achieve, Content, _)
+   :  .list(Content)
+   <- !add_all_kqml_achieve(Sender, Content).
+
+@kqmlReceivedAchieveList1
++!add_all_kqml_achieve(_, []).
+
+@kqmlReceivedAchieveList2
++!add_all_kqml_achieve(Sender, [H|T])
+   <- .add_nested_source(H, Sender, CA);
+      !!CA;
+      !add_all_kqml_achieve(Sender, T).
 
 @kqmlReceivedUnAchieve[atomic]
 +!kqml_received(_, unachieve, Content, _)
@@ -17,13 +62,13 @@ KQML_PLANS = r"""
 
 @kqmlReceivedAskOne1a
 +!kqml_received(Sender, askOne, Content, MsgId)
-    : .remove_source_annot(Content, C2) & C2[source(self)]
-   <- .send(Sender, tell, C2, MsgId).
+   :  .remove_source_annot(Content, C2) & .add_annot(C2, source(self), CS) & CS
+   <- .send(Sender, tell, Content, MsgId).
 
 @kqmlReceivedAskOne1b
 +!kqml_received(Sender, askOne, Content, MsgId)
-    : Content[source(AGS)]
-   <- .send(Sender, tell, Content[source(AGS)], MsgId).
+   :  .add_annot(Content, source(AGS), CS) & CS
+   <- .send(Sender, tell, CS, MsgId).
 
 @kqmlReceivedAskOne1c
 +!kqml_received(Sender, askOne, Content, MsgId)
@@ -38,19 +83,38 @@ KQML_PLANS = r"""
 
 @kqmlReceivedAskAll2
 +!kqml_received(Sender, askAll, Content, MsgId)
-   <- .findall(Content[source(AGS)], Content[source(AGS)], List);
+   <- .add_annot(Content, source(AGS), CS);
+      .findall(CS, CS, List);
       .clear_source_self(List, L2);
       .send(Sender, tell, L2, MsgId).
 
+@kqmlReceivedTellHow
++!kqml_received(Sender, tellHow, Content, _)
+   <- .remove_source_annot(Content, ContentAn);
+      .add_plan(ContentAn, Sender).
+
+@kqmlReceivedUnTellHow
++!kqml_received(Sender, untellHow, Content, _)
+   <- .remove_plan(Content, Sender).
+
+@kqmlReceivedAskHow
++!kqml_received(Sender, askHow, Content, MsgId)
+   <- .relevant_plans(Content, ListOfPlans);
+      .remove_source_annot(ListOfPlans, ListOfPlansAn);
+      .send(Sender, tellHow, ListOfPlansAn, MsgId).
+
 @kqmlReceivedSignal
 +!kqml_received(Sender, signal, Content, _)
-   <- .add_nested_source(Content, Sender, CA);
-      .signal(CA).
+   :  not .list(Content) & .add_nested_source(Content, Sender, CA)
+   <- .signal(CA).
 
 @kqmlError
 -!kqml_received(_Sender, _Per, _Content, _MsgId)[error(EID), error_msg(EMsg)]
    <- .print("Communication error -- ", EID, ": ", EMsg).
 """
+
+#: the ``src`` of the default plans (a program's own ``kqml_received`` plans have another one)
+KQML_SRC = "file:kqmlPlans.asl"
 
 _cache: list = []
 
@@ -59,5 +123,5 @@ def kqml_plans() -> list:
     """The parsed default plans (parsed once)."""
     if not _cache:
         from .parser import parse_source
-        _cache.extend(parse_source(KQML_PLANS, "kqmlPlans.asl", src="file:kqmlPlans.asl").plans)
+        _cache.extend(parse_source(KQML_PLANS, "kqmlPlans.asl", src=KQML_SRC).plans)
     return list(_cache)

@@ -21,9 +21,11 @@ from .plans import (
     K_ACHIEVE_NEW,
     K_ACTION,
     K_ADD_BEL,
+    K_ADD_BEL_NEW,
     K_CONSTRAINT,
     K_DEL_ADD_BEL,
     K_DEL_BEL,
+    K_DEL_BEL_NEW,
     K_FOR,
     K_IF,
     K_INTERNAL,
@@ -85,6 +87,8 @@ simple: "!" literal_or_var     -> s_achieve
       | "!!" literal_or_var    -> s_achieve_new
       | "?" log_expr_nor       -> s_test
       | "-+" literal_or_var    -> s_del_add
+      | "++" literal_or_var    -> s_add_new
+      | "--" literal_or_var    -> s_del_new
       | log_expr               -> s_expr
 
 ctrl: "if" "(" log_expr ")" block elif_part* [else_part]  -> s_if
@@ -334,6 +338,12 @@ class _ToAst(Transformer):
 
     def s_del_add(self, meta: Any, c: list) -> Deed:
         return Deed(K_DEL_ADD_BEL, c[0], meta.line)
+
+    def s_add_new(self, meta: Any, c: list) -> Deed:
+        return Deed(K_ADD_BEL_NEW, c[0], meta.line)
+
+    def s_del_new(self, meta: Any, c: list) -> Deed:
+        return Deed(K_DEL_BEL_NEW, c[0], meta.line)
 
     def s_expr(self, meta: Any, c: list) -> Deed:
         t = c[0]

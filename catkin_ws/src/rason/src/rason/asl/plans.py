@@ -19,6 +19,8 @@ K_TEST = "test"                # ?g
 K_ADD_BEL = "addBel"           # +b
 K_DEL_BEL = "delBel"           # -b
 K_DEL_ADD_BEL = "delAddBel"    # -+b
+K_ADD_BEL_NEW = "addBelNewFocus"  # ++b (its event is external)
+K_DEL_BEL_NEW = "delBelNewFocus"  # --b (its event is external)
 K_ACTION = "action"            # env action
 K_INTERNAL = "internalAction"  # .ia(...)
 K_CONSTRAINT = "constraint"    # X > 3, X = Y, ...
@@ -55,7 +57,8 @@ class Trigger:
 
 
 #: Deeds whose literal gets ``source(self)`` when it has no source (goals and belief changes).
-_SELF_SOURCED = (K_ACHIEVE, K_ACHIEVE_NEW, K_ADD_BEL, K_DEL_BEL, K_DEL_ADD_BEL)
+_SELF_SOURCED = (K_ACHIEVE, K_ACHIEVE_NEW, K_ADD_BEL, K_DEL_BEL, K_DEL_ADD_BEL, K_ADD_BEL_NEW,
+                 K_DEL_BEL_NEW)
 
 
 class Deed:
@@ -114,6 +117,10 @@ def deed_str(d: Deed) -> str:
         return "-" + term_str(t)
     if k == K_DEL_ADD_BEL:
         return "-+" + term_str(t)
+    if k == K_ADD_BEL_NEW:
+        return "++" + term_str(t)
+    if k == K_DEL_BEL_NEW:
+        return "--" + term_str(t)
     if k == K_IF:
         parts = []
         for i, (cond, body) in enumerate(d.extra[0]):

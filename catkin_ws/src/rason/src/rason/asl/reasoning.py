@@ -19,9 +19,11 @@ from .plans import (
     K_ACHIEVE_NEW,
     K_ACTION,
     K_ADD_BEL,
+    K_ADD_BEL_NEW,
     K_CONSTRAINT,
     K_DEL_ADD_BEL,
     K_DEL_BEL,
+    K_DEL_BEL_NEW,
     K_FOR,
     K_IF,
     K_INTERNAL,
@@ -34,7 +36,7 @@ from .plans import (
     Trigger,
 )
 from .stdlib import SUSPEND, FailGoal, IAError, call_ia
-from .terms import Literal, RelExpr, is_ground, term_str
+from .terms import ListTerm, Literal, RelExpr, is_ground, term_str
 from .unify import ArithError, rename_vars, resolve, unify
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -388,6 +390,31 @@ def _exec_add_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
     return _await_own_event(i, im, d, ag.add_belief(lit, front=True, focus=i))
 
 
+def _exec_add_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``++b``: add a belief; its event is external (a new intention), this one goes on."""
+    im.stack.pop()
+    ag.add_belief(_self_sourced(d, im.u, "cannot add {} as a belief"), front=True)
+    return True
+
+
+def _exec_remove_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
+    """``--b``: remove a belief; its event is external, this intention goes on."""
+    u = im.u
+    im.stack.pop()
+    if isinstance(resolve(d.term, u), ListTerm):
+        return True  # a list is a Literal in Jason: no such belief, nothing removed (untell [..])
+    lit = _self_sourced(d, u, "cannot remove {}")
+    if not (lit._g or is_ground(lit)):
+        for sol in query_bb(ag, lit, u):
+            im.u = sol
+            lit = resolve(lit, sol)
+            break
+        else:
+            return True
+    ag.remove_belief(lit)
+    return True
+
+
 def _exec_achieve(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``!g``: post the subgoal's event; the intention waits for it."""
     u = im.u
@@ -561,6 +588,8 @@ _EXEC_DEED = {
     K_CONSTRAINT: _exec_constraint,
     K_DEL_ADD_BEL: _exec_replace_belief,
     K_DEL_BEL: _exec_remove_belief,
+    K_ADD_BEL_NEW: _exec_add_belief_new_focus,
+    K_DEL_BEL_NEW: _exec_remove_belief_new_focus,
     K_TEST: _exec_test_goal,
     K_ACTION: _exec_action,
     K_IF: _exec_if,

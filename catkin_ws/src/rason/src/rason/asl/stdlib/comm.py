@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import itertools
 from typing import Any
 
-from ..arch import Message
-from ..terms import ListTerm, Literal, list_to_python, term_str, to_print_str
+from ..arch import Message, new_msg_id
+from ..terms import ListTerm, Literal, list_to_python, term_str
 from ..unify import eval_arith
 from . import SUSPEND, IAError, arg_count, internal_action
 
@@ -22,37 +23,52 @@ def _name(t: Any) -> str:
 
 
 def _perf(t: Any) -> str:
-    p = to_print_str(t)
-    if p not in PERFORMATIVES:
-        raise IAError(f"unknown performative {p}", "wrong_arguments")
-    return p
+    if not (isinstance(t, Literal) and not t.args):
+        raise IAError(f"illocutionary force parameter ('{term_str(t)}') must be an atom!",
+                      "wrong_arguments")
+    return t.functor
+
+
+_sync_ids = itertools.count(1)
 
 
 @internal_action(".send")
 def send(ctx: Any, args: list) -> Any:
-    """``.send(Receiver(s), Performative, Content[, Answer[, Timeout]])``."""
+    """``.send(Receiver(s), Performative, Content[, Answer|MsgId[, Timeout]])`` (jason.stdlib.send):
+    an ask with an answer argument suspends the intention until the answer (one message id for
+    every receiver); a tell/untell/unknown performative with a fourth argument is a reply."""
     arg_count(args, 3, 4, 5)
     ag = ctx.ag
-    perf = _perf(args[1])
+    to = args[0]
+    if not isinstance(to, (Literal, ListTerm, str)) or (isinstance(to, Literal) and to.args):
+        raise IAError(f"TO parameter ('{term_str(to)}') must be an atom, a string or a list of "
+                      "receivers!", "wrong_arguments")
+    if not (isinstance(args[1], Literal) and not args[1].args):
+        raise IAError(f"illocutionary force parameter ('{term_str(args[1])}') must be an atom!",
+                      "wrong_arguments")
+    perf = args[1].functor
     content = args[2]
-    receivers = list_to_python(args[0]) if isinstance(args[0], ListTerm) else [args[0]]
-    wait_answer = perf in ("askOne", "askAll") and len(args) >= 4
+    receivers = list_to_python(to) if isinstance(to, ListTerm) else [to]
+    sync_ask = perf.startswith("ask") and len(args) > 3
     reply_to = None
-    if not wait_answer and len(args) >= 4:
-        reply_to = to_print_str(args[3]) if not isinstance(args[3], Literal) else args[3].functor
-    last_id = None
+    if (perf in ("tell", "untell") or perf not in PERFORMATIVES) and len(args) > 3:
+        if not (isinstance(args[3], Literal) and not args[3].args):
+            raise IAError(f"The Message ID ('{term_str(args[3])}') parameter of the internal action "
+                          "'send' is not an atom!")
+        reply_to = args[3].functor
+    msg_id = f"samid{next(_sync_ids)}" if sync_ask else new_msg_id()
+    if sync_ask:
+        timeout = None
+        if len(args) == 5:
+            timeout = ag.arch.clock.now() + eval_arith(args[4], ctx.s) / 1000.0
+        n = len(receivers or []) if isinstance(to, ListTerm) else None
+        ag.register_ask(msg_id, ctx.intention, args[3], timeout, perf, n)
     for r in receivers or []:
-        msg = Message(ag.name, _name(r), perf, content, in_reply_to=reply_to)
-        last_id = msg.msg_id
-        if wait_answer:
-            timeout = None
-            if len(args) == 5:
-                timeout = ag.arch.clock.now() + eval_arith(args[4], ctx.s) / 1000.0
-            ag.register_ask(msg.msg_id, ctx.intention, args[3], timeout)
-        ag.send_message(msg)
-    if wait_answer and last_id is not None:
-        return SUSPEND
-    return True
+        name = _name(r)
+        if name == "self":
+            name = ag.name
+        ag.send_message(Message(ag.name, name, perf, content, msg_id=msg_id, in_reply_to=reply_to))
+    return SUSPEND if sync_ask else True
 
 
 def _set_source(t: Any, sender: Any) -> Any:
