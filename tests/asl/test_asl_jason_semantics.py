@@ -302,6 +302,62 @@ def test_wait_for_a_logical_condition_binds_its_variables() -> None:
     assert lines(run_source(src)) == ["a", "b", "got(5)", "c", "d"]
 
 
+# ------------------------------------------------------------------ failure handling
+def test_failure_plan_not_applicable_gives_up_the_intention() -> None:
+    # TransitionSystem.generateGoalDeletionFromEvent on a -!g event: "Could not finish intention"
+    out = run_source("""!s.
+c(no).
++!s <- .fail.
+-!s : c(yes) <- .print("handled").""")
+    assert out.splitlines() == [
+        "[main] Could not finish intention:",
+        "intention 1: ",
+        "    +!s[source(self)] <- ... .fail / {}",
+        "",
+        "[main] Found a goal for which there is no applicable plan: -!s[code(.fail),code_line(3),"
+        'code_src("file:main.asl"),error(ia_failed),error_msg(""),source(self)]']
+
+
+def test_nearest_failure_plan_decides_even_when_it_does_not_match() -> None:
+    # Intention.findEventForFailure stops at the first goal with a candidate -!g plan (-!b here)
+    out = lines(run_source("""!a.
++!a <- !b; .print("a after b").
++!b <- !c.
++!c <- .fail.
+-!a <- .print("-!a").
+-!b[error(no_applicable)] <- .print("-!b").""", "main"))
+    assert out[-1].startswith("Found a goal for which there is no applicable plan: -!b[")
+    assert "-!a" not in out and "a after b" not in out
+
+
+def test_action_without_environment() -> None:
+    # jason.infra.local.LocalAgArch.act: action_failed, "no environment configured!", noenv
+    assert run("move(1)", '-!s[error(E), error_msg(M), code(C)] <- .print(E, " ", M, " ", C).') == [
+        "action_failed no environment configured! move(1)"]
+    assert run("move(1)", "-!s[noenv] <- .print(noenv).") == ["noenv"]
+
+
+def test_failed_test_goal_message_shows_the_test_as_written() -> None:
+    # TransitionSystem.applyExecInt: "Failed to test '"+bTerm+"'" (bTerm before the unifier)
+    assert run("X = 3; ?b(X)", '-!s[error_msg(M), code(C)] <- .print(M, " ", C).') == [
+        "Failed to test 'b(X)' b(3)"]
+
+
+def test_failure_in_test_goal_plan_goes_to_the_caller() -> None:
+    # the +?t means has no -?t plan: the failure goes to -!s, code is the failed step in +?t
+    assert run("?t(X); .print(X)", """+?t(X) <- .print(tp); .fail.
+-!s[error(E), code(C), code_line(L)] <- .print(E, " ", C, " ", L).""") == [
+        "tp", "ia_failed .fail 3"]
+
+
+def test_failure_inside_if_and_for_bodies() -> None:
+    # the failed step is the one in the block: code/code_line are its own
+    assert run('if (true) { .print(i); .fail(reason(r)) }; .print(after)',
+               '-!s[reason(R), code_line(L)] <- .print(R, " ", L).') == ["i", "r 2"]
+    assert run("for (.member(X, [1, 2])) { .print(X); X < 2 }; .print(after)",
+               '-!s[error(E), code(C)] <- .print(E, " ", C).') == ["1", "2", "constraint_failed (2 < 2)"]
+
+
 # ------------------------------------------------------------------ communication
 def mas(timeout: float = 10.0, **agents: str) -> str:
     """Run the agents (name=source) in a LocalMas with a virtual clock; return the output."""

@@ -80,8 +80,9 @@ def test_action_failure_without_reason() -> None:
 
 
 def test_default_arch_fails_actions_with_no_environment() -> None:
+    # jason.infra.local.LocalAgArch.act: error(action_failed), its message and the noenv reason
     out = run_source(ACT_SRC, "r")
-    assert "failed no_environment" in out
+    assert "failed action_failed no environment configured!" in out
 
 
 # ------------------------------------------------------------------ percepts

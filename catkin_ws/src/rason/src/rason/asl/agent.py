@@ -119,10 +119,12 @@ class Agent:
         if self.on_wake is not None:
             self.on_wake()
 
-    def action_feedback(self, action_id: int, ok: bool, reason: str | None = None, message: str = "") -> None:
-        """Thread-safe: the environment finished action ``action_id`` (ok or failed with reason)."""
+    def action_feedback(self, action_id: int, ok: bool, reason: str | None = None, message: str = "",
+                        annots: list | None = None) -> None:
+        """Thread-safe: the environment finished action ``action_id`` (ok or failed with reason;
+        ``annots``: more annotations for the failure event, like Jason's failure reason term)."""
         with self._inbox_lock:
-            self._inbox.append(("fb", action_id, ok, reason, message))
+            self._inbox.append(("fb", action_id, ok, reason, message, annots))
         self._wake_event.set()
         if self.on_wake is not None:
             self.on_wake()
@@ -634,7 +636,8 @@ class Agent:
             self.action_feedback(aid, False, "action_failed", f"{type(e).__name__}: {e}")
         return aid
 
-    def process_feedback(self, aid: int, ok: bool, reason: str | None, message: str) -> None:
+    def process_feedback(self, aid: int, ok: bool, reason: str | None, message: str,
+                         annots: list | None = None) -> None:
         entry = self.pending_actions.pop(aid, None)
         if entry is None:
             return
@@ -645,7 +648,8 @@ class Agent:
             return
         self.running.remove(i)
         kind = reason or "action_failed"
-        annots = reasoning.error_annots(self, im, deed, kind, message or "", code=action)
+        annots = reasoning.error_annots(self, im, deed, kind, message or "", code=action,
+                                        extra=annots)
         reasoning.fail_intention(self, i, annots=annots)
 
     # ================================================================ communication

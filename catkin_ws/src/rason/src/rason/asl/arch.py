@@ -117,8 +117,10 @@ class AgentArch:
 
     def act(self, agent: Agent, action: Literal, action_id: int) -> None:
         """Start an environment action; report its end with ``agent.action_feedback``."""
-        agent.action_feedback(action_id, False, "no_environment",
-                              f"no environment to execute {action}")
+        # jason.infra.local.LocalAgArch.act without an environment
+        from .terms import Literal
+        agent.action_feedback(action_id, False, "action_failed", "no environment configured!",
+                              annots=[Literal("noenv")])
 
     def send(self, agent: Agent, message: Message) -> None:
         raise UnknownReceiver(f"unknown receiver {message.receiver}")

@@ -214,13 +214,13 @@ def _no_plan(ag: Agent, trig: Trigger, i: Intention | None, what: str) -> bool:
         _resume_after_belief_event(ag, i)
         return True
     if i is not None:
-        if trig.op == DEL and trig.is_goal:
-            text = (f"No failure event was generated for {trig}" if what == "relevant"
-                    else f"No applicable plan for {trig}")
-            ag.warn_drop(i, text, trig)
+        msg = f"Found a goal for which there is no {what} plan: {trig}"
+        if trig.op == DEL:
+            # generateGoalDeletionFromEvent on a -!g event: the intention is given up
+            ag.warn("Could not finish intention:\n" + i.dump())
+            ag.warn(msg)
             ag.remove_intention(i)
             return True
-        msg = f"Found a goal for which there is no {what} plan: {trig}"
         fail_intention(ag, i, "no_" + what, msg, code=trig.literal, from_event=trig)
     elif trig.is_goal:
         _external_goal_failed(ag, trig, what)
@@ -505,7 +505,8 @@ def _exec_test_goal(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool
         ag.events.append(Event(Trigger(ADD, TEST, lit), i))
         return False
     stack.pop()
-    return _fail(ag, i, im, d, "test_goal_failed", f"Failed to test '{term_str(lit)}'", code=lit)
+    # the message shows the test as written (TransitionSystem: "Failed to test '"+bTerm+"'")
+    return _fail(ag, i, im, d, "test_goal_failed", f"Failed to test '{term_str(f)}'", code=lit)
 
 
 def _exec_action(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
