@@ -447,3 +447,20 @@ def test_send_to_self_atom_is_own_name() -> None:
     # jason.stdlib.send.delegateSendToArch: receiver self is the agent itself
     assert run(".send(self, achieve, g)", '+!g[source(S)] <- .print("g from ", S).') == [
         "g from self"]
+
+
+def test_tellhow_askhow_untellhow() -> None:
+    # kqmlPlans.asl @kqmlReceivedTellHow/AskHow/UnTellHow with .add_plan/.relevant_plans/.remove_plan;
+    # PlanLibrary.remove(label, source) only takes the sender's source away
+    out = mas(a="""!s.
++!s <- .send(b, tellHow, "@hi +!hello(X) <- .print(hello, X).");
+       .send(b, tellHow, [{+!bye <- .print(bye)}]); .wait(50);
+       .send(b, achieve, hello(1)); .wait(50); .send(b, achieve, bye); .wait(50);
+       .send(b, askHow, {+!greet}); .wait(50); !greet;
+       .send(b, untellHow, g1); .send(b, untellHow, hi); .wait(50);
+       .send(b, achieve, show).""",
+              b="""@g1 +!greet <- .print(greetings).
++!show <- .relevant_plans({+!hello(_)}, L); .length(L, N); .print(N);
+          .relevant_plans({+!greet}, G); .length(G, M); .print(M).""")
+    assert lines(out, "b") == ["hello1", "bye", "0", "1"]
+    assert lines(out, "a") == ["greetings"]

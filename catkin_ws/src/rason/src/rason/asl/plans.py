@@ -202,6 +202,11 @@ class PlanLibrary:
             self.plans.append(plan)
         self._rebuild()
 
+    def replace(self, k: int, plan: Plan) -> None:
+        """Put ``plan`` in place of the ``k``-th plan (same position)."""
+        self.plans[k] = plan
+        self._rebuild()
+
     def remove_by_label(self, name: str) -> bool:
         n = len(self.plans)
         self.plans = [p for p in self.plans if p.label_name() != name]

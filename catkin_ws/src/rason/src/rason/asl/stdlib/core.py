@@ -306,12 +306,45 @@ def count(ctx: Any, args: list) -> bool:
 
 @internal_action(".remove_plan")
 def remove_plan(ctx: Any, args: list) -> bool:
+    """``.remove_plan(Label(s)[, Source])`` (jason.stdlib.remove_plan, PlanLibrary.remove): the
+    source (``self`` by default) leaves the plan's label; a plan left without sources goes."""
     arg_count(args, 1, 2)
     labels = list_to_python(args[0]) if isinstance(args[0], ListTerm) else [args[0]]
+    src = args[1] if len(args) > 1 else SELF_ATOM
+    pl = ctx.ag.pl
     for lab in labels or []:
         name = lab.functor if isinstance(lab, Literal) else to_print_str(lab)
-        ctx.ag.pl.remove_by_label(name)
+        for k, p in enumerate(pl.plans):
+            if p.label_name() != name:
+                continue
+            sources = _label_sources(p.label)
+            if src in sources:
+                sources.remove(src)
+                if not sources:
+                    pl.remove_by_label(name)
+                else:
+                    pl.replace(k, _with_label_sources(p, sources))
+            break
     return True
+
+
+SELF_ATOM = Literal("self")
+
+
+def _label_sources(label: Literal) -> list:
+    """The sources of a plan's label (a label without one is the agent's own: ``self``)."""
+    out = [a.args[0] for a in label.annots
+           if isinstance(a, Literal) and a.functor == "source" and len(a.args) == 1]
+    return out or [SELF_ATOM]
+
+
+def _with_label_sources(p: Plan, sources: list) -> Plan:
+    """``p`` with exactly these label sources (``[self]`` is stored as no source)."""
+    rest = tuple(a for a in p.label.annots if not (isinstance(a, Literal) and a.functor == "source"))
+    if sources != [SELF_ATOM]:
+        rest = rest + tuple(Literal("source", (s,)) for s in sources)
+    label = Literal(p.label.functor, p.label.args, rest)
+    return Plan(label, p.trigger, p.context, p.body, p.line, p.src)
 
 
 @internal_action(".stopMAS")
@@ -344,10 +377,18 @@ def add_plan(ctx: Any, args: list) -> bool:
     front = len(args) > 2 and term_str(args[2]) == "begin"
     items = list_to_python(args[0]) if isinstance(args[0], ListTerm) else [args[0]]
     pl = ctx.ag.pl
+    src = args[1] if len(args) > 1 else SELF_ATOM
     for t in items or []:
         p = _to_plan(t)
-        if any(_same_plan(p, q) for q in pl.plans):
+        same = next((k for k, q in enumerate(pl.plans) if _same_plan(p, q)), None)
+        if same is not None:
+            # PlanLibrary.add: the plan is known, its label gets the new source
+            q = pl.plans[same]
+            if q.label is not None and src not in _label_sources(q.label):
+                pl.replace(same, _with_label_sources(q, [*_label_sources(q.label), src]))
             continue
+        if p.label is not None and src != SELF_ATOM:
+            p = _with_label_sources(p, [src])
         pl.add(p, front=front)
     return True
 
