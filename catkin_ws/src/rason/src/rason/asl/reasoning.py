@@ -399,19 +399,12 @@ def _exec_add_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: De
 
 def _exec_remove_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``--b``: remove a belief; its event is external, this intention goes on."""
-    u = im.u
     im.stack.pop()
-    if isinstance(resolve(d.term, u), ListTerm):
+    if isinstance(resolve(d.term, im.u), ListTerm):
         return True  # a list is a Literal in Jason: no such belief, nothing removed (untell [..])
-    lit = _self_sourced(d, u, "cannot remove {}")
-    if not (lit._g or is_ground(lit)):
-        for sol in query_bb(ag, lit, u):
-            im.u = sol
-            lit = resolve(lit, sol)
-            break
-        else:
-            return True
-    ag.remove_belief(lit)
+    lit = _belief_to_remove(ag, im, d)
+    if lit is not None:
+        ag.remove_belief(lit)
     return True
 
 
@@ -473,17 +466,23 @@ def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) ->
 
 def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``-b``: remove a belief; its event belongs to this intention."""
-    u = im.u
     im.stack.pop()
-    lit = _self_sourced(d, u, "cannot remove {}")
-    if not (lit._g or is_ground(lit)):
-        for sol in query_bb(ag, lit, u):
-            im.u = sol
-            lit = resolve(lit, sol)
-            break
-        else:
-            return True
+    lit = _belief_to_remove(ag, im, d)
+    if lit is None:
+        return True
     return _await_own_event(i, im, d, ag.remove_belief(lit, focus=i))
+
+
+def _belief_to_remove(ag: Agent, im: IntendedMeans, d: Deed) -> Literal | None:
+    """The belief a ``-b``/``--b`` deed removes: the literal itself when ground, else the first
+    belief it unifies with (its bindings kept in ``im.u``); None when there is none."""
+    lit = _self_sourced(d, im.u, "cannot remove {}")
+    if lit._g or is_ground(lit):
+        return lit
+    for sol in query_bb(ag, lit, im.u):
+        im.u = sol
+        return resolve(lit, sol)
+    return None
 
 
 def _exec_test_goal(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
