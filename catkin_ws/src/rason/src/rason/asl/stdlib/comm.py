@@ -43,10 +43,7 @@ def send(ctx: Any, args: list) -> Any:
     if not isinstance(to, (Literal, ListTerm, str)) or (isinstance(to, Literal) and to.args):
         raise IAError(f"TO parameter ('{term_str(to)}') must be an atom, a string or a list of "
                       "receivers!", "wrong_arguments")
-    if not (isinstance(args[1], Literal) and not args[1].args):
-        raise IAError(f"illocutionary force parameter ('{term_str(args[1])}') must be an atom!",
-                      "wrong_arguments")
-    perf = args[1].functor
+    perf = _perf(args[1])
     content = args[2]
     receivers = list_to_python(to) if isinstance(to, ListTerm) else [to]
     sync_ask = perf.startswith("ask") and len(args) > 3
