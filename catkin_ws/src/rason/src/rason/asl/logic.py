@@ -7,7 +7,7 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any
 
 from .parser import Rule
-from .terms import ArithExpr, ListTerm, Literal, LogExpr, RelExpr, Var, is_constant, make_list
+from .terms import AnnotVar, ArithExpr, ListTerm, Literal, LogExpr, RelExpr, Var, is_constant, make_list
 from .unify import (
     ArithError,
     annot_options,
@@ -56,8 +56,15 @@ def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Ite
     if isinstance(f, Var):
         f = walk(f, s)
         if isinstance(f, Var):
+            yield from _query_var(ag, f, s)
             return
     tf = type(f)
+    if tf is AnnotVar:
+        f = resolve(f, s)   # bound: the value with the variable's annotations (VarTerm.capply)
+        if type(f) is AnnotVar:
+            yield from _query_var(ag, f, s)
+            return
+        tf = type(f)
     if tf is Literal:
         fn = f.functor
         if fn[0] == ".":
@@ -240,6 +247,34 @@ def query_bb(ag: Agent, lit: Literal, s: dict) -> Iterator[dict]:
             if want_annots and head.annots and not unify_annots(lit, head, s2):
                 continue
             yield from solve(ag, body, s2)
+
+
+def _query_var(ag: Agent, v: Var | AnnotVar, s: dict) -> Iterator[dict]:
+    """An unbound (maybe annotated) variable as a query: every belief and rule is a candidate
+    (Jason ``DefaultBeliefBase.getCandidateBeliefs`` of a var), here in our belief-base order.
+
+    ``X[source(A)]`` tries each way its annotations match a belief's (Jason's annotation
+    backtracking in ``Literal.logicalConsequence``); X gets the belief without annotations."""
+    annotated = type(v) is AnnotVar
+    backtrack = annotated and v.tail is None
+    for b in list(ag.bb):
+        if type(b) is Literal:
+            if not backtrack:
+                s2 = dict(s)
+                if unify(v, b, s2):
+                    yield s2
+                continue
+            for s2 in annot_options(v, b, s):   # each way the annotations match b's
+                s2 = dict(s2)
+                s2[v.name] = b.no_annots()
+                yield s2
+        elif isinstance(b, Rule):
+            mapping: dict = {}
+            head = rename_vars(b.head, mapping)
+            for sol in solve(ag, rename_vars(b.body, mapping), dict(s)):
+                s2 = dict(sol)
+                if unify(v, resolve(head, sol), s2):
+                    yield s2
 
 
 def _solve_ia(ag: Agent, f: Literal, s: dict, intention: Intention | None) -> Iterator[dict]:

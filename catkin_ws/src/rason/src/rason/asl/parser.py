@@ -38,6 +38,7 @@ from .plans import (
     body_str,
 )
 from .terms import (
+    AnnotVar,
     ArithExpr,
     ListTerm,
     Literal,
@@ -232,6 +233,10 @@ class _ToAst(Transformer):
             v = Var(fresh_name())
         else:
             v = Var(name)
+        annots = c[1]
+        if annots is not None and (annots[0] or annots[1] is not None):
+            # Jason's as2j ``var``: a variable may carry annotations, X[source(A)]
+            return AnnotVar(v.name, merge_annots((), annots[0]), annots[1])
         return v
 
     def args(self, meta: Any, c: list) -> tuple:
@@ -347,16 +352,16 @@ class _ToAst(Transformer):
 
     def s_expr(self, meta: Any, c: list) -> Deed:
         t = c[0]
-        if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], (Literal, Var)):
+        if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], (Literal, Var, AnnotVar)):
             return Deed(K_ADD_BEL, t[1], meta.line)
-        if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, (Literal, Var)):
+        if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, (Literal, Var, AnnotVar)):
             return Deed(K_DEL_BEL, t.left, meta.line)
         t = _fix(t)
         if isinstance(t, Literal):
             if t.functor.startswith("."):
                 return Deed(K_INTERNAL, t, meta.line)
             return Deed(K_ACTION, t, meta.line)
-        if isinstance(t, Var):
+        if isinstance(t, (Var, AnnotVar)):
             return Deed(K_ACTION, t, meta.line)
         if isinstance(t, (RelExpr, LogExpr)):
             return Deed(K_CONSTRAINT, t, meta.line)
@@ -441,6 +446,10 @@ def _fix(t: Any) -> Any:
     if isinstance(t, ListTerm):
         if any(isinstance(a, tuple) for a in t.items):
             return ListTerm(tuple(_fix(a) for a in t.items), t.tail)
+        return t
+    if isinstance(t, AnnotVar):
+        if any(isinstance(a, tuple) for a in t.annots):
+            return AnnotVar(t.name, tuple(_fix(a) for a in t.annots), t.tail)
         return t
     if isinstance(t, (ArithExpr, LogExpr)):
         if isinstance(t.left, tuple) or isinstance(t.right, tuple):

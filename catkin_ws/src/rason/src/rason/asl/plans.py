@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from .terms import Literal, PlanTerm, Var, is_constant, term_str
+from .terms import AnnotVar, Literal, PlanTerm, Var, is_constant, term_str
 from .unify import compile_resolve
 
 # triggering event operators and types
@@ -217,7 +217,7 @@ class PlanLibrary:
         self._index = {}
         self._var_plans = []
         for p in self.plans:
-            if isinstance(p.trigger.literal, Var):
+            if isinstance(p.trigger.literal, (Var, AnnotVar)):
                 self._var_plans.append(p)
             else:
                 self._index.setdefault(p.trigger.key, []).append(p)

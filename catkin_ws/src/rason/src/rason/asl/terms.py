@@ -16,7 +16,8 @@ import math
 from decimal import Decimal
 from typing import Any, Union
 
-Term = Union[float, str, "Var", "Literal", "ListTerm", "ArithExpr", "RelExpr", "LogExpr", "PlanTerm"]
+Term = Union[float, str, "Var", "AnnotVar", "Literal", "ListTerm", "ArithExpr", "RelExpr", "LogExpr",
+             "PlanTerm"]
 
 _fresh = itertools.count(1)
 
@@ -42,6 +43,30 @@ class Var:
 
     def __repr__(self) -> str:
         return self.name
+
+
+class AnnotVar:
+    """A variable written with annotations, e.g. ``X[source(A)]`` or ``C[a|T]`` (Jason: a
+    ``VarTerm`` with annotations). Kept apart from :class:`Var` so that plain variables stay
+    as cheap as before; the unifier (:func:`~.unify.unify`), :func:`~.unify.resolve` and the
+    queries (:func:`~.logic.solve`) know it. ``annots`` are sorted as a literal's."""
+
+    __slots__ = ("annots", "name", "tail")
+
+    def __init__(self, name: str, annots: tuple, tail: Any = None) -> None:
+        self.name = name
+        self.annots = annots
+        self.tail = tail
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, AnnotVar) and other.name == self.name
+                and other.annots == self.annots and other.tail == self.tail)
+
+    def __hash__(self) -> int:
+        return hash(("AV", self.name, self.annots))
+
+    def __repr__(self) -> str:
+        return term_str(self)
 
 
 class Literal:
@@ -280,6 +305,8 @@ def term_str(t: Any) -> str:
         return '"' + t + '"'
     if isinstance(t, Var):
         return t.name
+    if isinstance(t, AnnotVar):
+        return t.name + _annots_str(t.annots, t.tail)
     if isinstance(t, ListTerm):
         inner = ",".join(term_str(a) for a in t.items)
         if t.tail is not None:
@@ -338,7 +365,7 @@ def sort_key(t: Any) -> tuple:
     if isinstance(t, Literal):
         return (3, t.neg, t.functor, len(t.args), tuple(sort_key(a) for a in t.args),
                 tuple(sort_key(a) for a in t.annots))
-    if isinstance(t, Var):
+    if isinstance(t, (Var, AnnotVar)):
         return (-1, t.name)
     return (4, term_str(t))
 
@@ -376,7 +403,7 @@ def is_ground(t: Any) -> bool:
         return all(is_ground(a) for a in t.items) and (t.tail is None or is_ground(t.tail))
     if isinstance(t, (ArithExpr, RelExpr, LogExpr)):
         return is_ground(t.left) and (t.right is None or is_ground(t.right))
-    return True
+    return not isinstance(t, AnnotVar)
 
 
 def list_to_python(t: Any) -> list | None:

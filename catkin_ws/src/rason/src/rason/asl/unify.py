@@ -13,6 +13,7 @@ from collections.abc import Callable
 from typing import Any
 
 from .terms import (
+    AnnotVar,
     ArithExpr,
     ListTerm,
     Literal,
@@ -346,6 +347,8 @@ def resolve(t: Any, s: Subst) -> Any:
             if is_ground(e):
                 return math.nan  # Jason: a ground expression over non-numbers evaluates to NaN
             return e
+    if tt is AnnotVar:
+        return _resolve_annot_var(t, s)
     if isinstance(t, ListTerm):
         items = [resolve(a, s) for a in t.items]
         tail = t.tail
@@ -363,6 +366,27 @@ def resolve(t: Any, s: Subst) -> Any:
         r = t.right
         return LogExpr(t.op, resolve(t.left, s), None if r is None else resolve(r, s))
     return t
+
+
+def _resolve_annot_var(t: AnnotVar, s: Subst) -> Any:
+    """Jason ``VarTerm.capply`` of an annotated variable: unbound, the variable as written
+    (its annotations are not applied); bound to a literal, that literal plus the variable's
+    annotations (``X = p[a]``, ``X[b]`` gives ``p[a,b]``); bound to anything else, the value."""
+    v = s.get(t.name)
+    while type(v) is Var:
+        v = s.get(v.name)
+    if v is None:
+        return t
+    v = resolve(v, s)
+    if type(v) is not Literal:
+        return v
+    extra = [resolve(a, s) for a in t.annots]
+    if t.tail is not None:
+        tv = resolve(t.tail, s)
+        if isinstance(tv, ListTerm):  # a bound tail adds its items, an unbound one nothing
+            items, _ = _items_and_tail(tv.items, tv.tail, s)
+            extra.extend(items)
+    return v.add_annots(extra) if extra else v
 
 
 def compile_resolve(t: Any) -> Callable[[Subst], Any] | None:
@@ -419,11 +443,16 @@ def unify(a: Any, b: Any, s: Subst) -> bool:
     if a is b:
         return True
     if isinstance(a, Var):
-        if isinstance(b, Var) and b.name == a.name:
-            return True
+        if isinstance(b, Var):
+            if b.name == a.name:
+                return True
+        elif type(b) is AnnotVar:
+            return _unify_annot_var(a, b, s)
         s[a.name] = b
         return True
     if isinstance(b, Var):
+        if type(a) is AnnotVar:
+            return _unify_annot_var(a, b, s)
         s[b.name] = a
         return True
     ta = type(a)
@@ -435,11 +464,15 @@ def unify(a: Any, b: Any, s: Subst) -> bool:
                 return a == eval_arith(b, s)
             except ArithError:
                 return False
-        return False
+        return type(b) is AnnotVar and _unify_annot_var(a, b, s)
     if ta is str:
-        return type(b) is str and a == b
+        if type(b) is str:
+            return a == b
+        return type(b) is AnnotVar and _unify_annot_var(a, b, s)
     if ta is Literal:
         if type(b) is not Literal:
+            if type(b) is AnnotVar:
+                return _unify_annot_var(a, b, s)
             if type(b) is float and is_arith_function(a):
                 try:
                     return eval_arith(a, s) == b
@@ -456,8 +489,10 @@ def unify(a: Any, b: Any, s: Subst) -> bool:
         return True
     if ta is ListTerm:
         if type(b) is not ListTerm:
-            return False
+            return type(b) is AnnotVar and _unify_annot_var(a, b, s)
         return _unify_lists(a, b, s)
+    if ta is AnnotVar or type(b) is AnnotVar:
+        return _unify_annot_var(a, b, s)
     if ta is ArithExpr:
         try:
             va = eval_arith(a, s)
@@ -480,6 +515,56 @@ def unify(a: Any, b: Any, s: Subst) -> bool:
     if ta is PlanTerm:
         return a == b
     return a == b
+
+
+#: terms that are Jason ``Pred`` instances for the annotation check of annotated variables
+_PRED_LIKE = (Literal, Var, AnnotVar)
+
+
+def _value_of(t: AnnotVar, s: Subst) -> Any:
+    """The value of an annotated variable's name, or the last (unbound) :class:`Var` it leads to."""
+    v = s.get(t.name)
+    if v is None:
+        return Var(t.name)
+    while type(v) is Var:
+        nv = s.get(v.name)
+        if nv is None:
+            return v
+        v = nv
+    return v
+
+
+def _unify_annot_var(a: Any, b: Any, s: Subst) -> bool:
+    """Unification when ``a`` or ``b`` is an annotated variable (Jason ``Unifier.unifiesNoUndo``).
+
+    Between two predicates (literals or variables), ``a``'s own annotations must be a subset of
+    ``b``'s (a plain variable has none, so ``X[a] = Y`` fails while ``Y = X[a]`` binds Y to X);
+    then the values are unified; then an annotated variable bound to a literal is rebound to that
+    literal without annotations: ``X[a] = p[a,b]`` gives ``X = p``, ``X[a|R] = p[a,b]`` gives
+    ``R = [b]``. Against a number, string or list there is no annotation check.
+    """
+    ta, tb = type(a), type(b)
+    if (ta in _PRED_LIKE and tb in _PRED_LIKE and ta is not Var
+            and (a.annots or a.tail is not None)
+            and (tb is Var or not _annots_subset(a.annots, a.tail, b.annots, b.tail, s))):
+        return False
+    va = _value_of(a, s) if ta is AnnotVar else a
+    vb = _value_of(b, s) if tb is AnnotVar else b
+    if not unify(va, vb, s):
+        return False
+    for t in (a, b):
+        if type(t) is AnnotVar:
+            v = _value_of(t, s)
+            if type(v) is Literal and (v.annots or v.tail is not None):
+                # rebind the variable the name ends at (Jason: deref, then bind)
+                name = t.name
+                while True:
+                    nv = s.get(name)
+                    if type(nv) is not Var:
+                        break
+                    name = nv.name
+                s[name] = v.no_annots()
+    return True
 
 
 def _list_items(t: Any, s: Subst) -> tuple[list, Any]:
@@ -525,15 +610,15 @@ def _unify_lists(a: ListTerm, b: ListTerm, s: Subst) -> bool:
     return unify(ta, tb, s)
 
 
-def _annot_items(lit: Literal, s: Subst) -> tuple[list, Any]:
-    """A literal's annotations followed through a bound tail, and the tail left."""
-    return _items_and_tail(lit.annots, lit.tail, s)
-
-
 def unify_annots(a: Literal, b: Literal, s: Subst) -> bool:
     """Greedy subset check (Jason ``hasSubsetAnnot``); a's tail gets b's unmatched annotations."""
-    pa, tail = _annot_items(a, s)
-    pb, btail = _annot_items(b, s)
+    return _annots_subset(a.annots, a.tail, b.annots, b.tail, s)
+
+
+def _annots_subset(a_annots: tuple, a_tail: Any, b_annots: tuple, b_tail: Any, s: Subst) -> bool:
+    """:func:`unify_annots` for annotation lists (also those of annotated variables)."""
+    pa, tail = _items_and_tail(a_annots, a_tail, s)
+    pb, btail = _items_and_tail(b_annots, b_tail, s)
     remaining = list(pb)
     missing = []
     for x in pa:
@@ -587,7 +672,11 @@ def term_equals(a: Any, b: Any, s: Subst) -> bool:
 
 def _eq(a: Any, b: Any) -> bool:
     if type(a) is not type(b):
-        return False
+        # Jason VarTerm.equals: variables are equal when their names are (annotations ignored)
+        return (isinstance(a, (Var, AnnotVar)) and isinstance(b, (Var, AnnotVar))
+                and a.name == b.name)
+    if type(a) is AnnotVar:
+        return a.name == b.name
     if isinstance(a, Literal):
         if a.functor != b.functor or a.neg != b.neg or len(a.args) != len(b.args):
             return False
@@ -622,6 +711,12 @@ def rename_vars(t: Any, mapping: dict) -> Any:
                        None if t.tail is None else rename_vars(t.tail, mapping), t.neg)
     if isinstance(t, ListTerm):
         return ListTerm(tuple(rename_vars(a, mapping) for a in t.items),
+                        None if t.tail is None else rename_vars(t.tail, mapping))
+    if isinstance(t, AnnotVar):
+        v = mapping.get(t.name)
+        if v is None:
+            v = mapping[t.name] = Var(fresh_name())
+        return AnnotVar(v.name, tuple(rename_vars(a, mapping) for a in t.annots),
                         None if t.tail is None else rename_vars(t.tail, mapping))
     if isinstance(t, (ArithExpr, LogExpr)):
         return type(t)(t.op, rename_vars(t.left, mapping),
