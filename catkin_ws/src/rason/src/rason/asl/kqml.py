@@ -3,7 +3,7 @@
 As in Jason (``TransitionSystem.applyProcMsg``), a ``tell``/``achieve``/``signal`` of one literal is
 handled directly unless the program has its own ``kqml_received`` plans; everything else becomes
 a ``+!kqml_received(Sender, Performative, Content, MsgId)`` event handled by these plans (after the
-program's own). ``Content[source(A)]`` queries are written with ``.add_annot`` here.
+program's own).
 """
 
 KQML_PLANS = r"""
@@ -62,13 +62,13 @@ KQML_PLANS = r"""
 
 @kqmlReceivedAskOne1a
 +!kqml_received(Sender, askOne, Content, MsgId)
-   :  .remove_source_annot(Content, C2) & .add_annot(C2, source(self), CS) & CS
+   :  .remove_source_annot(Content, C2) & C2[source(self)]
    <- .send(Sender, tell, Content, MsgId).
 
 @kqmlReceivedAskOne1b
 +!kqml_received(Sender, askOne, Content, MsgId)
-   :  .add_annot(Content, source(AGS), CS) & CS
-   <- .send(Sender, tell, CS, MsgId).
+   :  Content[source(AGS)]
+   <- .send(Sender, tell, Content[source(AGS)], MsgId).
 
 @kqmlReceivedAskOne1c
 +!kqml_received(Sender, askOne, Content, MsgId)
@@ -83,8 +83,7 @@ KQML_PLANS = r"""
 
 @kqmlReceivedAskAll2
 +!kqml_received(Sender, askAll, Content, MsgId)
-   <- .add_annot(Content, source(AGS), CS);
-      .findall(CS, CS, List);
+   <- .findall(Content[source(AGS)], Content[source(AGS)], List);
       .clear_source_self(List, L2);
       .send(Sender, tell, L2, MsgId).
 
