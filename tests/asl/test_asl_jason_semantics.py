@@ -464,3 +464,61 @@ def test_tellhow_askhow_untellhow() -> None:
           .relevant_plans({+!greet}, G); .length(G, M); .print(M).""")
     assert lines(out, "b") == ["hello1", "bye", "0", "1"]
     assert lines(out, "a") == ["greetings"]
+
+
+# ------------------------------------------------------------------ annotated variables
+def test_annotated_variable_is_parsed_and_printed_with_sorted_annotations() -> None:
+    # as2j ``var``: a variable may carry a list of annotations (Pred.setAnnots sorts them)
+    from rason.asl.parser import parse_term
+    from rason.asl.terms import term_str
+    assert term_str(parse_term("X[b,a|T]")) == "X[a,b|T]"
+    assert term_str(parse_term("f(C[source(A)])")) == "f(C[source(A)])"
+
+
+def test_free_annotated_variable_unifies_with_the_literal_without_its_annotations() -> None:
+    # Unifier.unifiesNoUndo: X[a] needs its annotations in the other literal's, then X is
+    # rebound to the value without annotations (X[An|R] = p(1)[a,b] gives X = p(1), R = [b])
+    assert run('if (X[a] = p[a,b]) { .print(X) } else { .print(no) }; '
+               'if (Y[b] = p[a]) { .print(Y) } else { .print(no) }; '
+               'if (Z[a|R] = p(1)[c,a,b]) { .print(Z, " ", R) } else { .print(no) }') == [
+        "p", "no", "p(1) [b,c]"]
+
+
+def test_annotated_variable_on_the_right_needs_the_left_annotations() -> None:
+    # Unifier.unifiesNoUndo: the left term's annotations must be a subset of the annotated
+    # variable's (Pred.hasSubsetAnnot); missing ones go to the variable's annotation tail
+    assert run('if (p[a,b] = W[a]) { .print(W) } else { .print(no) }; '
+               'if (p[a] = V[a,b]) { .print(V) } else { .print(no) }; '
+               'if (p[a,b] = U[a|T]) { .print(U, " ", T) } else { .print(no) }') == [
+        "no", "p", "p [b]"]
+
+
+def test_annotated_variable_against_a_plain_variable() -> None:
+    # Pred.hasSubsetAnnot(p, u) is false when p (a plain variable) has no annotations
+    assert run('if (X[a] = Y) { .print(yes) } else { .print(no) }; '
+               'if (Z = W[a]) { .print(yes) } else { .print(no) }') == ["no", "yes"]
+
+
+def test_bound_annotated_variable_adds_its_annotations() -> None:
+    # VarTerm.capply: a variable bound to a literal gives the literal plus the variable's annots
+    assert run('X = p[a]; Y = X[b]; .print(Y); .print(X[c,source(self)]); N = 3; .print(N[a])') == [
+        "p[a,b]", "p[a,c,source(self)]", "3"]
+
+
+def test_annotated_variable_in_context_and_test_goal() -> None:
+    # VarTerm.logicalConsequence: bound, the query is its value plus the variable's annotations;
+    # free, every belief is a candidate and X gets the belief without its annotations
+    out = run_source("""c(2)[source(bob)].
+d(3).
+!s.
++!s <- X = c(2);
+   if (X[source(self)]) { .print(self) } else { .print(not_self) };
+   if (X[source(A)]) { .print(A) };
+   ?Y[source(self)]; .print(Y);
+   ?Z[source(bob)]; .print(Z).""")
+    assert lines(out) == ["not_self", "bob", "d(3)", "c(2)"]
+
+
+def test_annotated_variable_as_a_plan_trigger() -> None:
+    # PlanLibrary: a plan whose trigger literal is a variable is relevant for every goal
+    assert run("!g(1)[k]", '+!X[source(A),k] <- .print(X, " ", A).') == ["g(1) self"]
