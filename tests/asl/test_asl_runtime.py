@@ -44,6 +44,12 @@ def test_errors_in_internal_actions_never_crash() -> None:
     assert lines(out) == ["caught action_failed"]
 
 
+def test_unknown_internal_action_is_reported_when_the_agent_loads(capsys) -> None:
+    out = run_source('!a.\n+!a <- .print(x);\n  if (true) { .no_such_ia(1) }.\n', timeout=2.0)
+    assert lines(out)[0] == "x"
+    assert "main.asl:3: warning: unknown internal action .no_such_ia/1" in capsys.readouterr().err
+
+
 # ------------------------------------------------------------------ actions through the arch
 ACT_SRC = """
 !go. !other.

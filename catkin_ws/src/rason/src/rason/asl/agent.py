@@ -25,7 +25,7 @@ from .intentions import (
 )
 from .logic import solve
 from .parser import AgentSource, Rule, parse_source
-from .plans import ACHIEVE, ADD, BELIEF, DEL, PlanLibrary, Trigger
+from .plans import ACHIEVE, ADD, BELIEF, DEL, K_INTERNAL, PlanLibrary, Trigger, body_deeds
 from .terms import (
     FALSE,
     SOURCE_PERCEPT,
@@ -95,6 +95,13 @@ class Agent:
     # ================================================================ loading
     def load(self, parsed: AgentSource) -> None:
         from .kqml import kqml_plans
+        from .stdlib import IA_REGISTRY
+        for p in parsed.plans:
+            for d in body_deeds(p.body):
+                if d.kind == K_INTERNAL and d.term.functor not in IA_REGISTRY:
+                    # as Jason's parser: a warning at load; running it fails with action_failed
+                    self.log(f"{self.filename}:{d.line}: warning: unknown internal action "
+                             f"{d.term.functor}/{len(d.term.args)}")
         for p in parsed.plans + kqml_plans():
             self.pl.add(p)
         for b in reversed(parsed.beliefs):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -185,6 +186,19 @@ class Plan:
         if self.body:
             s += " <- " + body_str(self.body)
         return s
+
+
+def body_deeds(body: tuple) -> Iterator[Deed]:
+    """Every deed of a plan body, those inside ``if``/``while``/``for`` blocks included."""
+    for d in body:
+        yield d
+        if d.kind == K_IF:
+            for _cond, block in d.extra[0]:
+                yield from body_deeds(block)
+            if d.extra[1] is not None:
+                yield from body_deeds(d.extra[1])
+        elif d.kind in (K_WHILE, K_FOR):
+            yield from body_deeds(d.extra)
 
 
 class PlanLibrary:
