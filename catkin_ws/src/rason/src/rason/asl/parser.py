@@ -311,13 +311,16 @@ class _ToAst(Transformer):
         plan = Plan(label, trigger, context, tuple(body or ()), meta.line, self.src)
         return plan.as_term()
 
-    def plan_term_add_goal(self, meta: Any, c: list) -> PlanTerm:
+    def _goal_plan_term(self, meta: Any, op: str, c: list) -> PlanTerm:
+        """``{+!g : c <- b}`` / ``{-?g ...}``: an unlabelled goal plan as a term."""
         gt = ACHIEVE if str(c[0]) == "!" else TEST
-        return self._plan_term(meta, None, Trigger(ADD, gt, _fix(c[1])), c[2], c[3])
+        return self._plan_term(meta, None, Trigger(op, gt, _fix(c[1])), c[2], c[3])
+
+    def plan_term_add_goal(self, meta: Any, c: list) -> PlanTerm:
+        return self._goal_plan_term(meta, ADD, c)
 
     def plan_term_del_goal(self, meta: Any, c: list) -> PlanTerm:
-        gt = ACHIEVE if str(c[0]) == "!" else TEST
-        return self._plan_term(meta, None, Trigger(DEL, gt, _fix(c[1])), c[2], c[3])
+        return self._goal_plan_term(meta, DEL, c)
 
     def plan_term_labelled(self, meta: Any, c: list) -> PlanTerm:
         return self._plan_term(meta, *c)
