@@ -28,11 +28,11 @@ case "$cmd" in
     ;;
   demo)
     ensure_setup
-    exec python3 -m rason.demo "$@"
+    exec python3 -m rason_diagnosis "$@"
     ;;
   campaign)
     ensure_setup
-    exec python3 -m rason.demo.campaign "$@"
+    exec python3 -m rason_diagnosis.campaign "$@"
     ;;
   bench)
     ensure_setup

@@ -16,7 +16,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from rason.harness import RosHarness
+from rason.testing.harness import RosHarness
 
 AGENT = """
 !start.

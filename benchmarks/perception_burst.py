@@ -24,7 +24,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from rason.harness import RosHarness
+from rason.testing.harness import RosHarness
 
 N_VALUES = (1, 3, 5, 10)
 F_VALUES = (1, 3, 5, 10, 30, 50)

@@ -27,7 +27,8 @@ import time
 
 import numpy as np
 
-from rason.harness import RosHarness
+from rason.testing.harness import RosHarness
+from turtlebot_model.cloud import pack_cloud
 from turtlebot_sim import kinect
 from turtlebot_sim.render import RenderPool
 from turtlebot_sim.world import World
@@ -48,7 +49,7 @@ def single_frame(frames: int = 20) -> tuple[float, float]:
             rgba, depth = world.render_raw("helper")
             mid = time.perf_counter()
             rgb, xyz = kinect.sense(rgba, depth, world.intrinsics, world.noise, rng)
-            kinect.pack_cloud(xyz, rgb)
+            pack_cloud(xyz, rgb)
             end = time.perf_counter()
             render.append((mid - start) * 1000)
             sense.append((end - mid) * 1000)

@@ -3,7 +3,7 @@
     ./run.sh bench vision_accuracy [--seed 1] [--frames 300] [--jobs 2] [--keep DIR]
 
 Records ``--frames`` seeded scenarios from the simulator into bags in a temporary folder
-(``rosrun rason_vision record_bags`` logic, LZ4 so it is quick), reads them back with rosbags
+(``rosrun rason_vision_tools record_bags`` logic, LZ4 so it is quick), reads them back with rosbags
 and runs the detector on every frame. Checked (issue 7): where both cylinders are at least
 partly visible, angle within 1 deg, depth within 3 cm, yaw within 8 deg; detection rate at
 least 98% on frames where both cylinders are clearly visible (>= 40 px and 5 columns each,
@@ -28,10 +28,11 @@ from typing import Any
 
 import numpy as np
 
-from rason_vision.bagio import read_bag
 from rason_vision.detector import detect
-from rason_vision.geometry import CYLINDER_SPACING, wrap_deg
-from rason_vision.record_bags import record
+from rason_vision.geometry import CYLINDER_SPACING
+from rason_vision_tools.bagio import read_bag
+from rason_vision_tools.record_bags import record
+from turtlebot_model.geometry import wrap_deg
 
 ANGLE_TOL, DEPTH_TOL, YAW_TOL = 1.0, 0.03, 8.0
 

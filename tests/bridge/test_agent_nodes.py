@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from rason.harness import Process, RosHarness
+from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -13,7 +13,7 @@ import sys
 
 import pytest
 
-from rason.demo.scenario import FAULTS, expected_diagnosis
+from rason_diagnosis.scenario import FAULTS, expected_diagnosis
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
 
@@ -26,7 +26,7 @@ def test_demo_diagnoses_the_injected_fault(fault, tmp_path):
     out = tmp_path / "run"
     record = ["--record"] if fault == "none" else []
     done = subprocess.run(
-        [sys.executable, "-m", "rason.demo", "--fault", fault, "--seed", str(SEEDS[fault]),
+        [sys.executable, "-m", "rason_diagnosis", "--fault", fault, "--seed", str(SEEDS[fault]),
          "--out", str(out), *record], capture_output=True, text=True, timeout=600)
     result = json.loads((out / "result.json").read_text())
     assert result["diagnosis"] == expected_diagnosis(fault), done.stdout[-4000:]

@@ -12,17 +12,21 @@ from __future__ import annotations
 import re
 import shlex
 import time
+from pathlib import Path
 
 import pytest
 
-from rason.harness import PROJECT_ROOT, RosHarness
+from rason.testing.harness import RosHarness
+
+#: The repository (the README's commands run from its root).
+REPO = Path(__file__).resolve().parents[2]
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
 
 
 def manual_commands() -> list[str]:
     """The command lines of the README's block under "The same scenario by hand"."""
-    readme = (PROJECT_ROOT / "README.md").read_text()
+    readme = (REPO / "README.md").read_text()
     section = readme.split("### The same scenario by hand", 1)[1]
     block = section.split("```", 2)[1]
     return [line.strip() for line in block.splitlines() if line.strip()]
@@ -47,7 +51,8 @@ def test_manual_scenario_diagnoses_the_injected_fault():
                     ros.wait_for_service(argv[2], timeout=60)
                 ros.check_output(argv, timeout=60)
             else:
-                ros.run(argv, label=" ".join(argv[1:4]), cwd=PROJECT_ROOT)
+                # through bash, as typed: the README uses $(rospack find ...) for files
+                ros.run(["bash", "-c", f"exec {line}"], label=" ".join(argv[1:4]), cwd=REPO)
                 if "turtlebot_sim" in argv:
                     ros.wait_for_topic("/clock", timeout=60)
                 if "robot_synthesizer" in argv:

@@ -24,7 +24,8 @@ from geometry_msgs.msg import Twist, Vector3
 from nav_msgs.msg import Odometry
 
 from kobuki_fault_injector.srv import FaultInjector
-from rason.harness import RosHarness
+from rason.testing.harness import RosHarness
+from turtlebot_model.geometry import yaw_from_quaternion
 
 DATA = Path(__file__).resolve().parent / "data"
 SCENARIOS = {"none": 6.0, "left_actuator": 3.0, "right_actuator": 3.0, "both_actuators": 2.0,
@@ -35,7 +36,7 @@ WORLD = "robots:\n  - {name: faulty, kind: faulty, x: -3.0, y: 0.0, yaw: 0.0}\n"
 
 def pose(msg: Odometry) -> tuple[float, float, float]:
     p, q = msg.pose.pose.position, msg.pose.pose.orientation
-    return p.x, p.y, math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+    return p.x, p.y, yaw_from_quaternion(q.x, q.y, q.z, q.w)
 
 
 def relative(p: tuple[float, float, float], p0: tuple[float, float, float]) -> list[float]:

@@ -14,7 +14,6 @@ from kobuki_fault_injector.faults import (
     RIGHT_ACTUATOR,
     ROTATION_WHEEL_GAIN,
     VALID_REQUESTS,
-    WHEEL_SEPARATION,
     FaultState,
     OdometryFreezer,
     Velocity,
@@ -23,6 +22,7 @@ from kobuki_fault_injector.faults import (
     body_velocity,
     wheel_speeds,
 )
+from turtlebot_model.kobuki import WHEEL_SEPARATION
 
 FULL = Velocity(0.2, 0.01, 0.02, 0.03, 0.04, 0.3)
 

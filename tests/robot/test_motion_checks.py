@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from rason.decomposers.progress import (
+from rason.execution.progress import (
     BAD_MOVE,
     MOVE,
     NO_PROGRESS,
@@ -25,10 +25,9 @@ from rason.decomposers.progress import (
     MotionMonitor,
     Pose2D,
     parse_target,
-    wrap_angle,
-    yaw_from_quaternion,
 )
-from rason.decomposers.ramp import SpeedLimits, next_speed
+from rason.execution.ramp import SpeedLimits, next_speed
+from turtlebot_model.geometry import wrap_rad, yaw_from_quaternion
 
 RATE = 50.0
 DATA = Path(__file__).resolve().parent / "data"
@@ -43,7 +42,7 @@ def drive(v: float, w: float, seconds: float, start: Pose2D = ORIGIN,
     for i in range(1, int(seconds * RATE) + 1):
         x += v * math.cos(yaw) * dt
         y += v * math.sin(yaw) * dt
-        yaw = wrap_angle(yaw + w * dt)
+        yaw = wrap_rad(yaw + w * dt)
         yield Pose2D(x, y, yaw), t0 + i * dt
 
 

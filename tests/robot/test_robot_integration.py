@@ -25,8 +25,9 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import String
 
 from kobuki_fault_injector.srv import FaultInjector
-from rason.harness import RosHarness
 from rason.ros.feedback import parse_accepted, parse_feedback
+from rason.testing.harness import RosHarness
+from turtlebot_model.geometry import yaw_from_quaternion
 
 pytestmark = pytest.mark.ros
 
@@ -45,7 +46,7 @@ ACTION_TIMEOUT = 30.0
 
 def yaw_of(msg: Odometry) -> float:
     q = msg.pose.pose.orientation
-    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+    return yaw_from_quaternion(q.x, q.y, q.z, q.w)
 
 
 @dataclass

@@ -8,13 +8,14 @@ import socket
 import numpy as np
 import pytest
 
+from rason_diagnosis.paths import world_file
 from turtlebot_sim import config
 from turtlebot_sim.render import RenderPool
 from turtlebot_sim.world import World
 
 
 def _world(analytic: bool) -> World:
-    cfg = config.resolve("case_study.yaml")
+    cfg = config.resolve(world_file())
     cfg["camera"]["analytic_room"] = analytic
     return World(cfg)
 
@@ -37,7 +38,7 @@ def test_ray_cast_room_looks_like_tinyrenderer_room(pose):
 
 
 def test_a_still_scene_is_not_rendered_again_but_gets_fresh_noise():
-    with World.from_yaml("case_study.yaml") as world:
+    with World.from_yaml(world_file()) as world:
         rgb1, xyz1 = world.render_kinect("helper")
         rgb2, xyz2 = world.render_kinect("helper")
         assert world.renders == 1
@@ -65,7 +66,7 @@ def test_render_pool_returns_frames_in_order_for_the_given_poses(default_timeout
 
 
 def _check_pool_order() -> None:
-    with World.from_yaml("case_study.yaml") as world, \
+    with World.from_yaml(world_file()) as world, \
             RenderPool(world.config, workers=2) as pool:
         world.set_pose("helper", 0.0, 0.0, -math.pi / 2)     # looking at Faulty
         facing = world.base_states()

@@ -8,6 +8,8 @@ import time
 import numpy as np
 import pytest
 
+from rason_diagnosis.paths import world_file
+
 pytestmark = pytest.mark.ros
 
 NS = "/simtest"
@@ -50,7 +52,7 @@ def test_sim_node_drives_publishes_odometry_clock_and_kinect(ros):
     from turtlebot_sim.msgs import cloud_to_arrays
 
     sim = ros.rosrun("turtlebot_sim", "sim", ns=NS,
-                     params={"world": "case_study.yaml", "camera_rate": 15})
+                     params={"world": str(world_file()), "camera_rate": 15})
     ros.wait_for_topic(f"{NS}/helper/camera/depth_registered/points", timeout=40, watch=[sim])
     ros.init_rospy()
     clock = Latest("/clock", Clock)

@@ -7,10 +7,12 @@ import math
 import numpy as np
 import pytest
 
+from rason_diagnosis.paths import world_file
+from turtlebot_model.cloud import pack_cloud, unpack_rgb
 from turtlebot_sim import config, kinect, kobuki
 from turtlebot_sim.world import World
 
-CASE = "case_study.yaml"
+CASE = world_file()
 
 
 def run(world: World, seconds: float) -> None:
@@ -177,10 +179,10 @@ def test_cloud_packing_round_trip():
     rng = np.random.default_rng(1)
     rgb = rng.integers(0, 256, (4, 5, 3), dtype=np.uint8)
     xyz = rng.normal(size=(4, 5, 3)).astype(np.float32)
-    packed = kinect.pack_cloud(xyz, rgb)
+    packed = pack_cloud(xyz, rgb)
     assert packed.dtype == np.float32 and packed.shape == (4, 5, 4)
     assert np.array_equal(packed[:, :, :3], xyz)
-    assert np.array_equal(kinect.unpack_rgb(packed[:, :, 3]), rgb)
+    assert np.array_equal(unpack_rgb(packed[:, :, 3]), rgb)
     assert packed[0, 0, 3].view(np.uint32) == (int(rgb[0, 0, 0]) << 16 | int(rgb[0, 0, 1]) << 8
                                               | int(rgb[0, 0, 2]))
 

@@ -7,14 +7,14 @@ import math
 import pytest
 from vision_truth import CASES_BAG, SWEEP_BAG, check
 
-from rason_vision.bagio import read_bag
 from rason_vision.detector import detect
+from rason_vision_tools.bagio import read_bag
 
 
 @pytest.fixture(scope="module")
 def frames():
     for bag in (SWEEP_BAG, CASES_BAG):
-        assert bag.exists(), "record: rosrun rason_vision record_bags --committed --out bags"
+        assert bag.exists(), "record: rosrun rason_vision_tools record_bags --committed --out bags"
     return [*read_bag(SWEEP_BAG), *read_bag(CASES_BAG)]
 
 

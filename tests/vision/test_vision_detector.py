@@ -16,9 +16,9 @@ from rason_vision.geometry import (
     format_literal,
     relative_from_axes,
     thesis_angle_deg,
-    wrap_deg,
 )
-from rason_vision.synthetic import Cylinder, Scene, faulty_scene, world_scene
+from rason_vision_tools.synthetic import Cylinder, Scene, faulty_scene, world_scene
+from turtlebot_model.geometry import wrap_deg
 
 
 def truth_of(scene: Scene):

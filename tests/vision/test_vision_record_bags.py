@@ -1,4 +1,4 @@
-"""``rosrun rason_vision record_bags`` writes bags Debian's ``rosbag`` reads, with ground truth."""
+"""``rosrun rason_vision_tools record_bags`` writes bags Debian's ``rosbag`` reads, with ground truth."""
 
 from __future__ import annotations
 
@@ -6,14 +6,14 @@ import subprocess
 
 import pytest
 
-from rason_vision.bagio import read_bag
+from rason_vision_tools.bagio import read_bag
 
 
 @pytest.mark.parametrize("compression", ["bz2", "lz4"])
 def test_record_bags_cli_writes_readable_bags(tmp_path, compression):
     out = tmp_path / "bags"
     done = subprocess.run(
-        ["rosrun", "rason_vision", "record_bags", "--seed", "4", "--out", str(out),
+        ["rosrun", "rason_vision_tools", "record_bags", "--seed", "4", "--out", str(out),
          "--frames", "3", "--compression", compression],
         capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stdout + done.stderr

@@ -12,8 +12,9 @@ import math
 import numpy as np
 import pytest
 
+from rason_diagnosis.paths import world_file
 from rason_vision.detector import detect
-from rason_vision.geometry import wrap_deg
+from turtlebot_model.geometry import wrap_deg
 
 
 def observe(world) -> tuple[float, float, float]:
@@ -26,7 +27,7 @@ def observe(world) -> tuple[float, float, float]:
 def test_rule_on_simulated_moves(left, right, sign):
     from turtlebot_sim.world import World
 
-    with World.from_yaml("case_study.yaml") as world:
+    with World.from_yaml(world_file()) as world:
         world.set_pose("helper", 0.0, 0.0, -math.pi / 2)
         deg, _, yaw = observe(world)
         start = world.pose("faulty")

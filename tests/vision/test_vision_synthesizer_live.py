@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import threading
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 import yaml
 from vision_truth import LITERAL
+
+from rason_diagnosis.paths import world_file
 
 pytestmark = pytest.mark.ros
 
@@ -40,15 +41,9 @@ def collect(topic: str, count: int, timeout: float, start=None) -> list:
     return got
 
 
-def ros_world(name: str) -> str:
-    from turtlebot_sim.config import WORLDS_DIR
-
-    return str(WORLDS_DIR / name)
-
-
 def test_synthesizer_sees_faulty_in_the_case_study_from_the_live_sim(ros, tmp_path):
     """Thesis ch. 7 layout with Helper turned right by 90 deg: Faulty's left flank, centred."""
-    world = yaml.safe_load(Path(ros_world("case_study.yaml")).read_text())
+    world = yaml.safe_load(world_file().read_text())
     for robot in world["robots"]:
         if robot["name"] == "helper":
             robot["yaw"] = -90.0
@@ -78,7 +73,7 @@ def test_private_params_name_source_and_colours(ros):
     from sensor_msgs.msg import Image, PointCloud2, PointField
 
     from rason_vision.convert import cloud_fields, image_fields
-    from rason_vision.synthetic import faulty_scene
+    from rason_vision_tools.synthetic import faulty_scene
 
     ros.init_rospy()
     rgb, xyz = faulty_scene(2.0, -10.0, 30.0).render(np.random.default_rng(3))

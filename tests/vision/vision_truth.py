@@ -6,10 +6,10 @@ import re
 from pathlib import Path
 from typing import Any
 
-from rason.harness import PROJECT_ROOT
-from rason_vision.geometry import wrap_deg
+from turtlebot_model.geometry import wrap_deg
 
-BAGS = Path(PROJECT_ROOT) / "bags"
+#: The repository's committed bags (tests run from the source tree).
+BAGS = Path(__file__).resolve().parents[2] / "bags"
 #: The committed bags: the heading sweep and the special cases (the ROS test plays the latter).
 SWEEP_BAG = BAGS / "vision_sweep.bag"
 CASES_BAG = BAGS / "vision_cases.bag"

@@ -7,7 +7,7 @@ import threading
 
 import pytest
 
-from rason.harness import HarnessError, RosHarness
+from rason.testing.harness import HarnessError, RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -37,6 +37,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Generic, TypeVar
 
+from turtlebot_model.kobuki import WHEEL_SEPARATION
+
 LEFT_ACTUATOR = "left_actuator"
 RIGHT_ACTUATOR = "right_actuator"
 BOTH_ACTUATORS = "both_actuators"
@@ -50,8 +52,6 @@ VALID_REQUESTS: tuple[str, ...] = (*FAULTS, CANCEL)
 #: What the status topic says when no fault is active.
 NO_FAULT = "none"
 
-#: Kobuki wheel separation (m), used by the wheel-level rotation model.
-WHEEL_SEPARATION = 0.230
 #: Fraction of its commanded speed the faulty wheel delivers during a pure rotation.
 ROTATION_WHEEL_GAIN = 0.5
 #: |linear.x| below this (m/s) counts as "no forward/backward motion".

@@ -10,11 +10,11 @@ from typing import Any
 
 import numpy as np
 
+from turtlebot_model.cloud import FIELD_OFFSETS, POINT_STEP, pack_cloud
+
 #: sensor_msgs/PointField datatype FLOAT32.
 FLOAT32 = 7
 #: Layout of the clouds we write: x, y, z, rgb (float32 each, rgb packed as 0x00RRGGBB).
-CLOUD_FIELDS = (("x", 0), ("y", 4), ("z", 8), ("rgb", 12))
-CLOUD_POINT_STEP = 16
 
 
 def _buffer(data: Any) -> np.ndarray:
@@ -72,13 +72,9 @@ def cloud_fields(xyz: np.ndarray, rgb: np.ndarray) -> dict[str, Any]:
     its own PointField type.
     """
     height, width = xyz.shape[:2]
-    packed = np.empty((height, width, 4), np.float32)
-    packed[..., :3] = xyz
-    colour = ((rgb[..., 0].astype(np.uint32) << 16) | (rgb[..., 1].astype(np.uint32) << 8)
-              | rgb[..., 2].astype(np.uint32))
-    packed[..., 3] = colour.view(np.float32)
+    packed = pack_cloud(xyz, rgb)
     return {"height": height, "width": width,
-            "fields": [(name, offset, FLOAT32, 1) for name, offset in CLOUD_FIELDS],
-            "is_bigendian": False, "point_step": CLOUD_POINT_STEP,
-            "row_step": CLOUD_POINT_STEP * width, "data": packed.view(np.uint8).reshape(-1),
+            "fields": [(name, offset, FLOAT32, 1) for name, offset in FIELD_OFFSETS.items()],
+            "is_bigendian": False, "point_step": POINT_STEP,
+            "row_step": POINT_STEP * width, "data": packed.view(np.uint8).reshape(-1),
             "is_dense": False}

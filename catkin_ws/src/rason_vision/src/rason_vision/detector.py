@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
-from .geometry import (
+from rason_vision.geometry import (
     CYLINDER_RADIUS,
     CYLINDER_SPACING,
     Intrinsics,

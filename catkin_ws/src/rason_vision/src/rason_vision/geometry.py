@@ -35,6 +35,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from turtlebot_model.geometry import wrap_deg
+
 #: Distance between the two cylinder axes on Faulty (m), thesis 6.2.
 CYLINDER_SPACING = 0.227
 #: Cylinder radius (m).
@@ -44,16 +46,6 @@ CYLINDER_OFFSET = CYLINDER_SPACING / 2.0
 #: Kinect horizontal field of view (deg) and the thesis' half-angle.
 KINECT_HFOV_DEG = 57.0
 THESIS_HALF_FOV_DEG = 28.5
-
-
-def wrap_deg(angle: float) -> float:
-    """An angle in degrees wrapped to (-180, 180]."""
-    wrapped = math.fmod(angle, 360.0)
-    if wrapped <= -180.0:
-        wrapped += 360.0
-    elif wrapped > 180.0:
-        wrapped -= 360.0
-    return wrapped
 
 
 def bearing_deg(x: float, z: float) -> float:

@@ -27,9 +27,9 @@ import sys
 import time
 from typing import Any
 
-from .convert import cloud_to_xyz, image_to_rgb
-from .detector import DetectorConfig, HsvRange, detect
-from .geometry import format_literal
+from rason_vision.convert import cloud_to_xyz, image_to_rgb
+from rason_vision.detector import DetectorConfig, HsvRange, detect
+from rason_vision.geometry import format_literal
 
 
 def config_from_params(get: Any) -> DetectorConfig:

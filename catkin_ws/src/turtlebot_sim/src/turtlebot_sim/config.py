@@ -37,9 +37,6 @@ from typing import Any
 import numpy as np
 import yaml
 
-#: Folder of the world files shipped with the package.
-WORLDS_DIR = Path(__file__).resolve().parents[2] / "worlds"
-
 DEFAULTS: dict[str, Any] = {
     "seed": None,
     "physics": {"dt": 1.0 / 200.0},
@@ -62,14 +59,10 @@ ROBOT_KINDS = ("faulty", "helper", "plain")
 
 
 def load(source: str | Path | dict[str, Any]) -> dict[str, Any]:
-    """Read a world: a dict, a YAML file path, or a file name in the package's ``worlds/``."""
+    """Read a world: a dict or the path of a YAML world file."""
     if isinstance(source, dict):
         return copy.deepcopy(source)
     path = Path(source)
-    if not path.exists() and (WORLDS_DIR / path).exists():
-        path = WORLDS_DIR / path
-    if not path.exists() and (WORLDS_DIR / f"{path}.yaml").exists():
-        path = WORLDS_DIR / f"{path}.yaml"
     with open(path, encoding="utf-8") as f:
         data = yaml.safe_load(f) or {}
     if not isinstance(data, dict):

@@ -181,25 +181,3 @@ def _depth_edges(z: np.ndarray, fraction: float) -> np.ndarray:
     edges[1:, :] |= jump_y
     edges[:-1, :] |= jump_y
     return edges
-
-
-def pack_cloud(xyz: np.ndarray, rgb: np.ndarray) -> np.ndarray:
-    """Organised XYZRGB points as PCL packs them: HxWx4 float32 (x, y, z, rgb).
-
-    ``rgb`` is the uint32 ``0x00RRGGBB`` reinterpreted as a float32 (PCL's ``PointXYZRGB``).
-    The point step is 16 bytes: fields x@0, y@4, z@8, rgb@12.
-    """
-    h, w, _ = xyz.shape
-    out = np.empty((h, w, 4), dtype=np.float32)
-    out[:, :, :3] = xyz
-    rgb32 = (rgb[:, :, 0].astype(np.uint32) << 16) | (rgb[:, :, 1].astype(np.uint32) << 8) | \
-        rgb[:, :, 2].astype(np.uint32)
-    out[:, :, 3] = rgb32.view(np.float32)
-    return out
-
-
-def unpack_rgb(packed: np.ndarray) -> np.ndarray:
-    """Inverse of the rgb field of :func:`pack_cloud`: float32 array -> ...x3 uint8."""
-    as_int = np.ascontiguousarray(packed, dtype=np.float32).view(np.uint32)
-    return np.stack([(as_int >> 16) & 255, (as_int >> 8) & 255, as_int & 255],
-                    axis=-1).astype(np.uint8)

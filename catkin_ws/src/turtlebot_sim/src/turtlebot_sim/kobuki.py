@@ -11,13 +11,17 @@ from dataclasses import dataclass, field
 
 import pybullet as p
 
-# -- Kobuki geometry and limits (Yujin's data sheet / kobuki_description) ------------------------
-WHEEL_RADIUS = 0.035
-WHEEL_SEPARATION = 0.230
-WHEEL_WIDTH = 0.021
-BODY_RADIUS = 0.177
-BODY_BOTTOM, BODY_TOP = 0.02, 0.11
-CASTER_RADIUS = 0.0175
+from turtlebot_model.kobuki import (
+    BODY_BOTTOM,
+    BODY_RADIUS,
+    BODY_TOP,
+    CASTER_RADIUS,
+    WHEEL_RADIUS,
+    WHEEL_SEPARATION,
+    WHEEL_WIDTH,
+)
+
+# -- Kobuki geometry and limits not in the shared model (Yujin's data sheet) ----------------------
 CASTER_X = 0.115
 BASE_MASS = 2.35
 STACK_MASS = 1.2          # plates, poles (TurtleBot 2 hardware)

@@ -11,6 +11,8 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image, PointCloud2, PointField
 
+from turtlebot_model.cloud import unpack_rgb
+
 #: kobuki_node's odometry covariances (no gyro fusion): x, y 0.1; yaw 0.2; the rest "unused".
 _POSE_COV = [0.0] * 36
 _POSE_COV[0] = _POSE_COV[7] = 0.1
@@ -76,7 +78,6 @@ def cloud(t: float, frame: str, packed: np.ndarray) -> PointCloud2:
 
 def cloud_to_arrays(msg: PointCloud2) -> tuple[np.ndarray, np.ndarray]:
     """Inverse of :func:`cloud` for x, y, z, rgb at offsets 0/4/8/12: (xyz HxWx3, rgb HxWx3)."""
-    from turtlebot_sim.kinect import unpack_rgb
 
     raw = np.frombuffer(msg.data, dtype="<f4").reshape(msg.height, msg.width,
                                                        msg.point_step // 4)

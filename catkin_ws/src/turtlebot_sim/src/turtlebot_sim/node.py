@@ -1,8 +1,8 @@
 """``rosrun turtlebot_sim sim``: the simulated TurtleBot 2 robots speaking kobuki_node's topics.
 
 Private parameters:
-    ~world (str, default ``case_study.yaml``): world file (path, or name in the package's
-        ``worlds/``).
+    ~world (str, required): path of the world file (YAML, see :mod:`turtlebot_sim.config`), e.g.
+        the case study's ``$(rospack find rason_diagnosis)/worlds/case_study.yaml``.
     ~real_time_factor (float, 1.0): sim seconds per wall second; 0 = as fast as possible.
     ~camera_rate (float, world file's ``camera.rate``, 15): Kinect frames per sim second; 0 = off.
     ~seed (int, world file's ``seed``): randomisation seed (poses, lighting, colours, noise).
@@ -119,7 +119,10 @@ class SimNode:
     """The physics loop: step, publish /clock, odometry and Kinect frames, keep the pace."""
 
     def __init__(self) -> None:
-        world_file = rospy.get_param("~world", "case_study.yaml")
+        world_file = rospy.get_param("~world", None)
+        if not world_file:
+            raise SystemExit("turtlebot_sim: ~world is required, the path of a world file, e.g. "
+                             "_world:=$(rospack find rason_diagnosis)/worlds/case_study.yaml")
         seed = rospy.get_param("~seed", None)
         self.world = World.from_yaml(world_file, seed=None if seed is None else int(seed))
         cfg = self.world.config

@@ -34,6 +34,8 @@ from typing import Any
 
 import numpy as np
 
+from turtlebot_model.cloud import pack_cloud
+
 
 @dataclass
 class Frame:
@@ -48,7 +50,6 @@ class Frame:
 
 def _worker(conn: Connection) -> None:
     """Worker process body: get the scene, build it, then render on request until told to stop."""
-    from turtlebot_sim import kinect
     from turtlebot_sim.world import World
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)   # the parent stops us (None or a closed pipe)
@@ -68,7 +69,7 @@ def _worker(conn: Connection) -> None:
         start = time.perf_counter()
         world.apply_base_states(states)
         rgb, xyz = world.render_kinect(robot, rng)
-        cloud = kinect.pack_cloud(xyz, rgb)
+        cloud = pack_cloud(xyz, rgb)
         try:
             conn.send((rgb, cloud, (time.perf_counter() - start) * 1000.0))
         except OSError:

@@ -2,7 +2,7 @@
 
 No ROS here; the ROS node (:mod:`turtlebot_sim.node`) wraps this. Typical use::
 
-    world = World.from_yaml("case_study.yaml")
+    world = World.from_yaml("my_lab.yaml")
     world.set_cmd_vel("faulty", 0.2, 0.0)
     while world.time < 5.0:
         world.step()

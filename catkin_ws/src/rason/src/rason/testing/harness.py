@@ -3,9 +3,9 @@
 One way to run ROS processes, shared by the tests, the benchmarks and the demo::
 
     with RosHarness() as ros:                 # roscore on a free port, private ROS_HOME
-        sim = ros.rosrun("turtlebot_sim", "sim", "_world:=case_study.yaml")
+        sim = ros.rosrun("turtlebot_sim", "sim", "_world:=my_lab.yaml")
         ros.wait_for_topic("/clock")
-        agent = ros.rosrun("rason", "agent", "faulty", "agents/faulty.asl", ns="/faulty")
+        agent = ros.rosrun("rason", "agent", "faulty", "my_agent.asl", ns="/faulty")
         ros.wait_for_output(agent, "Moving to Destination")
     # every node and roscore have been stopped here, even if the block raised
 
@@ -30,10 +30,6 @@ import time
 import xmlrpc.client
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
-
-#: The project's root folder (holds env.sh, agents/, bags/).
-PROJECT_ROOT = Path(__file__).resolve().parents[5]
-
 
 #: The master this process's rospy node was initialised against (rospy allows only one).
 _ROSPY_MASTER: str | None = None

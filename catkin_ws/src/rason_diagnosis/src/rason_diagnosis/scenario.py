@@ -14,11 +14,11 @@ import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from rason.harness import PROJECT_ROOT, HarnessError, RosHarness
+from rason.testing.harness import HarnessError, RosHarness
+from rason_diagnosis.paths import agent_file, world_file
 
 FAULTS = ("both_actuators", "odometry", "left_actuator", "right_actuator", "none")
 ROBOTS = ("faulty", "helper")
-WORLD = PROJECT_ROOT / "catkin_ws/src/turtlebot_sim/worlds/case_study.yaml"
 RECORDED_TOPICS = [
     "/clock", "/jason/messages", "/faulty/jason/action", "/faulty/jason/event",
     "/helper/jason/action", "/helper/jason/event", "/helper/jason/perception",
@@ -83,11 +83,11 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
          sim_timeout: float, real_time_factor: float) -> None:
     import rospy  # the demo process joins the run as an observer
 
-    from rason.demo.monitor import RunMonitor
-    from rason.demo.plots import save_run_picture
+    from rason_diagnosis.monitor import RunMonitor
+    from rason_diagnosis.plots import save_run_picture
 
     sim = ros.rosrun("turtlebot_sim", "sim", params={
-        "world": str(WORLD), "seed": result.seed, "real_time_factor": real_time_factor})
+        "world": str(world_file()), "seed": result.seed, "real_time_factor": real_time_factor})
     ros.wait_for_topic("/clock", timeout=60, watch=[sim])
     for robot in ROBOTS:
         ros.rosrun("kobuki_fault_injector", "fault_injector", ns=f"/{robot}")
@@ -110,7 +110,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
 
     prefix = {robot: (f"{robot:>6} | " if echo else False) for robot in ROBOTS}
     agents = {robot: ros.rosrun("rason", "agent", robot,
-                                str(PROJECT_ROOT / "agents" / f"{robot}.asl"),
+                                str(agent_file(robot)),
                                 ns=f"/{robot}", echo=prefix[robot])
               for robot in ("helper", "faulty")}
     ros.wait_for_node("/helper/jason/helper", watch=agents.values())

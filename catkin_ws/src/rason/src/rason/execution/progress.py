@@ -24,6 +24,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from turtlebot_model.geometry import wrap_rad
+
 OK = "OK"
 NO_PROGRESS = "no_progress"
 BAD_MOVE = "bad_move"
@@ -39,16 +41,6 @@ class Pose2D:
     x: float
     y: float
     yaw: float
-
-
-def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
-    """The heading (rotation about z) of a quaternion, in (-pi, pi]."""
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-
-
-def wrap_angle(angle: float) -> float:
-    """`angle` wrapped into [-pi, pi)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
 @dataclass(frozen=True)
@@ -133,7 +125,7 @@ class MotionMonitor:
     # -- checks -----------------------------------------------------------------------------
     def update(self, pose: Pose2D, now: float) -> Verdict | None:
         """Take a new odometry pose at ROS time `now` (s); return the verdict if it is over."""
-        self.turned += wrap_angle(pose.yaw - self.pose.yaw)
+        self.turned += wrap_rad(pose.yaw - self.pose.yaw)
         self.pose = pose
         if self._changed(pose):
             self._still_pose, self._still_since = pose, now
@@ -177,7 +169,7 @@ class MotionMonitor:
     def _changed(self, pose: Pose2D) -> bool:
         ref = self._still_pose
         return (math.hypot(pose.x - ref.x, pose.y - ref.y) > self.params.position_epsilon
-                or abs(wrap_angle(pose.yaw - ref.yaw)) > self.params.yaw_epsilon)
+                or abs(wrap_rad(pose.yaw - ref.yaw)) > self.params.yaw_epsilon)
 
     def _progress_text(self) -> str:
         if self.kind == MOVE:

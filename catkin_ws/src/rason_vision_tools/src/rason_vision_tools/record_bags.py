@@ -1,7 +1,7 @@
-"""``rosrun rason_vision record_bags --seed N --out DIR [--frames K]``: Kinect bags from the sim.
+"""``rosrun rason_vision_tools record_bags --seed N --out DIR [--frames K]``: Kinect bags from the sim.
 
-Renders scenarios (:mod:`rason_vision.scenarios`) with ``turtlebot_sim``'s World and writes
-ROS 1 bags (see :mod:`rason_vision.bagio` for topics and the ground-truth JSON):
+Renders scenarios (:mod:`rason_vision_tools.scenarios`) with ``turtlebot_sim``'s World and writes
+ROS 1 bags (see :mod:`rason_vision_tools.bagio` for topics and the ground-truth JSON):
 
 * ``--committed``: the compact set kept in the repository, ``bags/vision_sweep.bag`` (24
   frames) and ``bags/vision_cases.bag`` (7 frames); ``--seed``/``--frames`` are ignored.
@@ -21,8 +21,8 @@ import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
-from .bagio import Frame, write_bag
-from .scenarios import Scenario, committed_cases, committed_sweep, random_scenarios, render
+from rason_vision_tools.bagio import Frame, write_bag
+from rason_vision_tools.scenarios import Scenario, committed_cases, committed_sweep, random_scenarios, render
 
 #: Bag time of the first frame (s): a fixed, plausible epoch so bags are reproducible.
 START_S = 1_700_000_000

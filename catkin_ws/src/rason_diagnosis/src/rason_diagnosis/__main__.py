@@ -14,9 +14,8 @@ import sys
 import time
 from pathlib import Path
 
-from rason.demo import thesis
-from rason.demo.scenario import FAULTS, default_fault, run_scenario
-from rason.harness import PROJECT_ROOT
+from rason_diagnosis import thesis
+from rason_diagnosis.scenario import FAULTS, default_fault, run_scenario
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -33,7 +32,7 @@ def main(argv: list[str] | None = None) -> int:
 
     seed = args.seed if args.seed is not None else int(time.time()) % 100000
     fault = args.fault or default_fault(seed)
-    out = args.out or PROJECT_ROOT / "out" / f"demo-{fault}-{seed}"
+    out = args.out or Path("out") / f"demo-{fault}-{seed}"
     print(f"[demo] fault {fault}, seed {seed}; output in {out}", flush=True)
     result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,
                           sim_timeout=args.timeout)

@@ -11,7 +11,7 @@ Topics:
     ``cmd_vel`` (geometry_msgs/Twist, out): the drive commands; a zero Twist when a motion
         ends, however it ends. Nothing is published while idle.
     ``odom`` (nav_msgs/Odometry, in): progress and trajectory checks
-        (:mod:`rason.decomposers.progress`).
+        (:mod:`rason.execution.progress`).
 
 Private parameters (speeds in m/s or deg/s, accelerations per second):
     ``~agents`` (list of str, default []: every agent) handle only these agents' actions.
@@ -42,7 +42,7 @@ from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action, Event
 from nav_msgs.msg import Odometry
 
-from rason.decomposers.progress import (
+from rason.execution.progress import (
     MOVE,
     NO_PROGRESS,
     OK,
@@ -52,10 +52,10 @@ from rason.decomposers.progress import (
     Pose2D,
     Verdict,
     parse_target,
-    yaw_from_quaternion,
 )
-from rason.decomposers.ramp import SpeedLimits, next_speed
+from rason.execution.ramp import SpeedLimits, next_speed
 from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
+from turtlebot_model.geometry import yaw_from_quaternion
 
 BAD_PARAMETERS = "bad_parameters"
 PREEMPTED = "preempted"

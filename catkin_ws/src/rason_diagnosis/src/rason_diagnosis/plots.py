@@ -12,8 +12,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 if TYPE_CHECKING:
-    from rason.demo.monitor import RunMonitor
-    from rason.demo.scenario import RunResult
+    from rason_diagnosis.monitor import RunMonitor
+    from rason_diagnosis.scenario import RunResult
 
 
 def odometry_in_world(odom: np.ndarray, truth: np.ndarray) -> np.ndarray:

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .geometry import CYLINDER_RADIUS, Intrinsics, cylinder_axes_in_camera
+from rason_vision.geometry import CYLINDER_RADIUS, Intrinsics, cylinder_axes_in_camera
 
 GREEN_RGB = (40, 170, 60)
 ORANGE_RGB = (240, 120, 20)

@@ -22,9 +22,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from rason.demo import thesis
-from rason.demo.scenario import FAULTS
-from rason.harness import PROJECT_ROOT, processes_left_by
+from rason.testing.harness import processes_left_by
+from rason_diagnosis import thesis
+from rason_diagnosis.scenario import FAULTS
 
 FIELDS = ("fault", "seed", "diagnosis", "expected", "correct", "detection_s", "location_s",
           "diagnosis_s", "total_s", "wall_s", "orphans", "error")
@@ -34,7 +34,7 @@ STEP_FIELDS = ("detection_s", "location_s", "diagnosis_s")
 def run_one(fault: str, seed: int, out: Path) -> dict:
     """One demo run in its own process; its result.json as a dict."""
     run_dir = out / "runs" / f"{fault}-{seed}"
-    cmd = [sys.executable, "-m", "rason.demo", "--fault", fault, "--seed", str(seed), "--quiet",
+    cmd = [sys.executable, "-m", "rason_diagnosis", "--fault", fault, "--seed", str(seed), "--quiet",
            "--out", str(run_dir)]
     with open(out / "runs" / f"{fault}-{seed}.log", "w") as log:
         demo = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT)
@@ -157,7 +157,7 @@ def write_plots(results: list[dict], out: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="./run.sh campaign", description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=10, help="runs per scenario (default 10)")
-    parser.add_argument("--out", type=Path, default=PROJECT_ROOT / "out" / "campaign")
+    parser.add_argument("--out", type=Path, default=Path("out") / "campaign")
     parser.add_argument("--faults", nargs="+", choices=FAULTS, default=list(FAULTS))
     parser.add_argument("--first-seed", type=int, default=1)
     args = parser.parse_args(argv)

@@ -25,8 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from .geometry import CYLINDER_OFFSET, cylinder_axes_in_camera, relative_from_axes
-from .synthetic import Cylinder, Scene
+from rason_vision.geometry import CYLINDER_OFFSET, cylinder_axes_in_camera, relative_from_axes
+from rason_vision_tools.synthetic import Cylinder, Scene
 
 #: Kinect optical centre in Helper's base frame (m), as built by turtlebot_sim.
 CAMERA_OFFSET = (0.135, 0.0, 0.45)

@@ -17,6 +17,8 @@ from jason_msgs.msg import Action, AgentMessage
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Image, PointCloud2
 
+from turtlebot_model.geometry import yaw_from_quaternion
+
 
 @dataclass
 class Path2D:
@@ -34,7 +36,7 @@ class Path2D:
 
 def _yaw(msg: Odometry) -> float:
     q = msg.pose.pose.orientation
-    return float(np.arctan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z)))
+    return yaw_from_quaternion(q.x, q.y, q.z, q.w)
 
 
 @dataclass

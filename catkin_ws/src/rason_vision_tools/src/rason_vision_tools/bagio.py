@@ -3,7 +3,7 @@
 A bag holds, per frame and with one timestamp: ``/helper/camera/rgb/image_raw``
 (sensor_msgs/Image rgb8), ``/helper/camera/depth_registered/points`` (organized
 sensor_msgs/PointCloud2 x, y, z, rgb float32) and ``/ground_truth/faulty_relative``
-(std_msgs/String, one JSON object, see :mod:`rason_vision.scenarios`). Chunks are BZ2
+(std_msgs/String, one JSON object, see :mod:`rason_vision_tools.scenarios`). Chunks are BZ2
 compressed: rosbags' LZ4 chunks are unreadable by ROS 1's ``rosbag`` (ROSLZ4_DATA_ERROR), BZ2
 ones are fine (``lz4`` here writes ROS-1-readable LZ4 frames instead). Messages are written
 in time order so ``rosbag info``/``play`` agree.
@@ -21,7 +21,7 @@ import numpy as np
 from rosbags.rosbag1 import Reader, Writer
 from rosbags.typesys import Stores, get_typestore
 
-from .convert import cloud_fields, cloud_to_xyz, image_fields, image_to_rgb
+from rason_vision.convert import cloud_fields, cloud_to_xyz, image_fields, image_to_rgb
 
 IMAGE_TOPIC = "/helper/camera/rgb/image_raw"
 CLOUD_TOPIC = "/helper/camera/depth_registered/points"

@@ -1,1 +1,0 @@
-"""The cooperative fault diagnosis demo (``./run.sh demo``)."""

@@ -1,0 +1,1 @@
+"""Offline tooling for rason_vision: synthetic scenes, rendered scenarios, recorded bags."""
