@@ -1,5 +1,5 @@
 // Agent faulty: thesis (Morais 2015) Appendix A.1, with ONLY the fixes documented in
-// /work/shared/reference/thesis-notes.md. Every change is marked "FIX:".
+// docs/thesis-fixes.md of the rason repository. Every change is marked "FIX(Fn):", Fn its entry.
 // Added for testability (not a thesis fix): a belief diagnosis(D) recording the outcome,
 // D in both_actuators, odometry, left_actuator, right_actuator, false_positive, unknown,
 // no_fault. Those lines are marked "ADDED:".
@@ -21,7 +21,7 @@
       .print("Arriving at destination");
       -+diagnosis(no_fault).                                  // ADDED: outcome belief
 
-// FIX: the heads matched the reason as the first annotation ([R1 | Rest]); in Jason the
+// FIX(F1): the heads matched the reason as the first annotation ([R1 | Rest]); in Jason the
 // failure annotations are sorted (code, code_line, error, error_msg, ...), so the reason is
 // now matched explicitly as error(R).
 -!goToDestination[error(R)]
@@ -30,9 +30,9 @@
       +reason(R);
       .broadcast(achieve, helpme).
 
--!goToDestination[error(R)]                                   // FIX: was [R1 | Rest]
+-!goToDestination[error(R)]                                   // FIX(F1): was [R1 | Rest]
    <- .print("something went wrong...", R);
-      !diagnoseAlone([R]);                                    // FIX: was [R1 | Rest]
+      !diagnoseAlone([R]);                                    // FIX(F1): was [R1 | Rest]
       !goToDestination.
 
 +!diagnoseAlone(Reasons)
@@ -55,21 +55,21 @@
 
 -!tryMove[source(R)]
    <- .print(" requesting some feedback from ", R);
-      .send(R, achieve, giveFeedback).                        // FIX: was givemeFeedback
+      .send(R, achieve, giveFeedback).                        // FIX(F2): was givemeFeedback
 
 +found(Me)[source(R)]
    : .my_name(Me)
    <- .print(R, " found me, asking to track me");
       .send(R, achieve, trackMe).
 
-// FIX: Helper gives up after a full turn and tells us so; we report unknown.
+// FIX(F6): Helper gives up after a full turn and tells us so; we report unknown.
 +notFound(Me)[source(R)]
    : .my_name(Me)
    <- .print(R, " could not find me: the fault is unknown");
       -+diagnosis(unknown).                                   // ADDED: outcome belief
 
-// FIX (all feedback plans): the prints used the unbound variable Helper; it is R.
-// FIX (noise): a real Kinect never reports exactly the same angle and depth twice, so the
+// FIX(F3) (all feedback plans): the prints used the unbound variable Helper; it is R.
+// FIX(F4) (noise): a real Kinect never reports exactly the same angle and depth twice, so the
 // thesis' exact comparisons (Depth == Depth1, Deg == Deg1) read sensor noise as motion. "Moved"
 // means the depth changed by more than 5 cm or the bearing by more than 2 degrees (a 1 s
 // no_progress window at 0.25 m/s moves Faulty about 20 cm: many times these thresholds).
@@ -93,7 +93,7 @@ moved(Deg, Depth, Deg1, Depth1) :- math.abs(Depth1 - Depth) > 0.05 | math.abs(De
       -+diagnosis(both_actuators);                            // ADDED: outcome belief
       .send(R, achieve, thanks).
 
-// FIX: the three bad_move contexts used < 8, > 8 and < -8, so a difference of exactly
+// FIX(F5): the three bad_move contexts used < 8, > 8 and < -8, so a difference of exactly
 // 8 (or -8) had no plan; the false-positive band is now closed: |d| <= 8.
 +!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
    : reason(bad_move)

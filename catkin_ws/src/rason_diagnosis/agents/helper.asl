@@ -1,5 +1,5 @@
 // Agent helper: thesis (Morais 2015) Appendix A.2, with ONLY the fixes documented in
-// /work/shared/reference/thesis-notes.md. Every change is marked "FIX:".
+// docs/thesis-fixes.md of the rason repository. Every change is marked "FIX(Fn):", Fn its entry.
 
 /* Initial beliefs and rules */
 turnRate(5).
@@ -17,14 +17,14 @@ centerThreshold(7).
       .print("helper ready.");
       .send(R, tell, found(R)).
 
-// FIX: +!findRobot never gave up; the thesis text says Helper aborts after a full turn
+// FIX(F6): +!findRobot never gave up; the thesis text says Helper aborts after a full turn
 // (360 degrees). It now fails, and -!helpme tells the requester it was not found.
 +!findRobot(Robot, Turned)
    : math.abs(Turned) >= 360
    <- .print("Turned ", Turned, " degrees without finding ", Robot, ", giving up");
       .fail(not_found(Robot)).
 
--!helpme[source(R)]                                           // FIX: see above
+-!helpme[source(R)]                                           // FIX(F6): see above
    <- .print("could not find ", R);
       -helping(R);
       .send(R, tell, notFound(R)).
@@ -71,7 +71,7 @@ centerThreshold(7).
       -helping(R);
       -foundRobot(R, _, _, _).
 
-// FIX (reconstruction): the listing is cut at the page end ("<- + robot (...);"). The text
+// FIX(F7) (reconstruction): the listing is cut at the page end ("<- + robot (...);"). The text
 // says this plan "updates the belief about the Faulty". Read literally (+robot), every
 // percept leaves a source(self) copy behind, a stale robot(_,Deg,_,_) with |Deg| >= 7 makes
 // the repositioning plan above applicable forever and Helper never centres Faulty (the
