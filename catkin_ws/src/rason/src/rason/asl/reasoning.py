@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from .intentions import Event, IntendedMeans, Intention
+from .intentions import Event, IntendedMeans, Intention, Suspension
 from .logic import IAContext, compile_context, eval_rel, first_solution, query_bb, solve
 from .plans import (
     ACHIEVE,
@@ -57,7 +57,7 @@ def error_annots(ag: Agent, im: IntendedMeans | None, deed: Deed | None, kind: s
     out: list = [Literal("error", (Literal(kind),)), Literal("error_msg", (msg,))]
     if "code" not in given:
         if code is None and deed is not None:
-            code = deed.term if im is None else resolve(deed.term, im.u)
+            code = deed.term if im is None else resolve(deed.term, im.u, ag)
         if code is not None and not isinstance(code, (Literal, float, str)):
             code = Literal(term_str(code))
         if code is not None:
@@ -82,7 +82,7 @@ def _fail_annots(args: list) -> tuple[str, list]:
     return msg, [a for a in args if a is not smsg]
 
 
-def _self_sourced(d: Deed, u: dict, error: str) -> Literal:
+def _self_sourced(ag: Agent, d: Deed, u: dict, error: str) -> Literal:
     """The deed's literal under ``u``, with ``source(self)`` when it has no source.
 
     Raises IAError with ``error`` (``{}`` = the term) when the deed's term is not a literal.
@@ -90,10 +90,10 @@ def _self_sourced(d: Deed, u: dict, error: str) -> Literal:
     st = d.self_term
     if st is not None:
         build = d.build
-        lit = build(u) if build is not None else resolve(st, u)
+        lit = build(u, ag) if build is not None else resolve(st, u, ag)
         if type(lit) is Literal:
             return lit
-    lit = resolve(d.term, u)
+    lit = resolve(d.term, u, ag)
     if not isinstance(lit, Literal):
         raise IAError(error.format(term_str(lit)))
     return lit.with_self_source()
@@ -150,9 +150,9 @@ def sel_appl(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | N
         pattern = plan.trigger.literal
         if type(pattern) is Literal and not pattern.annots and pattern.tail is None:
             # same key as the event (RelPl): only the arguments remain to unify
-            if pattern.args and not _unify_args(pattern.args, lit.args, u):
+            if pattern.args and not _unify_args(pattern.args, lit.args, u, ag):
                 continue
-        elif not unify(pattern, lit, u):
+        elif not unify(pattern, lit, u, ag):
             continue
         ctx = plan.context
         if ctx is None:
@@ -229,9 +229,9 @@ def _no_plan(ag: Agent, trig: Trigger, i: Intention | None, what: str) -> bool:
     return True
 
 
-def _unify_args(xs: tuple, ys: tuple, u: dict) -> bool:
+def _unify_args(xs: tuple, ys: tuple, u: dict, ag: Agent) -> bool:
     for x, y in zip(xs, ys, strict=False):  # noqa: SIM110 - hot path, no generator
-        if not unify(x, y, u):
+        if not unify(x, y, u, ag):
             return False
     return True
 
@@ -266,7 +266,7 @@ def act(ag: Agent) -> bool:
     """ProcAct (one action feedback) + SelInt + ExecInt + ClrInt on one intention."""
     did = False
     if ag._feedback:
-        ag.process_feedback(*ag._feedback.popleft())
+        ag.process_feedback(ag._feedback.popleft())
         did = True
     i = sel_int(ag)
     if i is None:
@@ -350,7 +350,7 @@ def _await_own_event(i: Intention, im: IntendedMeans, d: Deed, posted: bool) -> 
     if not posted:
         return True
     im.stack.append(d)
-    i.suspended = "event"
+    i.suspended = Suspension.EVENT
     return False
 
 
@@ -369,7 +369,7 @@ def _exec_internal_action(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -
     if r is SUSPEND:
         im.u = ctx.s
         if not i.dropped:
-            i.suspended = i.suspended or "ia"
+            i.suspended = i.suspended or Suspension.IA
         return False
     if r is False or r is None:
         return _fail(ag, i, im, d, "ia_failed", "")
@@ -386,21 +386,21 @@ def _exec_add_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
     """``+b``: add a belief; its event belongs to this intention."""
     u = im.u
     im.stack.pop()
-    lit = _self_sourced(d, u, "cannot add {} as a belief")
+    lit = _self_sourced(ag, d, u, "cannot add {} as a belief")
     return _await_own_event(i, im, d, ag.add_belief(lit, front=True, focus=i))
 
 
 def _exec_add_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``++b``: add a belief; its event is external (a new intention), this one goes on."""
     im.stack.pop()
-    ag.add_belief(_self_sourced(d, im.u, "cannot add {} as a belief"), front=True)
+    ag.add_belief(_self_sourced(ag, d, im.u, "cannot add {} as a belief"), front=True)
     return True
 
 
 def _exec_remove_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``--b``: remove a belief; its event is external, this intention goes on."""
     im.stack.pop()
-    if isinstance(resolve(d.term, im.u), ListTerm):
+    if isinstance(resolve(d.term, im.u, ag), ListTerm):
         return True  # a list is a Literal in Jason: no such belief, nothing removed (untell [..])
     lit = _belief_to_remove(ag, im, d)
     if lit is not None:
@@ -411,10 +411,10 @@ def _exec_remove_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d:
 def _exec_achieve(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``!g``: post the subgoal's event; the intention waits for it."""
     u = im.u
-    lit = _self_sourced(d, u, "invalid goal {}")
+    lit = _self_sourced(ag, d, u, "invalid goal {}")
     if not (lit._g or is_ground(lit)):
         lit = rename_vars(lit, {})
-    i.suspended = "subgoal"
+    i.suspended = Suspension.SUBGOAL
     ag.events.append(Event(Trigger(ADD, ACHIEVE, lit), i))
     return False
 
@@ -426,7 +426,7 @@ def _exec_achieve_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed)
     if d.self_trigger is not None:
         ag.add_event(Event(d.self_trigger))
         return True
-    lit = _self_sourced(d, u, "invalid goal {}")
+    lit = _self_sourced(ag, d, u, "invalid goal {}")
     ag.add_event(Event(Trigger(ADD, ACHIEVE, lit)))
     return True
 
@@ -437,24 +437,24 @@ def _exec_constraint(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
     im.stack.pop()
     f = d.term
     if type(f) is RelExpr:
-        r = eval_rel(f, u)
+        r = eval_rel(f, u, ag)
         if r is None:
             return _fail(ag, i, im, d, "constraint_failed",
-                         f"Constraint {term_str(resolve(f, u))} was not satisfied.")
+                         f"Constraint {term_str(resolve(f, u, ag))} was not satisfied.")
         im.u = r
         return True
     for sol in solve(ag, f, u, i):
         im.u = sol
         return True
     return _fail(ag, i, im, d, "constraint_failed",
-                 f"Constraint {term_str(resolve(f, u))} was not satisfied.")
+                 f"Constraint {term_str(resolve(f, u, ag))} was not satisfied.")
 
 
 def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``-+b``: remove the first ``b(...)[source(self)]``, then add ``b``."""
     u = im.u
     im.stack.pop()
-    lit = _self_sourced(d, u, "cannot add {} as a belief")
+    lit = _self_sourced(ag, d, u, "cannot add {} as a belief")
     # remove the first belief matching b(_,...)[source(self)] (external event), then add
     annots = lit.annots
     for b in ag.bb.candidates((lit.functor, len(lit.args), lit.neg)):
@@ -476,12 +476,12 @@ def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> 
 def _belief_to_remove(ag: Agent, im: IntendedMeans, d: Deed) -> Literal | None:
     """The belief a ``-b``/``--b`` deed removes: the literal itself when ground, else the first
     belief it unifies with (its bindings kept in ``im.u``); None when there is none."""
-    lit = _self_sourced(d, im.u, "cannot remove {}")
+    lit = _self_sourced(ag, d, im.u, "cannot remove {}")
     if lit._g or is_ground(lit):
         return lit
     for sol in query_bb(ag, lit, im.u):
         im.u = sol
-        return resolve(lit, sol)
+        return resolve(lit, sol, ag)
     return None
 
 
@@ -494,13 +494,13 @@ def _exec_test_goal(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool
         stack.pop()
         im.u = sol
         return True
-    lit = resolve(f, u)
+    lit = resolve(f, u, ag)
     if (isinstance(lit, Literal) and not lit.functor.startswith(".")
             and ag.pl.has_candidate(ADD, TEST, lit)):
         lit = lit.with_self_source()
         if not is_ground(lit):
             lit = rename_vars(lit, {})
-        i.suspended = "subgoal"
+        i.suspended = Suspension.SUBGOAL
         ag.events.append(Event(Trigger(ADD, TEST, lit), i))
         return False
     stack.pop()
@@ -512,7 +512,7 @@ def _exec_action(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """An environment action: the intention waits for its feedback."""
     u = im.u
     im.stack.pop()
-    lit = resolve(d.term, u)
+    lit = resolve(d.term, u, ag)
     if isinstance(lit, Literal) and lit.functor == "true" and not lit.args:
         return True
     if not isinstance(lit, Literal):
@@ -635,10 +635,10 @@ def clr_int(ag: Agent, i: Intention) -> None:
         if caller.stack:
             d = caller.stack.pop()
             if d.kind in (K_ACHIEVE, K_TEST):
-                res = resolve(im.trigger.literal, im.u)
-                goal = resolve(d.term, caller.u)
+                res = resolve(im.trigger.literal, im.u, ag)
+                goal = resolve(d.term, caller.u, ag)
                 s2 = dict(caller.u)
-                if unify(goal, res, s2):
+                if unify(goal, res, s2, ag):
                     caller.u = s2
 
 
@@ -690,7 +690,7 @@ def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx:
     t = im.trigger
     lit = t.literal.add_annots(annots) if isinstance(t.literal, Literal) else t.literal
     ag.detach(i)
-    i.suspended = "failure"
+    i.suspended = Suspension.FAILURE
     ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
 
 
@@ -705,7 +705,7 @@ def fail_goal_at(ag: Agent, i: Intention, idx: int) -> None:
             if t.op == ADD and t.is_goal:
                 lit = t.literal.no_annots() if isinstance(t.literal, Literal) else t.literal
                 ag.detach(i)
-                i.suspended = "failure"
+                i.suspended = Suspension.FAILURE
                 ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=j))
                 return
             break
