@@ -33,7 +33,7 @@ from .intentions import (
 )
 from .kqml import KQML_SRC, kqml_plans
 from .logic import solve
-from .parser import AgentSource, Rule, parse_source
+from .parser import AgentSource, AslSyntaxError, Rule, parse_source
 from .plans import ACHIEVE, ADD, BELIEF, DEL, K_INTERNAL, PlanLibrary, Trigger, body_deeds
 from .stdlib import IA_REGISTRY, IAError
 from .terms import (
@@ -766,10 +766,18 @@ _KQML_RECEIVED = Trigger(ADD, ACHIEVE, Literal("kqml_received", (Literal("s"), L
                                                                   Literal("c"), Literal("m"))))
 
 
-def load_agent_source(path: str) -> str:
-    """Read an ``.asl`` file (UTF-8)."""
-    with open(path, encoding="utf-8") as f:
-        return f.read()
+def load_agent_source(path: str | os.PathLike) -> str:
+    """Read an ``.asl`` file (UTF-8); text that is not UTF-8 raises :class:`AslSyntaxError`
+    at the first bad byte (``file:line:col: ...``)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        col = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
+        raise AslSyntaxError(str(path), line, col,
+                             f"not UTF-8 text (byte 0x{data[e.start]:02x}); save the file as UTF-8") from None
 
 
 __all__ = ["Agent", "load_agent_source", "merge_annots"]

@@ -26,6 +26,9 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as e:
         print(f"{args.file}: {e.strerror or e}", file=sys.stderr)
         return 2
+    except UnicodeDecodeError as e:   # a project file that is not UTF-8
+        print(f"{args.file}: not UTF-8 text (byte {e.start}); save the file as UTF-8", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         return 130
     if not ok:

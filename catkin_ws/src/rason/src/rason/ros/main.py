@@ -7,7 +7,7 @@ import os
 import sys
 from pathlib import Path
 
-from rason.asl import AslSyntaxError, load_mas2j
+from rason.asl import AslSyntaxError, load_agent_source, load_mas2j
 from rason.ros.perceptions import PerceptionFilter
 
 # rospy reads the node's namespace from sys.argv when it is imported, so it is imported only
@@ -38,9 +38,12 @@ def _run(node_name: str, argv: list[str], agents: list[tuple[str, Path, Percepti
     sources = []
     for name, path, pfilter in agents:
         try:
-            sources.append((name, path.read_text(encoding="utf-8"), path, pfilter))
+            sources.append((name, load_agent_source(path), path, pfilter))
         except OSError as err:
             print(f"rason: cannot read {path}: {err}", file=sys.stderr)
+            return 2
+        except AslSyntaxError as err:
+            print(str(err), file=sys.stderr)
             return 2
     sys.argv = argv
     import rospy
