@@ -9,6 +9,7 @@ import random
 import sys
 import threading
 from collections import deque
+from dataclasses import dataclass
 from typing import Any
 
 from . import reasoning
@@ -51,6 +52,31 @@ from .terms import (
 from .unify import resolve, unify
 
 
+@dataclass(frozen=True)
+class AgentOptions:
+    """Per-agent settings (Jason's agent options in ``.mas2j``).
+
+    ``tro``: tail-recursion optimisation (Jason's ``tro``, on by default): a goal whose plan
+    ends by posting the same goal again replaces its intended means instead of growing the
+    intention, so ``+!loop <- ...; !loop.`` runs in constant memory.
+    ``max_intention_depth``: an intention deeper than this (intended means on its stack)
+    fails with ``error(intention_too_deep)`` instead of eating memory.
+    """
+
+    tro: bool = True
+    max_intention_depth: int = 10_000
+
+    @classmethod
+    def from_options(cls, options: dict, default: AgentOptions | None = None) -> AgentOptions:
+        """From ``.mas2j``-style options (``tro=false``, ``max_intention_depth=500``); the
+        ones not given are those of ``default``."""
+        base = default if default is not None else cls()
+        tro = options.get("tro", base.tro)
+        depth = options.get("max_intention_depth", base.max_intention_depth)
+        return cls(tro=str(tro).strip().strip('"').lower() not in ("false", "off", "no", "0"),
+                   max_intention_depth=int(float(str(depth).strip().strip('"'))))
+
+
 def _strip_sources(t: Any) -> Any:
     if isinstance(t, Literal) and t.annots:
         return t.with_annots(tuple(a for a in t.annots
@@ -66,8 +92,10 @@ class Agent:
     """
 
     def __init__(self, name: str, source: str, arch: AgentArch, filename: str = "<string>",
-                 seed: int | None = None, src_name: str | None = None) -> None:
+                 seed: int | None = None, src_name: str | None = None,
+                 options: AgentOptions | None = None) -> None:
         self.name = name
+        self.options = options if options is not None else AgentOptions()
         self.arch = arch
         self.filename = filename
         if src_name is None:
@@ -780,4 +808,4 @@ def load_agent_source(path: str | os.PathLike) -> str:
                              f"not UTF-8 text (byte 0x{data[e.start]:02x}); save the file as UTF-8") from None
 
 
-__all__ = ["Agent", "load_agent_source", "merge_annots"]
+__all__ = ["Agent", "AgentOptions", "load_agent_source", "merge_annots"]

@@ -40,7 +40,7 @@ class IntendedMeans:
     ``stack`` holds the remaining deeds in reverse order (the next deed is ``stack[-1]``).
     """
 
-    __slots__ = ("current", "fail_target", "plan", "stack", "trigger", "u")
+    __slots__ = ("current", "fail_target", "plan", "result", "stack", "trigger", "u")
 
     def __init__(self, plan: Plan, trigger: Trigger, u: dict, fail_target: int | None = None) -> None:
         self.plan = plan
@@ -49,6 +49,9 @@ class IntendedMeans:
         self.stack: list[Deed] = list(plan.rev_body)
         self.fail_target = fail_target  # for -!g means: stack index of the failed +!g means
         self.current: Deed | None = None  # the deed being executed (for intention dumps)
+        # set when tail-recursion optimisation replaced the means below: (answer, call), what
+        # the caller gets is ``answer`` once ``call`` is unified with this means' result
+        self.result: tuple[Any, Any] | None = None
 
     @property
     def is_goal_add(self) -> bool:

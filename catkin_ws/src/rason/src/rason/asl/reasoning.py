@@ -194,12 +194,64 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     if i is None:
         i = Intention(next(ag.intention_ids))
         i.reply = ev.reply
+    elif trig.op == ADD and i.ims:
+        if ag.options.tro:
+            _tail_call(ag, i, im)
+        if len(i.ims) >= ag.options.max_intention_depth:
+            _too_deep(ag, i, trig)
+            return True
     if plan.atomic:
         ag.atomic_used = True
     i.push(im)
     i.suspended = None
     ag.running.append(i)
     return True
+
+
+def _tail_call(ag: Agent, i: Intention, im: IntendedMeans) -> None:
+    """Tail-recursion optimisation (Jason's TRO in AddIM): when the top means of ``i`` is a goal
+    whose last deed posted this goal again (same functor and arity), it is finished: ``im``
+    replaces it, so looping by recursion keeps the intention's depth constant. What the
+    replaced means would have passed to its caller is kept in ``im.result``."""
+    top = i.ims[-1]
+    tt, nt = top.trigger, im.trigger
+    if not (tt.op == ADD and tt.is_goal and nt.is_goal and len(top.stack) == 1):
+        return
+    tl, nl = tt.literal, nt.literal
+    if not (type(tl) is Literal and type(nl) is Literal and tl.functor == nl.functor
+            and len(tl.args) == len(nl.args)):
+        return
+    call = top.stack[-1]
+    if call.kind not in (K_ACHIEVE, K_TEST):
+        return
+    answer, asked = _renamed_pair(resolve(tl, top.u, ag), resolve(call.term, top.u, ag))
+    if top.result is not None:   # compose with what top itself owed its caller
+        s: dict = {}
+        prev_answer, prev_call = top.result
+        unified = unify(prev_call, answer, s, ag)
+        answer = resolve(prev_answer, s, ag)
+        if unified:
+            asked = resolve(asked, s, ag)
+    im.result = (answer, asked)
+    i.pop()
+
+
+def _renamed_pair(a: Any, b: Any) -> tuple[Any, Any]:
+    """``a`` and ``b`` with their variables renamed apart from every other term (one mapping)."""
+    if (type(a) is Literal and a._g) or is_ground(a):
+        return a, b
+    mapping: dict = {}
+    return rename_vars(a, mapping), rename_vars(b, mapping)
+
+
+def _too_deep(ag: Agent, i: Intention, trig: Trigger) -> None:
+    """The intention reached the depth limit: it fails with ``error(intention_too_deep)``."""
+    limit = ag.options.max_intention_depth
+    msg = (f"intention {i.id} reached the depth limit of {limit} intended means at {trig} "
+           "(recursion that is not a tail call?)")
+    ag.warn(f"warning: {msg}")
+    fail_intention(ag, i, annots=error_annots(ag, i.top(), None, "intention_too_deep", msg,
+                                              code=trig.literal))
 
 
 def _no_plan(ag: Agent, trig: Trigger, i: Intention | None, what: str) -> bool:
@@ -636,6 +688,10 @@ def clr_int(ag: Agent, i: Intention) -> None:
             d = caller.stack.pop()
             if d.kind in (K_ACHIEVE, K_TEST):
                 res = resolve(im.trigger.literal, im.u, ag)
+                if im.result is not None:   # the means tail-recursion optimisation replaced
+                    answer, asked = im.result
+                    s: dict = {}
+                    res = resolve(answer, s, ag) if unify(asked, res, s, ag) else answer
                 goal = resolve(d.term, caller.u, ag)
                 s2 = dict(caller.u)
                 if unify(goal, res, s2, ag):
