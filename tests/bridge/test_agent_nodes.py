@@ -154,6 +154,15 @@ def test_syntax_error_is_reported_with_file_line_col(ros, tmp_path):
     assert f"{path}:" in proc.output()
 
 
+def test_a_non_utf8_source_is_a_file_error_with_status_2(ros, tmp_path):
+    path = tmp_path / "latin1.asl"
+    path.write_bytes(b'!start.\n+!start <- .print("caf\xe9").\n')
+    proc = ros.rosrun("rason", "agent", "latin1", str(path), ns="/b7")
+    assert proc.wait(30) == 2
+    assert f"{path}:2:23: not UTF-8 text" in proc.output()
+    assert "Traceback" not in proc.output()
+
+
 def test_mas_hosts_every_agent_of_a_project_in_one_node(ros, tmp_path):
     write_agent(tmp_path, "bob", BOB)
     write_agent(tmp_path, "carol", """

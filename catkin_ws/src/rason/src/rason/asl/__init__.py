@@ -6,7 +6,7 @@ library, circumstance), ``reasoning`` (the transition system), ``stdlib`` (inter
 ``arch`` (agent architecture), ``mas2j``/``runtime``/``cli`` (projects and the local runner).
 """
 
-from .agent import Agent, load_agent_source
+from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, VirtualClock, WallClock
 from .mas2j import MasProject, load_mas2j, parse_mas2j
 from .parser import AslSyntaxError, parse_literal, parse_source, parse_term
@@ -14,7 +14,8 @@ from .runtime import LocalArch, LocalMas, run_file
 from .terms import ListTerm, Literal, Var, format_number, term_str
 
 __all__ = [
-    "Agent", "AgentArch", "AslSyntaxError", "Clock", "ListTerm", "Literal", "LocalArch", "LocalMas",
+    "Agent", "AgentArch", "AgentOptions", "AslSyntaxError", "Clock", "ListTerm", "Literal", "LocalArch",
+    "LocalMas",
     "MasProject", "Message", "UnknownReceiver", "Var", "VirtualClock", "WallClock", "format_number",
     "load_agent_source", "load_mas2j", "parse_literal", "parse_mas2j", "parse_source", "parse_term",
     "run_file", "term_str",

@@ -9,23 +9,34 @@ import random
 import sys
 import threading
 from collections import deque
+from dataclasses import dataclass
 from typing import Any
 
 from . import reasoning
 from .arch import AgentArch, Message
 from .beliefs import BeliefBase
 from .intentions import (
+    ActionResult,
+    AskWait,
     Event,
+    EventWait,
     IntendedMeans,
     Intention,
     IntentionQueue,
+    PendingAction,
+    PendingEvent,
+    Suspension,
+    Timer,
+    TimerKind,
     event_has_goal,
     has_goal,
     java_map_order,
 )
+from .kqml import KQML_SRC, kqml_plans
 from .logic import solve
-from .parser import AgentSource, Rule, parse_source
+from .parser import AgentSource, AslSyntaxError, Rule, parse_source
 from .plans import ACHIEVE, ADD, BELIEF, DEL, K_INTERNAL, PlanLibrary, Trigger, body_deeds
+from .stdlib import IA_REGISTRY, IAError
 from .terms import (
     FALSE,
     SOURCE_PERCEPT,
@@ -38,7 +49,32 @@ from .terms import (
     source,
     term_str,
 )
-from .unify import CURRENT, resolve, unify
+from .unify import resolve, unify
+
+
+@dataclass(frozen=True)
+class AgentOptions:
+    """Per-agent settings (Jason's agent options in ``.mas2j``).
+
+    ``tro``: tail-recursion optimisation (Jason's ``tro``, on by default): a goal whose plan
+    ends by posting the same goal again replaces its intended means instead of growing the
+    intention, so ``+!loop <- ...; !loop.`` runs in constant memory.
+    ``max_intention_depth``: an intention deeper than this (intended means on its stack)
+    fails with ``error(intention_too_deep)`` instead of eating memory.
+    """
+
+    tro: bool = True
+    max_intention_depth: int = 10_000
+
+    @classmethod
+    def from_options(cls, options: dict, default: AgentOptions | None = None) -> AgentOptions:
+        """From ``.mas2j``-style options (``tro=false``, ``max_intention_depth=500``); the
+        ones not given are those of ``default``."""
+        base = default if default is not None else cls()
+        tro = options.get("tro", base.tro)
+        depth = options.get("max_intention_depth", base.max_intention_depth)
+        return cls(tro=str(tro).strip().strip('"').lower() not in ("false", "off", "no", "0"),
+                   max_intention_depth=int(float(str(depth).strip().strip('"'))))
 
 
 def _strip_sources(t: Any) -> Any:
@@ -56,8 +92,10 @@ class Agent:
     """
 
     def __init__(self, name: str, source: str, arch: AgentArch, filename: str = "<string>",
-                 seed: int | None = None, src_name: str | None = None) -> None:
+                 seed: int | None = None, src_name: str | None = None,
+                 options: AgentOptions | None = None) -> None:
         self.name = name
+        self.options = options if options is not None else AgentOptions()
         self.arch = arch
         self.filename = filename
         if src_name is None:
@@ -67,20 +105,20 @@ class Agent:
         self.pl = PlanLibrary()
         self.events: deque[Event] = deque()
         self.running = IntentionQueue()
-        self._feedback: deque = deque()
+        self._feedback: deque[ActionResult] = deque()
         self.current: Intention | None = None
         self.suspended: dict[int, Intention] = {}
-        self.pending_actions: dict[int, tuple] = {}
-        self.timers: list[tuple] = []                 # heap of (deadline, seq, kind, intention, data)
-        self.event_waits: list[tuple] = []            # (trigger|None, cond|None, intention, im)
-        self.pending_events: list[tuple] = []         # Jason's PE: (key, event) held by .suspend
+        self.pending_actions: dict[int, PendingAction] = {}
+        self.timers: list[Timer] = []                 # a heap
+        self.event_waits: list[EventWait] = []
+        self.pending_events: list[PendingEvent] = []  # Jason's PE: events held by .suspend
         self.selected_event: Event | None = None      # Jason's C.SE (the event of this cycle)
-        self.ask_waits: dict[str, tuple] = {}         # msg_id -> (intention, answer term)
+        self.ask_waits: dict[str, AskWait] = {}       # by the question's msg_id
         self.random = random.Random(seed)
         self._seq = itertools.count()
         self._action_ids = itertools.count(1)
         self.intention_ids = itertools.count(1)
-        self._inbox: deque = deque()
+        self._inbox: deque[Message | ActionResult | None] = deque()   # None: a wake-up
         self._inbox_lock = threading.Lock()
         self._wake_event = threading.Event()
         self._state_lock = threading.RLock()
@@ -94,8 +132,6 @@ class Agent:
 
     # ================================================================ loading
     def load(self, parsed: AgentSource) -> None:
-        from .kqml import kqml_plans
-        from .stdlib import IA_REGISTRY
         for p in parsed.plans:
             for d in body_deeds(p.body):
                 if d.kind == K_INTERNAL and d.term.functor not in IA_REGISTRY:
@@ -121,7 +157,7 @@ class Agent:
     def receive(self, message: Message) -> None:
         """Thread-safe: queue an incoming message and wake the agent."""
         with self._inbox_lock:
-            self._inbox.append(("msg", message))
+            self._inbox.append(message)
         self._wake_event.set()
         if self.on_wake is not None:
             self.on_wake()
@@ -131,7 +167,7 @@ class Agent:
         """Thread-safe: the environment finished action ``action_id`` (ok or failed with reason;
         ``annots``: more annotations for the failure event, like Jason's failure reason term)."""
         with self._inbox_lock:
-            self._inbox.append(("fb", action_id, ok, reason, message, annots))
+            self._inbox.append(ActionResult(action_id, ok, reason, message, annots))
         self._wake_event.set()
         if self.on_wake is not None:
             self.on_wake()
@@ -139,7 +175,7 @@ class Agent:
     def wake(self) -> None:
         """Thread-safe: something changed (e.g. new percepts); run a cycle soon."""
         with self._inbox_lock:
-            self._inbox.append(("wake",))
+            self._inbox.append(None)
         self._wake_event.set()
         if self.on_wake is not None:
             self.on_wake()
@@ -147,7 +183,6 @@ class Agent:
     def step(self) -> bool:
         """One reasoning cycle; True if it did anything."""
         with self._state_lock:
-            CURRENT.agent = self
             try:
                 did = self.sense()
                 did = reasoning.deliberate(self) or did
@@ -194,9 +229,9 @@ class Agent:
 
     def next_deadline(self) -> float | None:
         """Earliest ``.wait`` deadline (clock seconds), or None."""
-        while self.timers and self.timers[0][3].id not in self.suspended:
+        while self.timers and self.timers[0].intention.id not in self.suspended:
             heapq.heappop(self.timers)
-        return self.timers[0][0] if self.timers else None
+        return self.timers[0].deadline if self.timers else None
 
     def mind(self) -> dict[str, list[str]]:
         """Snapshot of the mental state as Jason text."""
@@ -206,12 +241,24 @@ class Agent:
             intentions = []
             for i in self.all_intentions():
                 tops = " / ".join(str(im.trigger) for im in reversed(i.ims))
-                state = f" (suspended: {i.suspended})" if i.suspended else ""
+                state = f" (suspended: {self._suspension_text(i)})" if i.suspended else ""
                 intentions.append(f"intention {i.id}: {tops}{state}")
                 desires.extend(str(im.trigger) for im in i.ims if im.trigger.is_goal and im.trigger.op == ADD)
-            pending = [f"{aid}: {term_str(v[2])}" for aid, v in self.pending_actions.items()]
+            pending = [f"{aid}: {term_str(p.action)}" for aid, p in self.pending_actions.items()]
             return {"beliefs": beliefs, "desires": desires, "intentions": intentions,
                     "pending_actions": pending}
+
+    def _suspension_text(self, i: Intention) -> str:
+        """What ``i`` waits for, as the mind shows it (``action 3``, ``wait``...)."""
+        if i.suspended is Suspension.ACTION:
+            for aid, p in self.pending_actions.items():
+                if p.intention is i:
+                    return f"action {aid}"
+        return i.suspended.value if i.suspended is not None else ""
+
+    def count_solutions(self, query: Any) -> int:
+        """``.count(Q)``: how many solutions Q has in the current mental state."""
+        return sum(1 for _ in solve(self, query, {}))
 
     def request_stop(self) -> None:
         self._stop_requested = True
@@ -248,10 +295,10 @@ class Agent:
             # all action feedback and wake-ups, but (like Jason) one message per cycle
             with self._inbox_lock:
                 items = []
-                keep = deque()
+                keep: deque[Message | ActionResult | None] = deque()
                 msg_taken = False
                 for it in self._inbox:
-                    if it[0] == "msg":
+                    if type(it) is Message:
                         if msg_taken:
                             keep.append(it)
                             continue
@@ -260,11 +307,10 @@ class Agent:
                 self._inbox = keep
             for it in items:
                 did = True
-                kind = it[0]
-                if kind == "msg":
-                    self.process_message(it[1])
-                elif kind == "fb":
-                    self._feedback.append(it[1:])
+                if type(it) is Message:
+                    self.process_message(it)
+                elif type(it) is ActionResult:
+                    self._feedback.append(it)
         if self.timers:
             did = self.check_timers() or did
         return did
@@ -293,29 +339,30 @@ class Agent:
     def check_timers(self) -> bool:
         now = self.arch.clock.now()
         did = False
-        while self.timers and self.timers[0][0] <= now:
-            _, _, kind, i, data = heapq.heappop(self.timers)
+        while self.timers and self.timers[0].deadline <= now:
+            timer = heapq.heappop(self.timers)
+            kind, i = timer.kind, timer.intention
             if i.id not in self.suspended or i.dropped:
                 continue
-            if kind == "wait" and i.suspended == "wait":
+            if kind is TimerKind.WAIT and i.suspended is Suspension.WAIT:
                 self.resume(i)
                 did = True
-            elif kind == "event_timeout" and i.suspended == "event_wait":
-                self.event_waits = [w for w in self.event_waits if w[2] is not i]
+            elif kind is TimerKind.EVENT_TIMEOUT and i.suspended is Suspension.EVENT_WAIT:
+                self.event_waits = [w for w in self.event_waits if w.intention is not i]
                 if not self.resume(i):
                     continue
                 reasoning.fail_intention(self, i, annots=reasoning.error_annots(
                     self, i.top(), None, "wait_timeout", "timeout in .wait"))
                 did = True
-            elif kind == "ask_timeout" and i.suspended == "ask":
-                mid, ans = data
-                w = self.ask_waits.pop(mid, None)
+            elif kind is TimerKind.ASK_TIMEOUT and i.suspended is Suspension.ASK:
+                w = self.ask_waits.pop(timer.msg_id, None)
                 if w is not None:
                     # jason.stdlib.send: ``timeout``, or the answers so far for a list of receivers
                     self.resume(i)
                     im = i.top()
                     s2 = dict(im.u)
-                    if unify(ans, Literal("timeout") if w[3] is None else make_list(w[4]), s2):
+                    got = Literal("timeout") if w.receivers is None else make_list(w.answers)
+                    if unify(w.answer, got, s2, self):
                         im.u = s2
                     did = True
         return did
@@ -342,7 +389,7 @@ class Agent:
                 out.append(ev.intention)
         return out
 
-    def suspend(self, i: Intention, why: str) -> None:
+    def suspend(self, i: Intention, why: Suspension) -> None:
         i.suspended = why
         self.suspended[i.id] = i
 
@@ -351,7 +398,7 @@ class Agent:
         it (then it stays in PI as ``suspended-<id>`` until ``.resume``, as in jason.stdlib.wait).
         Returns True when ``i`` runs again."""
         if i.sus_ia and not i.dropped:
-            i.suspended = "suspended"
+            i.suspended = Suspension.SUSPENDED
             i.pi_key = f"suspended-{i.id}"
             self.suspended[i.id] = i
             return False
@@ -364,17 +411,17 @@ class Agent:
         return False
 
     def suspend_timer(self, i: Intention, deadline: float, ms: float = 0.0) -> None:
-        self.suspend(i, "wait")
+        self.suspend(i, Suspension.WAIT)
         i.pi_key = f"{i.id}/time{int(ms)}"
-        heapq.heappush(self.timers, (deadline, next(self._seq), "wait", i, None))
+        heapq.heappush(self.timers, Timer(deadline, next(self._seq), TimerKind.WAIT, i))
 
     def suspend_event_wait(self, i: Intention, trig: Trigger | None, cond: Any,
                            deadline: float | None) -> None:
-        self.suspend(i, "event_wait")
+        self.suspend(i, Suspension.EVENT_WAIT)
         i.pi_key = f"{i.id}/{trig if trig is not None else term_str(cond)}"
-        self.event_waits.append((trig, cond, i, i.top()))
+        self.event_waits.append(EventWait(trig, cond, i, i.top()))
         if deadline is not None:
-            heapq.heappush(self.timers, (deadline, next(self._seq), "event_timeout", i, None))
+            heapq.heappush(self.timers, Timer(deadline, next(self._seq), TimerKind.EVENT_TIMEOUT, i))
 
     def register_ask(self, msg_id: str, i: Intention | None, answer: Any, deadline: float | None,
                      perf: str = "askOne", n: int | None = None) -> None:
@@ -382,26 +429,27 @@ class Agent:
         they were given as a list, then the answer is the list of their answers)."""
         if i is None:
             return
-        self.suspend(i, "ask")
+        self.suspend(i, Suspension.ASK)
         i.pi_key = msg_id
-        self.ask_waits[msg_id] = (i, answer, perf, n, [])
+        self.ask_waits[msg_id] = AskWait(i, answer, perf, n)
         if deadline is not None:
-            heapq.heappush(self.timers, (deadline, next(self._seq), "ask_timeout", i, (msg_id, answer)))
+            heapq.heappush(self.timers, Timer(deadline, next(self._seq), TimerKind.ASK_TIMEOUT, i,
+                                              msg_id))
 
     def detach(self, i: Intention) -> None:
         """Remove ``i`` from every queue/registration (it is about to be re-attached elsewhere)."""
         self.running.take(i)
         self.suspended.pop(i.id, None)
         if self.event_waits:
-            self.event_waits = [w for w in self.event_waits if w[2] is not i]
-        for k in [k for k, v in self.ask_waits.items() if v[0] is i]:
+            self.event_waits = [w for w in self.event_waits if w.intention is not i]
+        for k in [k for k, w in self.ask_waits.items() if w.intention is i]:
             del self.ask_waits[k]
-        for k in [k for k, v in self.pending_actions.items() if v[0] is i]:
+        for k in [k for k, p in self.pending_actions.items() if p.intention is i]:
             del self.pending_actions[k]
         if any(ev.intention is i for ev in self.events):
             self.events = deque(ev for ev in self.events if ev.intention is not i)
         if self.pending_events:
-            self.pending_events = [(k, ev) for k, ev in self.pending_events if ev.intention is not i]
+            self.pending_events = [p for p in self.pending_events if p.event.intention is not i]
         i.suspended = None
         i.sus_ia = False
         i.pi_key = None
@@ -416,14 +464,14 @@ class Agent:
     def intention_finished(self, i: Intention, last: IntendedMeans) -> None:
         if i.reply is not None:
             q: Message = i.reply
-            ans = _strip_sources(resolve(last.trigger.literal, last.u))
+            ans = _strip_sources(resolve(last.trigger.literal, last.u, self))
             self.send_message(Message(self.name, q.sender, "tell", ans, in_reply_to=q.msg_id))
 
     def _goal_positions(self, pattern: Any, s: dict):
         for i in self.all_intentions():
             for idx in range(len(i.ims) - 1, -1, -1):
                 t = i.ims[idx].trigger
-                if t.op == ADD and t.type == ACHIEVE and unify(pattern, t.literal, dict(s)):
+                if t.op == ADD and t.type == ACHIEVE and unify(pattern, t.literal, dict(s), self):
                     yield i, idx
                     break
 
@@ -433,10 +481,10 @@ class Agent:
         if drop_events:
             def hit(ev: Event) -> bool:
                 return (ev.trigger.op == ADD and ev.trigger.type == ACHIEVE
-                        and unify(pattern, ev.trigger.literal, dict(s)))
+                        and unify(pattern, ev.trigger.literal, dict(s), self))
             self.events = deque(ev for ev in self.events if not hit(ev))
             if self.pending_events:
-                self.pending_events = [(k, ev) for k, ev in self.pending_events if not hit(ev)]
+                self.pending_events = [p for p in self.pending_events if not hit(p.event)]
 
     def drop_all(self, events: bool, keep: Intention | None = None) -> None:
         """``.drop_all_intentions`` (events=False: only events of intentions go) or
@@ -477,7 +525,7 @@ class Agent:
         all the matches, so the bindings of a match restrict the next ones (and are kept).
         Returns (the current intention suspended itself, the unifier)."""
         pend = [i for i in self.suspended.values() if i is not current]
-        pa = sorted((i for i in pend if i.suspended is not None and i.suspended.startswith("action")),
+        pa = sorted((i for i in pend if i.suspended is Suspension.ACTION),
                     key=lambda i: i.id & 15)
         pi = java_map_order([i for i in pend if i.pi_key is not None], lambda i: i.pi_key)
         for i in pa + pi:
@@ -492,7 +540,7 @@ class Agent:
             if s2 is not None:
                 s = s2
                 self.running.remove(i)
-                self.suspend(i, "suspended")
+                self.suspend(i, Suspension.SUSPENDED)
                 i.sus_ia = True
                 i.pi_key = f"suspended-{i.id}"
         own = False
@@ -501,7 +549,7 @@ class Agent:
             if s2 is not None:
                 s = s2
                 own = True
-                self.suspend(current, "suspended")
+                self.suspend(current, Suspension.SUSPENDED)
                 current.sus_ia = True
                 current.pi_key = f"suspended-self-{current.id}"
         if self.events:
@@ -513,7 +561,7 @@ class Agent:
                     keep.append(ev)
                     continue
                 s = s2
-                self.pending_events.append((f"suspended-{ev.trigger}{c}", ev))
+                self.pending_events.append(PendingEvent(f"suspended-{ev.trigger}{c}", ev))
                 c += 1
                 if ev.intention is not None:
                     ev.intention.sus_ia = True
@@ -536,14 +584,15 @@ class Agent:
             i.sus_ia = False
             if (i.pi_key or "").startswith("suspended-"):
                 i.pi_key = None
-                if i.suspended == "suspended":
+                if i.suspended is Suspension.SUSPENDED:
                     self.resume(i)
-        for k, ev in java_map_order(list(self.pending_events), lambda kv: kv[0]):
+        for held in java_map_order(list(self.pending_events), lambda p: p.key):
+            ev = held.event
             s2 = event_has_goal(ev, pattern, s)
             if s2 is None:
                 continue
             s = s2
-            self.pending_events.remove((k, ev))
+            self.pending_events.remove(held)
             if ev.intention is not None:
                 ev.intention.sus_ia = False
             if self.event_waits:
@@ -571,10 +620,10 @@ class Agent:
         keep = []
         woken = []
         for w in self.event_waits:
-            trig, _cond, i, _im = w
+            trig = w.trigger
             if (trig is not None and trig.op == t.op and trig.type == t.type
-                    and unify(trig.literal, t.literal, {})):
-                woken.append(i)
+                    and unify(trig.literal, t.literal, {}, self)):
+                woken.append(w.intention)
             else:
                 keep.append(w)
         if woken:
@@ -583,11 +632,11 @@ class Agent:
                 self.resume(i)
 
     def check_cond_waits(self) -> None:
-        if not any(w[1] is not None for w in self.event_waits):
+        if not any(w.condition is not None for w in self.event_waits):
             return
         keep = []
         for w in self.event_waits:
-            _trig, cond, i, im = w
+            cond, i, im = w.condition, w.intention, w.means
             if cond is not None and im is not None:
                 sol = next(iter(solve(self, cond, im.u, i)), None)
                 if sol is not None:
@@ -635,28 +684,27 @@ class Agent:
     # ================================================================ actions
     def start_action(self, i: Intention, im: IntendedMeans, deed: Any, action: Literal) -> int:
         aid = next(self._action_ids)
-        self.pending_actions[aid] = (i, im, action, deed)
-        self.suspend(i, f"action {aid}")
+        self.pending_actions[aid] = PendingAction(i, im, action, deed)
+        self.suspend(i, Suspension.ACTION)
         try:
             self.arch.act(self, action, aid)
         except Exception as e:
             self.action_feedback(aid, False, "action_failed", f"{type(e).__name__}: {e}")
         return aid
 
-    def process_feedback(self, aid: int, ok: bool, reason: str | None, message: str,
-                         annots: list | None = None) -> None:
-        entry = self.pending_actions.pop(aid, None)
+    def process_feedback(self, result: ActionResult) -> None:
+        entry = self.pending_actions.pop(result.action_id, None)
         if entry is None:
             return
-        i, im, action, deed = entry
+        i, im = entry.intention, entry.means
         if i.dropped or i.id not in self.suspended:
             return
-        if not self.resume(i) or ok:
+        if not self.resume(i) or result.ok:
             return
         self.running.remove(i)
-        kind = reason or "action_failed"
-        annots = reasoning.error_annots(self, im, deed, kind, message or "", code=action,
-                                        extra=annots)
+        kind = result.reason or "action_failed"
+        annots = reasoning.error_annots(self, im, entry.deed, kind, result.message or "",
+                                        code=entry.action, extra=result.annots)
         reasoning.fail_intention(self, i, annots=annots)
 
     # ================================================================ communication
@@ -667,7 +715,6 @@ class Agent:
         try:
             self.arch.send(self, msg)
         except Exception as e:
-            from .stdlib import IAError
             raise IAError(f"cannot send to {msg.receiver}: {e}") from None
 
     def process_message(self, m: Message) -> None:
@@ -698,7 +745,6 @@ class Agent:
 
     def _user_kqml_plans(self) -> bool:
         """Jason's ``PlanLibrary.hasUserKqmlReceivedPlans``."""
-        from .kqml import KQML_SRC
         return any(p.src != KQML_SRC for p in self.pl.relevant(_KQML_RECEIVED))
 
     def _ask_answer(self, m: Message) -> None:
@@ -706,7 +752,8 @@ class Agent:
         untell of an askOne is ``false``, a literal (each literal of an askAll list) gets the
         sender's source; with a list of receivers ``A`` is the list of all the answers."""
         mid = m.in_reply_to
-        i, ans, perf, n, got = self.ask_waits[mid]
+        wait = self.ask_waits[mid]
+        i, ans, perf, n, got = wait.intention, wait.answer, wait.performative, wait.receivers, wait.answers
         sender = Literal(m.sender)
         content = m.content
         if m.performative == "untell" and perf == "askOne":
@@ -731,13 +778,13 @@ class Agent:
             return
         im = i.top()
         s2 = dict(im.u)
-        if unify(ans, content, s2):
+        if unify(ans, content, s2, self):
             im.u = s2
             self.resume(i)
         elif self.resume(i):
             self.running.remove(i)
             msg = (f"reply of an ask message ('{term_str(content)}') does not unify with fourth "
-                   f"argument of .send ('{term_str(resolve(ans, im.u))}')")
+                   f"argument of .send ('{term_str(resolve(ans, im.u, self))}')")
             reasoning.fail_intention(self, i, annots=reasoning.error_annots(
                 self, im, im.current, "ask_failed", msg))
 
@@ -747,10 +794,18 @@ _KQML_RECEIVED = Trigger(ADD, ACHIEVE, Literal("kqml_received", (Literal("s"), L
                                                                   Literal("c"), Literal("m"))))
 
 
-def load_agent_source(path: str) -> str:
-    """Read an ``.asl`` file (UTF-8)."""
-    with open(path, encoding="utf-8") as f:
-        return f.read()
+def load_agent_source(path: str | os.PathLike) -> str:
+    """Read an ``.asl`` file (UTF-8); text that is not UTF-8 raises :class:`AslSyntaxError`
+    at the first bad byte (``file:line:col: ...``)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        col = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
+        raise AslSyntaxError(str(path), line, col,
+                             f"not UTF-8 text (byte 0x{data[e.start]:02x}); save the file as UTF-8") from None
 
 
-__all__ = ["Agent", "load_agent_source", "merge_annots"]
+__all__ = ["Agent", "AgentOptions", "load_agent_source", "merge_annots"]

@@ -8,9 +8,10 @@ import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from .terms import Literal, term_str
+
 if TYPE_CHECKING:  # pragma: no cover
     from .agent import Agent
-    from .terms import Literal
 
 
 class Clock:
@@ -91,7 +92,6 @@ class Message:
     in_reply_to: str | None = None
 
     def __str__(self) -> str:
-        from .terms import term_str
         r = f",{self.in_reply_to}" if self.in_reply_to else ""
         return (f"<{self.msg_id},{self.sender},{self.performative},{self.receiver},"
                 f"{term_str(self.content)}{r}>")
@@ -118,7 +118,6 @@ class AgentArch:
     def act(self, agent: Agent, action: Literal, action_id: int) -> None:
         """Start an environment action; report its end with ``agent.action_feedback``."""
         # jason.infra.local.LocalAgArch.act without an environment
-        from .terms import Literal
         agent.action_feedback(action_id, False, "action_failed", "no environment configured!",
                               annots=[Literal("noenv")])
 

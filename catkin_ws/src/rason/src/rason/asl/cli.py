@@ -1,10 +1,12 @@
-"""Command line: ``python -m rason.asl run FILE.mas2j|FILE.asl [--timeout S] [--seed N]``."""
+"""Command line: ``python -m rason.asl run FILE.mas2j|FILE.asl [--timeout S] [--seed N] [--no-tro]
+[--max-intention-depth N]``."""
 
 from __future__ import annotations
 
 import argparse
 import sys
 
+from .agent import AgentOptions
 from .parser import AslSyntaxError
 from .runtime import run_file
 
@@ -16,15 +18,24 @@ def main(argv: list[str] | None = None) -> int:
     r.add_argument("file")
     r.add_argument("--timeout", type=float, default=None, help="give up after S seconds (exit 1)")
     r.add_argument("--seed", type=int, default=None, help="seed for .random / math.random")
+    r.add_argument("--no-tro", dest="tro", action="store_false",
+                   help="turn tail-recursion optimisation off (Jason's tro=false)")
+    r.add_argument("--max-intention-depth", type=int, default=AgentOptions.max_intention_depth,
+                   metavar="N", help="fail an intention deeper than N intended means "
+                   f"(default {AgentOptions.max_intention_depth})")
     args = ap.parse_args(argv)
     sys.setrecursionlimit(max(sys.getrecursionlimit(), 20000))
     try:
-        _, ok = run_file(args.file, args.timeout, args.seed)
+        options = AgentOptions(tro=args.tro, max_intention_depth=args.max_intention_depth)
+        _, ok = run_file(args.file, args.timeout, args.seed, options=options)
     except AslSyntaxError as e:
         print(str(e), file=sys.stderr)
         return 2
     except OSError as e:
         print(f"{args.file}: {e.strerror or e}", file=sys.stderr)
+        return 2
+    except UnicodeDecodeError as e:   # a project file that is not UTF-8
+        print(f"{args.file}: not UTF-8 text (byte {e.start}); save the file as UTF-8", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         return 130

@@ -1,10 +1,13 @@
-"""Events, intended means and intentions (Jason's ``Event``, ``IntendedMeans``, ``Intention``)."""
+"""Events, intended means and intentions (Jason's ``Event``, ``IntendedMeans``, ``Intention``)
+and the records of what a suspended intention waits for."""
 
 from __future__ import annotations
 
 import itertools
 from collections import deque
-from typing import Any
+from dataclasses import dataclass, field
+from enum import Enum
+from typing import Any, NamedTuple
 
 from .plans import ACHIEVE, ADD, DEL, Deed, Plan, Trigger, deed_str
 from .terms import term_str
@@ -37,7 +40,7 @@ class IntendedMeans:
     ``stack`` holds the remaining deeds in reverse order (the next deed is ``stack[-1]``).
     """
 
-    __slots__ = ("current", "fail_target", "plan", "stack", "trigger", "u")
+    __slots__ = ("current", "fail_target", "plan", "result", "stack", "trigger", "u")
 
     def __init__(self, plan: Plan, trigger: Trigger, u: dict, fail_target: int | None = None) -> None:
         self.plan = plan
@@ -46,6 +49,9 @@ class IntendedMeans:
         self.stack: list[Deed] = list(plan.rev_body)
         self.fail_target = fail_target  # for -!g means: stack index of the failed +!g means
         self.current: Deed | None = None  # the deed being executed (for intention dumps)
+        # set when tail-recursion optimisation replaced the means below: (answer, call), what
+        # the caller gets is ``answer`` once ``call`` is unified with this means' result
+        self.result: tuple[Any, Any] | None = None
 
     @property
     def is_goal_add(self) -> bool:
@@ -64,6 +70,20 @@ class IntendedMeans:
         return f"{self.trigger} <- ... {rest} / {{{unif}}}"
 
 
+class Suspension(Enum):
+    """Why an intention is not in the running queue (Jason keeps it in PA, PI or an event)."""
+
+    SUBGOAL = "subgoal"         # the event of its subgoal (``!g``, ``?g``) is pending
+    EVENT = "event"             # its own belief event (``+b`` in a body) is pending
+    FAILURE = "failure"         # its ``-!g`` failure event is pending
+    ACTION = "action"           # an environment action runs (Jason's PA)
+    WAIT = "wait"               # ``.wait(ms)``
+    EVENT_WAIT = "event_wait"   # ``.wait(Event|Condition)``
+    ASK = "ask"                 # the answer to an askOne/askAll
+    SUSPENDED = "suspended"     # ``.suspend``
+    IA = "ia"                   # an internal action suspended it
+
+
 class Intention:
     """A stack of intended means; ``ims[-1]`` is the top."""
 
@@ -74,8 +94,8 @@ class Intention:
         self.dropped = False
         self.reply: Any = None
         self.ims: list[IntendedMeans] = []
-        # None when runnable; otherwise a short reason (e.g. "action 3", "wait", "event")
-        self.suspended: str | None = None
+        # None when runnable; otherwise what it waits for
+        self.suspended: Suspension | None = None
         self.atomic_count = 0
         # Jason's Intention.isSuspended: suspended by .suspend (orthogonal to what it waits for)
         self.sus_ia = False
@@ -117,6 +137,71 @@ class Intention:
 
     def __repr__(self) -> str:
         return f"<intention {self.id} {[str(im.trigger) for im in self.ims]}>"
+
+
+class TimerKind(Enum):
+    """What a timer of the agent ends."""
+
+    WAIT = "wait"                     # ``.wait(ms)``: the intention goes on
+    EVENT_TIMEOUT = "event_timeout"   # ``.wait(E, ms)``: the intention fails
+    ASK_TIMEOUT = "ask_timeout"       # ``.send(.., askOne, .., A, ms)``: A is ``timeout``
+
+
+class Timer(NamedTuple):
+    """An entry of the agent's timer heap (ordered by deadline, then creation)."""
+
+    deadline: float
+    seq: int
+    kind: TimerKind
+    intention: Intention
+    msg_id: str | None = None   # for ASK_TIMEOUT: the question
+
+
+class EventWait(NamedTuple):
+    """An intention suspended by ``.wait`` for an event and/or a condition."""
+
+    trigger: Trigger | None
+    condition: Any
+    intention: Intention
+    means: IntendedMeans | None
+
+
+@dataclass
+class AskWait:
+    """An intention waiting for the answer(s) to an ask message."""
+
+    intention: Intention
+    answer: Any                  # the ``.send``'s fourth argument
+    performative: str            # askOne / askAll
+    receivers: int | None        # how many receivers when they were given as a list
+    answers: list = field(default_factory=list)   # the answers so far (list of receivers)
+
+
+class PendingAction(NamedTuple):
+    """An environment action started and not finished yet (Jason's PA)."""
+
+    intention: Intention
+    means: IntendedMeans
+    action: Any
+    deed: Deed
+
+
+class PendingEvent(NamedTuple):
+    """An event held by ``.suspend`` (Jason's PE) under its key."""
+
+    key: str
+    event: Event
+
+
+@dataclass(frozen=True)
+class ActionResult:
+    """The environment's feedback on an action."""
+
+    action_id: int
+    ok: bool
+    reason: str | None = None
+    message: str = ""
+    annots: list | None = None
 
 
 class IntentionQueue(deque):

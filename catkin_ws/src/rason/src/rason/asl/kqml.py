@@ -6,6 +6,8 @@ a ``+!kqml_received(Sender, Performative, Content, MsgId)`` event handled by the
 program's own).
 """
 
+from .parser import parse_source
+
 KQML_PLANS = r"""
 @kqmlReceivedTellStructure
 +!kqml_received(Sender, tell, Content, _)
@@ -121,6 +123,5 @@ _cache: list = []
 def kqml_plans() -> list:
     """The parsed default plans (parsed once)."""
     if not _cache:
-        from .parser import parse_source
         _cache.extend(parse_source(KQML_PLANS, "kqmlPlans.asl", src=KQML_SRC).plans)
     return list(_cache)

@@ -6,7 +6,9 @@ import operator
 from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any
 
+from .functions import FunctionHost
 from .parser import Rule
+from .stdlib import call_ia
 from .terms import AnnotVar, ArithExpr, ListTerm, Literal, LogExpr, RelExpr, Var, is_constant, make_list
 from .unify import (
     ArithError,
@@ -42,7 +44,7 @@ class IAContext:
     def unify(self, a: Any, b: Any) -> bool:
         """Unify in the context's substitution (undone on failure)."""
         s2 = dict(self.s)
-        if unify(a, b, s2):
+        if unify(a, b, s2, self.ag):
             self.s = s2
             return True
         return False
@@ -60,7 +62,7 @@ def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Ite
             return
     tf = type(f)
     if tf is AnnotVar:
-        f = resolve(f, s)   # bound: the value with the variable's annotations (VarTerm.capply)
+        f = resolve(f, s, ag)   # bound: the value with the variable's annotations (VarTerm.capply)
         if type(f) is AnnotVar:
             yield from _query_var(ag, f, s)
             return
@@ -92,7 +94,7 @@ def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Ite
             yield s
         return
     if tf is RelExpr:
-        r = eval_rel(f, s)
+        r = eval_rel(f, s, ag)
         if r is not None:
             yield r
         return
@@ -102,7 +104,7 @@ def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Ite
 def first_solution(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> dict | None:
     """The first solution of ``f`` extending ``s``, or None (see also :func:`compile_context`)."""
     if type(f) is RelExpr:
-        return eval_rel(f, s)
+        return eval_rel(f, s, ag)
     for sol in solve(ag, f, s, intention):
         return sol
     return None
@@ -140,9 +142,9 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
         if type(arg) is Var:
             lines += [f"        v = s1.get({arg.name!r})",
                       f"        if v is None: s1[{arg.name!r}] = args[{k}]",
-                      f"        elif not unify(A{k}, args[{k}], s1): continue"]
+                      f"        elif not unify(A{k}, args[{k}], s1, ag): continue"]
         else:
-            lines.append(f"        if not unify(A{k}, args[{k}], s1): continue")
+            lines.append(f"        if not unify(A{k}, args[{k}], s1, ag): continue")
     for side, x in (("l", rel.left), ("r", rel.right)):
         if type(x) is Var:
             lines.append(f"        {side} = s1.get({x.name!r})")
@@ -152,7 +154,7 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
     lines += ["        if type(l) is float and type(r) is float:",
               f"            if l {rel.op} r: return s1",
               "            continue",
-              "        s2 = eval_rel(REL, s1)",
+              "        s2 = eval_rel(REL, s1, ag)",
               "        if s2 is not None: return s2",
               "    return None"]
     exec(compile("\n".join(lines) + "\n", f"<context {left.functor}/{len(left.args)}>", "exec"), env)
@@ -162,18 +164,19 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
 _NUMERIC_COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
 
 
-def eval_rel(f: RelExpr, s: dict) -> dict | None:
-    """Evaluate a relational expression; returns the (possibly extended) substitution or None."""
+def eval_rel(f: RelExpr, s: dict, ag: FunctionHost | None = None) -> dict | None:
+    """Evaluate a relational expression; returns the (possibly extended) substitution or None
+    (``ag``: the agent of ``math.random`` and ``.count``)."""
     op = f.op
     compare = _NUMERIC_COMPARE.get(op)
     if compare is not None:
         try:   # the common case: two numbers (NaN fails)
-            return s if compare(eval_arith(f.left, s), eval_arith(f.right, s)) else None
+            return s if compare(eval_arith(f.left, s, ag), eval_arith(f.right, s, ag)) else None
         except ArithError:
             pass   # not two numbers: compared as terms below
     if op == "=":
         s2 = dict(s)
-        if unify(resolve(f.left, s), resolve(f.right, s), s2):
+        if unify(resolve(f.left, s, ag), resolve(f.right, s, ag), s2, ag):
             return s2
         return None
     if op == "==":
@@ -181,9 +184,9 @@ def eval_rel(f: RelExpr, s: dict) -> dict | None:
     if op == "\\==":
         return None if term_equals(f.left, f.right, s) else s
     if op == "=..":
-        return _univ(f, s)
-    a = resolve(f.left, s)
-    b = resolve(f.right, s)
+        return _univ(f, s, ag)
+    a = resolve(f.left, s, ag)
+    b = resolve(f.right, s, ag)
     if isinstance(a, (Var, ArithExpr)) or isinstance(b, (Var, ArithExpr)):
         return None
     c = compare_terms(a, b)
@@ -193,18 +196,18 @@ def eval_rel(f: RelExpr, s: dict) -> dict | None:
     return s if ok else None
 
 
-def _univ(f: RelExpr, s: dict) -> dict | None:
-    a = resolve(f.left, s)
+def _univ(f: RelExpr, s: dict, ag: FunctionHost | None) -> dict | None:
+    a = resolve(f.left, s, ag)
     s2 = dict(s)
     if isinstance(a, Literal):
         lst = make_list([Literal(a.functor), make_list(a.args), make_list(a.annots)])
-        return s2 if unify(f.right, lst, s2) else None
-    b = resolve(f.right, s)
+        return s2 if unify(f.right, lst, s2, ag) else None
+    b = resolve(f.right, s, ag)
     if isinstance(b, ListTerm) and len(b.items) >= 1 and isinstance(b.items[0], Literal):
         args = b.items[1].items if len(b.items) > 1 and isinstance(b.items[1], ListTerm) else ()
         annots = b.items[2].items if len(b.items) > 2 and isinstance(b.items[2], ListTerm) else ()
         lit = Literal(b.items[0].functor, tuple(args), tuple(annots))
-        return s2 if unify(f.left, lit, s2) else None
+        return s2 if unify(f.left, lit, s2, ag) else None
     return None
 
 
@@ -220,15 +223,15 @@ def query_bb(ag: Agent, lit: Literal, s: dict) -> Iterator[dict]:
             s2 = dict(s)
             ok = True
             for x, y in zip(args, b.args, strict=False):
-                if not unify(x, y, s2):
+                if not unify(x, y, s2, ag):
                     ok = False
                     break
             if not ok:
                 continue
             if want_annots:
                 if lit.tail is None:
-                    yield from annot_options(lit, b, s2)
-                elif unify_annots(lit, b, s2):
+                    yield from annot_options(lit, b, s2, ag)
+                elif unify_annots(lit, b, s2, ag):
                     yield s2
             else:
                 yield s2
@@ -239,12 +242,12 @@ def query_bb(ag: Agent, lit: Literal, s: dict) -> Iterator[dict]:
             s2 = dict(s)
             ok = True
             for x, y in zip(args, head.args, strict=False):
-                if not unify(x, y, s2):
+                if not unify(x, y, s2, ag):
                     ok = False
                     break
             if not ok:
                 continue
-            if want_annots and head.annots and not unify_annots(lit, head, s2):
+            if want_annots and head.annots and not unify_annots(lit, head, s2, ag):
                 continue
             yield from solve(ag, body, s2)
 
@@ -261,10 +264,10 @@ def _query_var(ag: Agent, v: Var | AnnotVar, s: dict) -> Iterator[dict]:
         if type(b) is Literal:
             if not backtrack:
                 s2 = dict(s)
-                if unify(v, b, s2):
+                if unify(v, b, s2, ag):
                     yield s2
                 continue
-            for s2 in annot_options(v, b, s):   # each way the annotations match b's
+            for s2 in annot_options(v, b, s, ag):   # each way the annotations match b's
                 s2 = dict(s2)
                 s2[v.name] = b.no_annots()
                 yield s2
@@ -273,12 +276,11 @@ def _query_var(ag: Agent, v: Var | AnnotVar, s: dict) -> Iterator[dict]:
             head = rename_vars(b.head, mapping)
             for sol in solve(ag, rename_vars(b.body, mapping), dict(s)):
                 s2 = dict(sol)
-                if unify(v, resolve(head, sol), s2):
+                if unify(v, resolve(head, sol, ag), s2, ag):
                     yield s2
 
 
 def _solve_ia(ag: Agent, f: Literal, s: dict, intention: Intention | None) -> Iterator[dict]:
-    from .stdlib import call_ia
     ctx = IAContext(ag, s, intention)
     try:
         r = call_ia(ctx, f)

@@ -46,8 +46,10 @@ from .terms import (
     PlanTerm,
     RelExpr,
     Var,
+    fresh_name,
     is_constant,
     merge_annots,
+    term_str,
 )
 
 
@@ -203,7 +205,6 @@ class Rule:
     body: Any
 
     def __str__(self) -> str:
-        from .terms import term_str
         return term_str(self.head) + " :- " + term_str(self.body)
 
 
@@ -228,11 +229,7 @@ class _ToAst(Transformer):
 
     def var(self, meta: Any, c: list) -> Any:
         name = str(c[0])
-        if name == "_":
-            from .terms import fresh_name
-            v = Var(fresh_name())
-        else:
-            v = Var(name)
+        v = Var(fresh_name()) if name == "_" else Var(name)
         annots = c[1]
         if annots is not None and (annots[0] or annots[1] is not None):
             # Jason's as2j ``var``: a variable may carry annotations, X[source(A)]

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from .intentions import Event, IntendedMeans, Intention
+from .intentions import Event, IntendedMeans, Intention, Suspension
 from .logic import IAContext, compile_context, eval_rel, first_solution, query_bb, solve
 from .plans import (
     ACHIEVE,
@@ -57,7 +57,7 @@ def error_annots(ag: Agent, im: IntendedMeans | None, deed: Deed | None, kind: s
     out: list = [Literal("error", (Literal(kind),)), Literal("error_msg", (msg,))]
     if "code" not in given:
         if code is None and deed is not None:
-            code = deed.term if im is None else resolve(deed.term, im.u)
+            code = deed.term if im is None else resolve(deed.term, im.u, ag)
         if code is not None and not isinstance(code, (Literal, float, str)):
             code = Literal(term_str(code))
         if code is not None:
@@ -82,7 +82,7 @@ def _fail_annots(args: list) -> tuple[str, list]:
     return msg, [a for a in args if a is not smsg]
 
 
-def _self_sourced(d: Deed, u: dict, error: str) -> Literal:
+def _self_sourced(ag: Agent, d: Deed, u: dict, error: str) -> Literal:
     """The deed's literal under ``u``, with ``source(self)`` when it has no source.
 
     Raises IAError with ``error`` (``{}`` = the term) when the deed's term is not a literal.
@@ -90,10 +90,10 @@ def _self_sourced(d: Deed, u: dict, error: str) -> Literal:
     st = d.self_term
     if st is not None:
         build = d.build
-        lit = build(u) if build is not None else resolve(st, u)
+        lit = build(u, ag) if build is not None else resolve(st, u, ag)
         if type(lit) is Literal:
             return lit
-    lit = resolve(d.term, u)
+    lit = resolve(d.term, u, ag)
     if not isinstance(lit, Literal):
         raise IAError(error.format(term_str(lit)))
     return lit.with_self_source()
@@ -150,9 +150,9 @@ def sel_appl(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | N
         pattern = plan.trigger.literal
         if type(pattern) is Literal and not pattern.annots and pattern.tail is None:
             # same key as the event (RelPl): only the arguments remain to unify
-            if pattern.args and not _unify_args(pattern.args, lit.args, u):
+            if pattern.args and not _unify_args(pattern.args, lit.args, u, ag):
                 continue
-        elif not unify(pattern, lit, u):
+        elif not unify(pattern, lit, u, ag):
             continue
         ctx = plan.context
         if ctx is None:
@@ -194,12 +194,64 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     if i is None:
         i = Intention(next(ag.intention_ids))
         i.reply = ev.reply
+    elif trig.op == ADD and i.ims:
+        if ag.options.tro:
+            _tail_call(ag, i, im)
+        if len(i.ims) >= ag.options.max_intention_depth:
+            _too_deep(ag, i, trig)
+            return True
     if plan.atomic:
         ag.atomic_used = True
     i.push(im)
     i.suspended = None
     ag.running.append(i)
     return True
+
+
+def _tail_call(ag: Agent, i: Intention, im: IntendedMeans) -> None:
+    """Tail-recursion optimisation (Jason's TRO in AddIM): when the top means of ``i`` is a goal
+    whose last deed posted this goal again (same functor and arity), it is finished: ``im``
+    replaces it, so looping by recursion keeps the intention's depth constant. What the
+    replaced means would have passed to its caller is kept in ``im.result``."""
+    top = i.ims[-1]
+    tt, nt = top.trigger, im.trigger
+    if not (tt.op == ADD and tt.is_goal and nt.is_goal and len(top.stack) == 1):
+        return
+    tl, nl = tt.literal, nt.literal
+    if not (type(tl) is Literal and type(nl) is Literal and tl.functor == nl.functor
+            and len(tl.args) == len(nl.args)):
+        return
+    call = top.stack[-1]
+    if call.kind not in (K_ACHIEVE, K_TEST):
+        return
+    answer, asked = _renamed_pair(resolve(tl, top.u, ag), resolve(call.term, top.u, ag))
+    if top.result is not None:   # compose with what top itself owed its caller
+        s: dict = {}
+        prev_answer, prev_call = top.result
+        unified = unify(prev_call, answer, s, ag)
+        answer = resolve(prev_answer, s, ag)
+        if unified:
+            asked = resolve(asked, s, ag)
+    im.result = (answer, asked)
+    i.pop()
+
+
+def _renamed_pair(a: Any, b: Any) -> tuple[Any, Any]:
+    """``a`` and ``b`` with their variables renamed apart from every other term (one mapping)."""
+    if (type(a) is Literal and a._g) or is_ground(a):
+        return a, b
+    mapping: dict = {}
+    return rename_vars(a, mapping), rename_vars(b, mapping)
+
+
+def _too_deep(ag: Agent, i: Intention, trig: Trigger) -> None:
+    """The intention reached the depth limit: it fails with ``error(intention_too_deep)``."""
+    limit = ag.options.max_intention_depth
+    msg = (f"intention {i.id} reached the depth limit of {limit} intended means at {trig} "
+           "(recursion that is not a tail call?)")
+    ag.warn(f"warning: {msg}")
+    fail_intention(ag, i, annots=error_annots(ag, i.top(), None, "intention_too_deep", msg,
+                                              code=trig.literal))
 
 
 def _no_plan(ag: Agent, trig: Trigger, i: Intention | None, what: str) -> bool:
@@ -229,9 +281,9 @@ def _no_plan(ag: Agent, trig: Trigger, i: Intention | None, what: str) -> bool:
     return True
 
 
-def _unify_args(xs: tuple, ys: tuple, u: dict) -> bool:
+def _unify_args(xs: tuple, ys: tuple, u: dict, ag: Agent) -> bool:
     for x, y in zip(xs, ys, strict=False):  # noqa: SIM110 - hot path, no generator
-        if not unify(x, y, u):
+        if not unify(x, y, u, ag):
             return False
     return True
 
@@ -266,7 +318,7 @@ def act(ag: Agent) -> bool:
     """ProcAct (one action feedback) + SelInt + ExecInt + ClrInt on one intention."""
     did = False
     if ag._feedback:
-        ag.process_feedback(*ag._feedback.popleft())
+        ag.process_feedback(ag._feedback.popleft())
         did = True
     i = sel_int(ag)
     if i is None:
@@ -350,7 +402,7 @@ def _await_own_event(i: Intention, im: IntendedMeans, d: Deed, posted: bool) -> 
     if not posted:
         return True
     im.stack.append(d)
-    i.suspended = "event"
+    i.suspended = Suspension.EVENT
     return False
 
 
@@ -369,7 +421,7 @@ def _exec_internal_action(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -
     if r is SUSPEND:
         im.u = ctx.s
         if not i.dropped:
-            i.suspended = i.suspended or "ia"
+            i.suspended = i.suspended or Suspension.IA
         return False
     if r is False or r is None:
         return _fail(ag, i, im, d, "ia_failed", "")
@@ -386,21 +438,21 @@ def _exec_add_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
     """``+b``: add a belief; its event belongs to this intention."""
     u = im.u
     im.stack.pop()
-    lit = _self_sourced(d, u, "cannot add {} as a belief")
+    lit = _self_sourced(ag, d, u, "cannot add {} as a belief")
     return _await_own_event(i, im, d, ag.add_belief(lit, front=True, focus=i))
 
 
 def _exec_add_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``++b``: add a belief; its event is external (a new intention), this one goes on."""
     im.stack.pop()
-    ag.add_belief(_self_sourced(d, im.u, "cannot add {} as a belief"), front=True)
+    ag.add_belief(_self_sourced(ag, d, im.u, "cannot add {} as a belief"), front=True)
     return True
 
 
 def _exec_remove_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``--b``: remove a belief; its event is external, this intention goes on."""
     im.stack.pop()
-    if isinstance(resolve(d.term, im.u), ListTerm):
+    if isinstance(resolve(d.term, im.u, ag), ListTerm):
         return True  # a list is a Literal in Jason: no such belief, nothing removed (untell [..])
     lit = _belief_to_remove(ag, im, d)
     if lit is not None:
@@ -411,10 +463,10 @@ def _exec_remove_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d:
 def _exec_achieve(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``!g``: post the subgoal's event; the intention waits for it."""
     u = im.u
-    lit = _self_sourced(d, u, "invalid goal {}")
+    lit = _self_sourced(ag, d, u, "invalid goal {}")
     if not (lit._g or is_ground(lit)):
         lit = rename_vars(lit, {})
-    i.suspended = "subgoal"
+    i.suspended = Suspension.SUBGOAL
     ag.events.append(Event(Trigger(ADD, ACHIEVE, lit), i))
     return False
 
@@ -426,7 +478,7 @@ def _exec_achieve_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed)
     if d.self_trigger is not None:
         ag.add_event(Event(d.self_trigger))
         return True
-    lit = _self_sourced(d, u, "invalid goal {}")
+    lit = _self_sourced(ag, d, u, "invalid goal {}")
     ag.add_event(Event(Trigger(ADD, ACHIEVE, lit)))
     return True
 
@@ -437,24 +489,24 @@ def _exec_constraint(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
     im.stack.pop()
     f = d.term
     if type(f) is RelExpr:
-        r = eval_rel(f, u)
+        r = eval_rel(f, u, ag)
         if r is None:
             return _fail(ag, i, im, d, "constraint_failed",
-                         f"Constraint {term_str(resolve(f, u))} was not satisfied.")
+                         f"Constraint {term_str(resolve(f, u, ag))} was not satisfied.")
         im.u = r
         return True
     for sol in solve(ag, f, u, i):
         im.u = sol
         return True
     return _fail(ag, i, im, d, "constraint_failed",
-                 f"Constraint {term_str(resolve(f, u))} was not satisfied.")
+                 f"Constraint {term_str(resolve(f, u, ag))} was not satisfied.")
 
 
 def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``-+b``: remove the first ``b(...)[source(self)]``, then add ``b``."""
     u = im.u
     im.stack.pop()
-    lit = _self_sourced(d, u, "cannot add {} as a belief")
+    lit = _self_sourced(ag, d, u, "cannot add {} as a belief")
     # remove the first belief matching b(_,...)[source(self)] (external event), then add
     annots = lit.annots
     for b in ag.bb.candidates((lit.functor, len(lit.args), lit.neg)):
@@ -476,12 +528,12 @@ def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> 
 def _belief_to_remove(ag: Agent, im: IntendedMeans, d: Deed) -> Literal | None:
     """The belief a ``-b``/``--b`` deed removes: the literal itself when ground, else the first
     belief it unifies with (its bindings kept in ``im.u``); None when there is none."""
-    lit = _self_sourced(d, im.u, "cannot remove {}")
+    lit = _self_sourced(ag, d, im.u, "cannot remove {}")
     if lit._g or is_ground(lit):
         return lit
     for sol in query_bb(ag, lit, im.u):
         im.u = sol
-        return resolve(lit, sol)
+        return resolve(lit, sol, ag)
     return None
 
 
@@ -494,13 +546,13 @@ def _exec_test_goal(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool
         stack.pop()
         im.u = sol
         return True
-    lit = resolve(f, u)
+    lit = resolve(f, u, ag)
     if (isinstance(lit, Literal) and not lit.functor.startswith(".")
             and ag.pl.has_candidate(ADD, TEST, lit)):
         lit = lit.with_self_source()
         if not is_ground(lit):
             lit = rename_vars(lit, {})
-        i.suspended = "subgoal"
+        i.suspended = Suspension.SUBGOAL
         ag.events.append(Event(Trigger(ADD, TEST, lit), i))
         return False
     stack.pop()
@@ -512,7 +564,7 @@ def _exec_action(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """An environment action: the intention waits for its feedback."""
     u = im.u
     im.stack.pop()
-    lit = resolve(d.term, u)
+    lit = resolve(d.term, u, ag)
     if isinstance(lit, Literal) and lit.functor == "true" and not lit.args:
         return True
     if not isinstance(lit, Literal):
@@ -635,10 +687,14 @@ def clr_int(ag: Agent, i: Intention) -> None:
         if caller.stack:
             d = caller.stack.pop()
             if d.kind in (K_ACHIEVE, K_TEST):
-                res = resolve(im.trigger.literal, im.u)
-                goal = resolve(d.term, caller.u)
+                res = resolve(im.trigger.literal, im.u, ag)
+                if im.result is not None:   # the means tail-recursion optimisation replaced
+                    answer, asked = im.result
+                    s: dict = {}
+                    res = resolve(answer, s, ag) if unify(asked, res, s, ag) else answer
+                goal = resolve(d.term, caller.u, ag)
                 s2 = dict(caller.u)
-                if unify(goal, res, s2):
+                if unify(goal, res, s2, ag):
                     caller.u = s2
 
 
@@ -690,7 +746,7 @@ def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx:
     t = im.trigger
     lit = t.literal.add_annots(annots) if isinstance(t.literal, Literal) else t.literal
     ag.detach(i)
-    i.suspended = "failure"
+    i.suspended = Suspension.FAILURE
     ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
 
 
@@ -705,7 +761,7 @@ def fail_goal_at(ag: Agent, i: Intention, idx: int) -> None:
             if t.op == ADD and t.is_goal:
                 lit = t.literal.no_annots() if isinstance(t.literal, Literal) else t.literal
                 ag.detach(i)
-                i.suspended = "failure"
+                i.suspended = Suspension.FAILURE
                 ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=j))
                 return
             break

@@ -7,7 +7,7 @@ import sys
 import threading
 from collections.abc import Callable
 
-from .agent import Agent, load_agent_source
+from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, WallClock
 from .mas2j import MasProject, load_mas2j
 
@@ -51,6 +51,7 @@ class LocalMas:
         self.out = out
         self._wake = threading.Event()
         self.notes: list[str] = []
+        self.options = AgentOptions()   # for agents added without options of their own
 
     # ------------------------------------------------------------ setup
     def console(self, agent_name: str, text: str) -> None:
@@ -67,8 +68,9 @@ class LocalMas:
         return LocalArch(self, self.clock)
 
     def add_agent(self, name: str, source: str, filename: str = "<string>", seed: int | None = None,
-                  src_name: str | None = None) -> Agent:
-        ag = Agent(name, source, self.make_arch(name), filename, seed=seed, src_name=src_name)
+                  src_name: str | None = None, options: AgentOptions | None = None) -> Agent:
+        ag = Agent(name, source, self.make_arch(name), filename, seed=seed, src_name=src_name,
+                   options=options if options is not None else self.options)
         ag.on_wake = self.notify
         self.agents[name] = ag
         return ag
@@ -78,7 +80,9 @@ class LocalMas:
         for k, spec in enumerate(proj.agents):
             src = load_agent_source(spec.asl_path)
             rel = os.path.relpath(spec.asl_path, base)
-            self.add_agent(spec.name, src, spec.asl_path, None if seed is None else seed + k, src_name=rel)
+            opts = AgentOptions.from_options(spec.options, self.options)
+            self.add_agent(spec.name, src, spec.asl_path, None if seed is None else seed + k, src_name=rel,
+                           options=opts)
             if spec.arch_class:
                 self.notes.append(f"agent {spec.name}: agentArchClass {spec.arch_class} accepted "
                                   "(local run uses the built-in architecture)")
@@ -136,9 +140,12 @@ class LocalMas:
 
 
 def run_file(path: str, timeout: float | None = None, seed: int | None = None,
-             clock: Clock | None = None) -> tuple[LocalMas, bool]:
-    """Load a ``.mas2j`` or ``.asl`` file and run it locally."""
+             clock: Clock | None = None, options: AgentOptions | None = None) -> tuple[LocalMas, bool]:
+    """Load a ``.mas2j`` or ``.asl`` file and run it locally (``options``: the agents' defaults,
+    a ``.mas2j`` agent's own options win)."""
     mas = LocalMas(clock)
+    if options is not None:
+        mas.options = options
     if path.endswith(".mas2j"):
         mas.load_project(load_mas2j(path), seed)
     else:

@@ -16,6 +16,8 @@ import math
 from decimal import Decimal
 from typing import Any, Union
 
+from .functions import ARITH_NAMES
+
 Term = Union[float, str, "Var", "AnnotVar", "Literal", "ListTerm", "ArithExpr", "RelExpr", "LogExpr",
              "PlanTerm"]
 
@@ -378,8 +380,7 @@ def is_constant(t: Any) -> bool:
     if tt is Literal:
         c = t._c
         if c is None:
-            from .unify import _ARITH_NAMES
-            c = t._c = (t.tail is None and t.functor not in _ARITH_NAMES
+            c = t._c = (t.tail is None and t.functor not in ARITH_NAMES
                         and all(is_constant(a) for a in t.args) and all(is_constant(a) for a in t.annots))
         return c
     if tt is ListTerm:

@@ -8,10 +8,20 @@ need to backtrack.
 from __future__ import annotations
 
 import math
-import threading
 from collections.abc import Callable
 from typing import Any
 
+from .functions import (
+    ARITH_FUNCTIONS,
+    ARITH_NAMES,
+    LIST_FUNCTIONS,
+    ArithError,
+    FunctionHost,
+    divide,
+    java_int_div,
+    java_mod,
+    power,
+)
 from .terms import (
     AnnotVar,
     ArithExpr,
@@ -23,15 +33,12 @@ from .terms import (
     Var,
     fresh_name,
     is_constant,
+    is_ground,
     merge_annots,
     sort_key,
 )
 
 Subst = dict
-
-
-class ArithError(Exception):
-    """An arithmetic expression could not be evaluated (e.g. unbound or non-numeric)."""
 
 
 def walk(t: Any, s: Subst) -> Any:
@@ -45,34 +52,6 @@ def walk(t: Any, s: Subst) -> Any:
 
 
 # ---------------------------------------------------------------- arithmetic
-
-def _java_round(x: float) -> float:
-    return float(math.floor(x + 0.5))
-
-
-ARITH_FUNCTIONS: dict[str, Any] = {
-    "math.abs": lambda a: abs(a),
-    "math.sqrt": lambda a: math.sqrt(a) if a >= 0 else math.nan,
-    "math.round": _java_round,
-    "math.floor": lambda a: float(math.floor(a)),
-    "math.ceil": lambda a: float(math.ceil(a)),
-    "math.max": lambda a, b: max(a, b),
-    "math.min": lambda a, b: min(a, b),
-    "math.sin": math.sin,
-    "math.cos": math.cos,
-    "math.tan": math.tan,
-    "math.asin": math.asin,
-    "math.acos": math.acos,
-    "math.atan": math.atan,
-    "math.log": lambda a: math.log(a) if a > 0 else (-math.inf if a == 0 else math.nan),
-    "math.pi": lambda: math.pi,
-    "math.e": lambda: math.e,
-}
-# (Jason 3.3.2 registers no math.pow/exp/trunc/signum: those stay plain literals)
-
-def _list_only(*args: Any) -> float:
-    raise TypeError("needs a list")
-
 
 def _numbers_of(t: Any) -> list | None:
     """The numbers of a (resolved) list, as Jason's list functions take them; None if no list."""
@@ -94,94 +73,10 @@ def _list_len(t: Any) -> int:
     return n
 
 
-def _mean(xs: list) -> float:
-    return sum(xs) / len(xs) if xs else math.nan
+def eval_arith(t: Any, s: Subst, ag: FunctionHost | None = None) -> float:
+    """Evaluate ``t`` as a number; raises :class:`ArithError` if it is not numeric.
 
-
-def _median(xs: list, n_items: int) -> float:
-    if len(xs) != n_items or not xs:
-        raise TypeError("math.median needs a non-empty list of numbers")
-    xs = sorted(xs)
-    k = len(xs)
-    return (xs[k // 2 - 1] + xs[k // 2]) / 2 if k % 2 == 0 else xs[k // 2]
-
-
-def _std_dev(xs: list) -> float:
-    n = len(xs)
-    mean = _mean(xs)
-    sq = sum((x - mean) * (x - mean) for x in xs)
-    return math.sqrt(_div(sq, float(n - 1))) if n != 1 else (math.nan if sq == 0 else math.inf)
-
-
-#: Jason functions over one list (``jason.functions``): math.max/min of a list start from
-#: Java's Double.MIN_VALUE/MAX_VALUE, non-numbers are skipped.
-LIST_FUNCTIONS: dict[str, Any] = {
-    "math.sum": lambda xs, n: float(sum(xs)),
-    "math.average": lambda xs, n: _mean(xs),
-    "math.mean": lambda xs, n: _mean(xs),
-    "math.median": _median,
-    "math.std_dev": lambda xs, n: _std_dev(xs),
-    "math.max": lambda xs, n: max([5e-324, *xs]),
-    "math.min": lambda xs, n: min([1.7976931348623157e308, *xs]),
-}
-for _name in LIST_FUNCTIONS:
-    ARITH_FUNCTIONS.setdefault(_name, _list_only)
-
-#: The agent whose reasoning cycle runs in this thread (set by ``Agent.step``): ``math.random``
-#: needs its random generator, ``.count(Q)`` its belief base. Thread-local, because a ``mas``
-#: node runs each agent in a thread of its own.
-CURRENT = threading.local()
-
-
-def _pow(a: float, b: float) -> float:
-    try:
-        r = a ** b
-    except ZeroDivisionError:
-        return math.inf
-    except OverflowError:
-        return math.inf
-    if isinstance(r, complex):
-        return math.nan
-    return float(r)
-
-
-def _div(a: float, b: float) -> float:
-    if b == 0:
-        if a == 0 or a != a:
-            return math.nan
-        return math.copysign(math.inf, a) * math.copysign(1.0, b)
-    return a / b
-
-
-def _java_int(x: float) -> int:
-    """Java's ``(int) x``: toward zero, NaN is 0, clamped to 32 bits."""
-    if x != x:
-        return 0
-    if x >= 2147483647:
-        return 2147483647
-    if x <= -2147483648:
-        return -2147483648
-    return int(x)
-
-
-def _java_trunc_div(a: float, b: float) -> float:
-    # Jason (ArithExpr intdiv): (int) x / (int) y, truncating toward zero
-    ia, ib = _java_int(a), _java_int(b)
-    if ib == 0:
-        raise ArithError("division by zero")
-    q = abs(ia) // abs(ib)
-    return float(q if (ia >= 0) == (ib >= 0) else -q)
-
-
-def _java_mod(a: float, b: float) -> float:
-    # Jason: Java's double remainder (x % y), the sign follows the dividend
-    if b == 0 or a != a or b != b or a in (math.inf, -math.inf):
-        return math.nan
-    return math.fmod(a, b)
-
-
-def eval_arith(t: Any, s: Subst) -> float:
-    """Evaluate ``t`` as a number; raises :class:`ArithError` if it is not numeric."""
+    ``ag``: the agent of ``math.random`` and ``.count`` (without it they are not numbers)."""
     tt = type(t)
     if tt is float:
         return t
@@ -195,7 +90,7 @@ def eval_arith(t: Any, s: Subst) -> float:
         if type(a) is Var:
             a = s.get(a.name, a)
         if type(a) is not float:
-            a = eval_arith(a, s)
+            a = eval_arith(a, s, ag)
         op = t.op
         if op == "neg":
             return -a
@@ -203,7 +98,7 @@ def eval_arith(t: Any, s: Subst) -> float:
         if type(b) is Var:
             b = s.get(b.name, b)
         if type(b) is not float:
-            b = eval_arith(b, s)
+            b = eval_arith(b, s, ag)
         if op == "+":
             return a + b
         if op == "-":
@@ -211,47 +106,46 @@ def eval_arith(t: Any, s: Subst) -> float:
         if op == "*":
             return a * b
         if op == "/":
-            return _div(a, b)
+            return divide(a, b)
         if op == "**":
-            return _pow(a, b)
+            return power(a, b)
         if op == "div":
-            return _java_trunc_div(a, b)
+            return java_int_div(a, b)
         if op == "mod":
-            return _java_mod(a, b)
+            return java_mod(a, b)
         raise ArithError(op)
     if isinstance(t, Literal) and not t.neg:
         fn = t.functor
         if fn[0] == "." and len(t.args) == 1:
-            return _agent_function(fn, t.args[0], s)
+            return _agent_function(fn, t.args[0], s, ag)
         f = ARITH_FUNCTIONS.get(fn)
         if f is not None:
             if len(t.args) == 1 and type(t.args[0]) is not float:
                 lf = LIST_FUNCTIONS.get(t.functor)
                 if lf is not None:
-                    arg = resolve(t.args[0], s)
+                    arg = resolve(t.args[0], s, ag)
                     xs = _numbers_of(arg)
                     if xs is not None:
                         try:
                             return float(lf(xs, _list_len(arg)))
                         except TypeError as e:
                             raise ArithError(str(e)) from None
-            args = [eval_arith(a, s) for a in t.args]
+            args = [eval_arith(a, s, ag) for a in t.args]
             try:
                 return float(f(*args))
             except (TypeError, ValueError, OverflowError) as e:
                 raise ArithError(str(e)) from None
-        agent = getattr(CURRENT, "agent", None)
-        if t.functor == "math.random" and agent is not None:
-            args = [eval_arith(a, s) for a in t.args]
-            r = agent.random.random()
+        if t.functor == "math.random" and ag is not None:
+            args = [eval_arith(a, s, ag) for a in t.args]
+            r = ag.random.random()
             return r * args[0] if args else r
     raise ArithError(f"not a number: {t!r}")
 
 
-def _agent_function(fn: str, arg: Any, s: Subst) -> float:
+def _agent_function(fn: str, arg: Any, s: Subst, ag: FunctionHost | None) -> float:
     """Jason's ``.length(L)`` (jason.functions.Length) and ``.count(Q)`` (jason.functions.Count)."""
     if fn == ".length":
-        a = resolve(arg, s)
+        a = resolve(arg, s, ag)
         if isinstance(a, str):
             return float(len(a))
         if isinstance(a, ListTerm):
@@ -262,21 +156,13 @@ def _agent_function(fn: str, arg: Any, s: Subst) -> float:
             if a is None:
                 return float(n)
         raise ArithError(".length of a non-list")
-    agent = getattr(CURRENT, "agent", None)
-    if fn == ".count" and agent is not None:
-        from .logic import solve
-        q = resolve(arg, s)
-        return float(sum(1 for _ in solve(agent, q, {})))
+    if fn == ".count" and ag is not None:
+        return float(ag.count_solutions(resolve(arg, s, ag)))
     raise ArithError(f"not a function: {fn}")
 
 
-#: Functors that evaluate to a number (``math.random`` needs the agent's generator; ``.length``
-#: and ``.count`` only with one argument, else they are the internal actions).
-_ARITH_NAMES = frozenset(ARITH_FUNCTIONS) | {"math.random", ".length", ".count"}
-
-
 def is_arith_function(t: Any) -> bool:
-    return isinstance(t, Literal) and t.functor in _ARITH_NAMES
+    return isinstance(t, Literal) and t.functor in ARITH_NAMES
 
 
 # ---------------------------------------------------------------- capply
@@ -290,8 +176,9 @@ def _all_constant(annots: tuple) -> bool:
     return True
 
 
-def resolve(t: Any, s: Subst) -> Any:
-    """Apply the substitution (Jason ``capply``); ground arithmetic is evaluated."""
+def resolve(t: Any, s: Subst, ag: FunctionHost | None = None) -> Any:
+    """Apply the substitution (Jason ``capply``); ground arithmetic is evaluated
+    (``ag``: the agent of ``math.random`` and ``.count``)."""
     tt = type(t)
     if tt is float or tt is str:
         return t
@@ -302,27 +189,27 @@ def resolve(t: Any, s: Subst) -> Any:
         tb = type(b)
         if tb is float or tb is str:
             return b
-        return resolve(b, s)
+        return resolve(b, s, ag)
     if tt is Literal:
         if t._c:  # known constant (computed by the parser for program literals)
             return t
-        if t.functor in _ARITH_NAMES:
+        if t.functor in ARITH_NAMES:
             try:
-                return eval_arith(t, s)
+                return eval_arith(t, s, ag)
             except ArithError:
                 pass
-        args = tuple([resolve(a, s) for a in t.args]) if t.args else ()
+        args = tuple([resolve(a, s, ag) for a in t.args]) if t.args else ()
         annots = t.annots
         tail = t.tail
         if tail is None and _all_constant(annots):
             return Literal(t.functor, args, annots, None, t.neg)
         if annots or tail is not None:
             old_annots = annots
-            annots = tuple([resolve(a, s) for a in annots])
+            annots = tuple([resolve(a, s, ag) for a in annots])
             if tail is None and annots == old_annots:
                 return Literal(t.functor, args, old_annots, None, t.neg)
             if tail is not None:
-                tv = resolve(tail, s)
+                tv = resolve(tail, s, ag)
                 if isinstance(tv, ListTerm):
                     extra = list(tv.items)
                     rest = tv.tail
@@ -339,21 +226,20 @@ def resolve(t: Any, s: Subst) -> Any:
         return Literal(t.functor, args, annots, tail, t.neg)
     if tt is ArithExpr:
         try:
-            return eval_arith(t, s)
+            return eval_arith(t, s, ag)
         except (ArithError, RecursionError):
             r = t.right
-            e = ArithExpr(t.op, resolve(t.left, s), None if r is None else resolve(r, s))
-            from .terms import is_ground
+            e = ArithExpr(t.op, resolve(t.left, s, ag), None if r is None else resolve(r, s, ag))
             if is_ground(e):
                 return math.nan  # Jason: a ground expression over non-numbers evaluates to NaN
             return e
     if tt is AnnotVar:
-        return _resolve_annot_var(t, s)
+        return _resolve_annot_var(t, s, ag)
     if isinstance(t, ListTerm):
-        items = [resolve(a, s) for a in t.items]
+        items = [resolve(a, s, ag) for a in t.items]
         tail = t.tail
         while tail is not None:
-            tail = resolve(tail, s)
+            tail = resolve(tail, s, ag)
             if isinstance(tail, ListTerm):
                 items.extend(tail.items)
                 tail = tail.tail
@@ -361,14 +247,14 @@ def resolve(t: Any, s: Subst) -> Any:
                 break
         return ListTerm(tuple(items), tail)
     if isinstance(t, RelExpr):
-        return RelExpr(t.op, resolve(t.left, s), resolve(t.right, s))
+        return RelExpr(t.op, resolve(t.left, s, ag), resolve(t.right, s, ag))
     if isinstance(t, LogExpr):
         r = t.right
-        return LogExpr(t.op, resolve(t.left, s), None if r is None else resolve(r, s))
+        return LogExpr(t.op, resolve(t.left, s, ag), None if r is None else resolve(r, s, ag))
     return t
 
 
-def _resolve_annot_var(t: AnnotVar, s: Subst) -> Any:
+def _resolve_annot_var(t: AnnotVar, s: Subst, ag: FunctionHost | None) -> Any:
     """Jason ``VarTerm.capply`` of an annotated variable: unbound, the variable as written
     (its annotations are not applied); bound to a literal, that literal plus the variable's
     annotations (``X = p[a]``, ``X[b]`` gives ``p[a,b]``); bound to anything else, the value."""
@@ -377,20 +263,21 @@ def _resolve_annot_var(t: AnnotVar, s: Subst) -> Any:
         v = s.get(v.name)
     if v is None:
         return t
-    v = resolve(v, s)
+    v = resolve(v, s, ag)
     if type(v) is not Literal:
         return v
-    extra = [resolve(a, s) for a in t.annots]
+    extra = [resolve(a, s, ag) for a in t.annots]
     if t.tail is not None:
-        tv = resolve(t.tail, s)
+        tv = resolve(t.tail, s, ag)
         if isinstance(tv, ListTerm):  # a bound tail adds its items, an unbound one nothing
             items, _ = _items_and_tail(tv.items, tv.tail, s)
             extra.extend(items)
     return v.add_annots(extra) if extra else v
 
 
-def compile_resolve(t: Any) -> Callable[[Subst], Any] | None:
-    """A function computing ``resolve(t, s)`` for a plan-body literal of a common shape.
+def compile_resolve(t: Any) -> Callable[..., Any] | None:
+    """A function ``built(s, ag=None)`` computing ``resolve(t, s, ag)`` for a plan-body
+    literal of a common shape.
 
     Compiled (Python source, once per plan) for a literal without annotation variables or
     tail whose arguments are each a constant, a variable, or ``+ - *`` of two operands that
@@ -398,7 +285,7 @@ def compile_resolve(t: Any) -> Callable[[Subst], Any] | None:
     The function computes numbers directly and hands anything else (an unbound variable,
     a structure) to :func:`resolve`, so both always give the same term.
     """
-    if (type(t) is not Literal or t.tail is not None or t._c or t.functor in _ARITH_NAMES
+    if (type(t) is not Literal or t.tail is not None or t._c or t.functor in ARITH_NAMES
             or not _all_constant(t.annots)):
         return None
     env: dict[str, Any] = {"Literal": Literal, "resolve": resolve, "float": float,
@@ -411,7 +298,7 @@ def compile_resolve(t: Any) -> Callable[[Subst], Any] | None:
         elif type(arg) is Var:
             body += [f"a{k} = s.get({arg.name!r})",
                      f"if a{k} is None: a{k} = T{k}",
-                     f"elif type(a{k}) is not float and type(a{k}) is not str: a{k} = resolve(a{k}, s)"]
+                     f"elif type(a{k}) is not float and type(a{k}) is not str: a{k} = resolve(a{k}, s, ag)"]
         elif (type(arg) is ArithExpr and arg.op in ("+", "-", "*")
               and all(type(x) in (Var, float) for x in (arg.left, arg.right))):
             names, checks = [], []
@@ -424,11 +311,11 @@ def compile_resolve(t: Any) -> Callable[[Subst], Any] | None:
                 else:
                     env[name] = x
             body.append(f"a{k} = {names[0]} {arg.op} {names[1]} if {' and '.join(checks) or 'True'} "
-                        f"else resolve(T{k}, s)")
+                        f"else resolve(T{k}, s, ag)")
         else:
             return None
     args = "".join(f"a{k}, " for k in range(len(t.args)))
-    source = "def built(s):\n" + "".join(f"    {line}\n" for line in body)
+    source = "def built(s, ag=None):\n" + "".join(f"    {line}\n" for line in body)
     source += f"    return Literal(F, ({args}), ANN, None, NEG)\n"
     exec(compile(source, f"<compiled {t.functor}/{len(t.args)}>", "exec"), env)
     return env["built"]
@@ -436,7 +323,7 @@ def compile_resolve(t: Any) -> Callable[[Subst], Any] | None:
 
 # ---------------------------------------------------------------- unification
 
-def unify(a: Any, b: Any, s: Subst) -> bool:
+def unify(a: Any, b: Any, s: Subst, ag: FunctionHost | None = None) -> bool:
     """Unify ``a`` (pattern: its annotations must be a subset of ``b``'s) with ``b``."""
     a = walk(a, s)
     b = walk(b, s)
@@ -447,12 +334,12 @@ def unify(a: Any, b: Any, s: Subst) -> bool:
             if b.name == a.name:
                 return True
         elif type(b) is AnnotVar:
-            return _unify_annot_var(a, b, s)
+            return _unify_annot_var(a, b, s, ag)
         s[a.name] = b
         return True
     if isinstance(b, Var):
         if type(a) is AnnotVar:
-            return _unify_annot_var(a, b, s)
+            return _unify_annot_var(a, b, s, ag)
         s[b.name] = a
         return True
     ta = type(a)
@@ -461,57 +348,57 @@ def unify(a: Any, b: Any, s: Subst) -> bool:
             return a == b
         if isinstance(b, (ArithExpr, Literal)):
             try:
-                return a == eval_arith(b, s)
+                return a == eval_arith(b, s, ag)
             except ArithError:
                 return False
-        return type(b) is AnnotVar and _unify_annot_var(a, b, s)
+        return type(b) is AnnotVar and _unify_annot_var(a, b, s, ag)
     if ta is str:
         if type(b) is str:
             return a == b
-        return type(b) is AnnotVar and _unify_annot_var(a, b, s)
+        return type(b) is AnnotVar and _unify_annot_var(a, b, s, ag)
     if ta is Literal:
         if type(b) is not Literal:
             if type(b) is AnnotVar:
-                return _unify_annot_var(a, b, s)
+                return _unify_annot_var(a, b, s, ag)
             if type(b) is float and is_arith_function(a):
                 try:
-                    return eval_arith(a, s) == b
+                    return eval_arith(a, s, ag) == b
                 except ArithError:
                     return False
             return False
         if a.functor != b.functor or a.neg != b.neg or len(a.args) != len(b.args):
             return False
         for x, y in zip(a.args, b.args, strict=False):
-            if not unify(x, y, s):
+            if not unify(x, y, s, ag):
                 return False
         if a.annots or a.tail is not None:
-            return unify_annots(a, b, s)
+            return unify_annots(a, b, s, ag)
         return True
     if ta is ListTerm:
         if type(b) is not ListTerm:
-            return type(b) is AnnotVar and _unify_annot_var(a, b, s)
-        return _unify_lists(a, b, s)
+            return type(b) is AnnotVar and _unify_annot_var(a, b, s, ag)
+        return _unify_lists(a, b, s, ag)
     if ta is AnnotVar or type(b) is AnnotVar:
-        return _unify_annot_var(a, b, s)
+        return _unify_annot_var(a, b, s, ag)
     if ta is ArithExpr:
         try:
-            va = eval_arith(a, s)
+            va = eval_arith(a, s, ag)
         except ArithError:
             if type(b) is ArithExpr and a.op == b.op:
-                return unify(a.left, b.left, s) and (a.right is None or unify(a.right, b.right, s))
+                return unify(a.left, b.left, s, ag) and (a.right is None or unify(a.right, b.right, s, ag))
             return False
         try:
-            return va == eval_arith(b, s)
+            return va == eval_arith(b, s, ag)
         except ArithError:
             return False
     if ta in (RelExpr, LogExpr):
         if type(b) is not ta or a.op != b.op:
             return False
-        if not unify(a.left, b.left, s):
+        if not unify(a.left, b.left, s, ag):
             return False
         if a.right is None:
             return b.right is None
-        return b.right is not None and unify(a.right, b.right, s)
+        return b.right is not None and unify(a.right, b.right, s, ag)
     if ta is PlanTerm:
         return a == b
     return a == b
@@ -534,7 +421,7 @@ def _value_of(t: AnnotVar, s: Subst) -> Any:
     return v
 
 
-def _unify_annot_var(a: Any, b: Any, s: Subst) -> bool:
+def _unify_annot_var(a: Any, b: Any, s: Subst, ag: FunctionHost | None = None) -> bool:
     """Unification when ``a`` or ``b`` is an annotated variable (Jason ``Unifier.unifiesNoUndo``).
 
     Between two predicates (literals or variables), ``a``'s own annotations must be a subset of
@@ -546,11 +433,11 @@ def _unify_annot_var(a: Any, b: Any, s: Subst) -> bool:
     ta, tb = type(a), type(b)
     if (ta in _PRED_LIKE and tb in _PRED_LIKE and ta is not Var
             and (a.annots or a.tail is not None)
-            and (tb is Var or not _annots_subset(a.annots, a.tail, b.annots, b.tail, s))):
+            and (tb is Var or not _annots_subset(a.annots, a.tail, b.annots, b.tail, s, ag))):
         return False
     va = _value_of(a, s) if ta is AnnotVar else a
     vb = _value_of(b, s) if tb is AnnotVar else b
-    if not unify(va, vb, s):
+    if not unify(va, vb, s, ag):
         return False
     for t in (a, b):
         if type(t) is AnnotVar:
@@ -584,38 +471,39 @@ def _items_and_tail(first: tuple, tail: Any, s: Subst) -> tuple[list, Any]:
     return items, tail
 
 
-def _unify_lists(a: ListTerm, b: ListTerm, s: Subst) -> bool:
+def _unify_lists(a: ListTerm, b: ListTerm, s: Subst, ag: FunctionHost | None = None) -> bool:
     ia, ta = _list_items(a, s)
     ib, tb = _list_items(b, s)
     n = min(len(ia), len(ib))
     for i in range(n):
-        if not unify(ia[i], ib[i], s):
+        if not unify(ia[i], ib[i], s, ag):
             return False
     ra, rb = ia[n:], ib[n:]
     if ra:
         # b ran out
         if tb is None:
             return False
-        return unify(tb, ListTerm(tuple(ra), ta), s)
+        return unify(tb, ListTerm(tuple(ra), ta), s, ag)
     if rb:
         if ta is None:
             return False
-        return unify(ta, ListTerm(tuple(rb), tb), s)
+        return unify(ta, ListTerm(tuple(rb), tb), s, ag)
     if ta is None and tb is None:
         return True
     if ta is None:
-        return unify(tb, ListTerm(), s)
+        return unify(tb, ListTerm(), s, ag)
     if tb is None:
-        return unify(ta, ListTerm(), s)
-    return unify(ta, tb, s)
+        return unify(ta, ListTerm(), s, ag)
+    return unify(ta, tb, s, ag)
 
 
-def unify_annots(a: Literal, b: Literal, s: Subst) -> bool:
+def unify_annots(a: Literal, b: Literal, s: Subst, ag: FunctionHost | None = None) -> bool:
     """Greedy subset check (Jason ``hasSubsetAnnot``); a's tail gets b's unmatched annotations."""
-    return _annots_subset(a.annots, a.tail, b.annots, b.tail, s)
+    return _annots_subset(a.annots, a.tail, b.annots, b.tail, s, ag)
 
 
-def _annots_subset(a_annots: tuple, a_tail: Any, b_annots: tuple, b_tail: Any, s: Subst) -> bool:
+def _annots_subset(a_annots: tuple, a_tail: Any, b_annots: tuple, b_tail: Any, s: Subst,
+                   ag: FunctionHost | None = None) -> bool:
     """:func:`unify_annots` for annotation lists (also those of annotated variables)."""
     pa, tail = _items_and_tail(a_annots, a_tail, s)
     pb, btail = _items_and_tail(b_annots, b_tail, s)
@@ -624,7 +512,7 @@ def _annots_subset(a_annots: tuple, a_tail: Any, b_annots: tuple, b_tail: Any, s
     for x in pa:
         for i, y in enumerate(remaining):
             s2 = dict(s)
-            if unify(x, y, s2):
+            if unify(x, y, s2, ag):
                 s.clear()
                 s.update(s2)
                 del remaining[i]
@@ -635,16 +523,16 @@ def _annots_subset(a_annots: tuple, a_tail: Any, b_annots: tuple, b_tail: Any, s
             missing.append(x)
     if missing:
         # b's annotation tail receives what a has and b does not list
-        if not unify(btail, ListTerm(tuple(sorted(missing, key=sort_key))), s):
+        if not unify(btail, ListTerm(tuple(sorted(missing, key=sort_key))), s, ag):
             return False
         btail = None
     if tail is not None:
         rest = ListTerm(tuple(sorted(remaining, key=sort_key)), btail)
-        return unify(tail, rest, s)
+        return unify(tail, rest, s, ag)
     return True
 
 
-def annot_options(a: Literal, b: Literal, s: Subst):
+def annot_options(a: Literal, b: Literal, s: Subst, ag: FunctionHost | None = None):
     """All ways a's (tail-less) annotations can match annotations of b (for belief queries)."""
     pa = list(a.annots)
     pb = list(b.annots)
@@ -655,7 +543,7 @@ def annot_options(a: Literal, b: Literal, s: Subst):
             return
         for y in pb:
             s2 = dict(cur)
-            if unify(pa[i], y, s2):
+            if unify(pa[i], y, s2, ag):
                 yield from rec(i + 1, s2)
 
     yield from rec(0, s)
@@ -663,10 +551,10 @@ def annot_options(a: Literal, b: Literal, s: Subst):
 
 # ---------------------------------------------------------------- equality (==)
 
-def term_equals(a: Any, b: Any, s: Subst) -> bool:
+def term_equals(a: Any, b: Any, s: Subst, ag: FunctionHost | None = None) -> bool:
     """Jason ``==``: structural equality after applying ``s`` (annotation order ignored)."""
-    ra = resolve(a, s)
-    rb = resolve(b, s)
+    ra = resolve(a, s, ag)
+    rb = resolve(b, s, ag)
     return _eq(ra, rb)
 
 

@@ -7,7 +7,7 @@ import os
 import sys
 from pathlib import Path
 
-from rason.asl import AslSyntaxError, load_mas2j
+from rason.asl import AslSyntaxError, load_agent_source, load_mas2j
 from rason.ros.perceptions import PerceptionFilter
 
 # rospy reads the node's namespace from sys.argv when it is imported, so it is imported only
@@ -33,14 +33,17 @@ def _namespace(argv: list[str]) -> tuple[str, list[str]]:
     return ns, [*rest, f"__ns:={jason_ns}"]
 
 
-def _run(node_name: str, argv: list[str], agents: list[tuple[str, Path, PerceptionFilter | None]],
-         ns: str) -> int:
+def _run(node_name: str, argv: list[str],
+         agents: list[tuple[str, Path, PerceptionFilter | None, dict]], ns: str) -> int:
     sources = []
-    for name, path, pfilter in agents:
+    for name, path, pfilter, options in agents:
         try:
-            sources.append((name, path.read_text(encoding="utf-8"), path, pfilter))
+            sources.append((name, load_agent_source(path), path, pfilter, options))
         except OSError as err:
             print(f"rason: cannot read {path}: {err}", file=sys.stderr)
+            return 2
+        except AslSyntaxError as err:
+            print(str(err), file=sys.stderr)
             return 2
     sys.argv = argv
     import rospy
@@ -50,8 +53,8 @@ def _run(node_name: str, argv: list[str], agents: list[tuple[str, Path, Percepti
     rospy.init_node(node_name)
     node = RasonNode(base_ns=ns)
     try:
-        for name, source, path, pfilter in sources:
-            node.host(name, source, str(path), pfilter)
+        for name, source, path, pfilter, options in sources:
+            node.host(name, source, str(path), pfilter, options)
     except AslSyntaxError as err:
         print(str(err), file=sys.stderr)
         rospy.signal_shutdown("syntax error")
@@ -76,7 +79,7 @@ def agent_main() -> int:
     args.add_argument("name", help="the agent's name (as the .asl world knows it)")
     args.add_argument("file", type=Path, help="the agent's AgentSpeak source (.asl)")
     opts = args.parse_args(_user_args(argv))
-    return _run(opts.name, argv, [(opts.name, opts.file, None)], ns)
+    return _run(opts.name, argv, [(opts.name, opts.file, None, {})], ns)
 
 
 def mas_main() -> int:
@@ -101,7 +104,7 @@ def mas_main() -> int:
         if spec.arch_class:
             print(f"rason: agent {spec.name}: agentArchClass {spec.arch_class} noted; "
                   "rason hosts it with RosAgArch", file=sys.stderr)
-        agents.append((spec.name, Path(spec.asl_path), pfilter))
+        agents.append((spec.name, Path(spec.asl_path), pfilter, spec.options))
     return _run(project.name or opts.file.stem, argv, agents, ns)
 
 

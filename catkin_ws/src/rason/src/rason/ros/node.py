@@ -20,6 +20,8 @@ Private parameters (``_name:=value`` on the rosrun line):
   ~perception_sources ([])    perception sources the agent wants; [] = all
   ~presence_period (1.0)    s between presence announcements on /jason/messages
   ~presence_timeout (3.5)   s after which a silent agent is forgotten
+  ~tro (true)               tail-recursion optimisation (Jason's ``tro`` agent option)
+  ~max_intention_depth (10000)  an intention deeper than this fails with error(intention_too_deep)
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ import rospy
 from jason_msgs.msg import Action, AgentMessage, Event, Perception
 from jason_msgs.srv import Mind, MindResponse
 
-from rason.asl import Agent, Message, parse_term, term_str
+from rason.asl import Agent, AgentOptions, Message, parse_term, term_str
 from rason.ros.arch import RosAgArch
 from rason.ros.feedback import parse_accepted, parse_feedback
 from rason.ros.perceptions import PerceptionFilter
@@ -66,6 +68,10 @@ class RasonNode:
             _as_list(rospy.get_param("~perception_sources", [])))
         presence_period = float(rospy.get_param("~presence_period", 1.0))
         self.directory = Directory(float(rospy.get_param("~presence_timeout", 3.5)))
+        self.agent_options = AgentOptions(
+            tro=bool(rospy.get_param("~tro", AgentOptions.tro)),
+            max_intention_depth=int(rospy.get_param("~max_intention_depth",
+                                                    AgentOptions.max_intention_depth)))
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
@@ -81,10 +87,13 @@ class RasonNode:
 
     # -- hosting ----------------------------------------------------------------------------------------
     def host(self, name: str, source: str, filename: str,
-             perception_filter: PerceptionFilter | None = None) -> HostedAgent:
-        """Create agent `name` from AgentSpeak `source`, serve its mind, start its cycle."""
+             perception_filter: PerceptionFilter | None = None,
+             options: dict | None = None) -> HostedAgent:
+        """Create agent `name` from AgentSpeak `source`, serve its mind, start its cycle
+        (`options`: the agent's own `.mas2j` options, over the node's `~tro`...)."""
         arch = RosAgArch(self, name, perception_filter or self.default_filter)
-        agent = Agent(name, source, arch, filename=filename)
+        agent = Agent(name, source, arch, filename=filename,
+                      options=AgentOptions.from_options(options or {}, self.agent_options))
         arch.agent = agent
         self.directory.add_local(name)
         rospy.Service(self.topic(f"jason/{name}/mind"), Mind, lambda _req, a=agent, r=arch: self.mind(a, r))

@@ -66,7 +66,7 @@ def call_ia(ctx: Any, lit: Literal) -> Any:
     if fn is None:
         raise IAError(f"unknown internal action {lit.functor}", "action_failed")
     s = ctx.s
-    args = [resolve(a, s) for a in lit.args]
+    args = [resolve(a, s, ctx.ag) for a in lit.args]
     try:
         return fn(ctx, args)
     except IAError as e:

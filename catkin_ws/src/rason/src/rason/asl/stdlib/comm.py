@@ -6,6 +6,8 @@ import itertools
 from typing import Any
 
 from ..arch import Message, new_msg_id
+from ..intentions import Event
+from ..plans import ADD, BELIEF, Trigger
 from ..terms import ListTerm, Literal, list_to_python, term_str
 from ..unify import eval_arith
 from . import SUSPEND, IAError, arg_count, internal_action
@@ -57,7 +59,7 @@ def send(ctx: Any, args: list) -> Any:
     if sync_ask:
         timeout = None
         if len(args) == 5:
-            timeout = ag.arch.clock.now() + eval_arith(args[4], ctx.s) / 1000.0
+            timeout = ag.arch.clock.now() + eval_arith(args[4], ctx.s, ctx.ag) / 1000.0
         n = len(receivers or []) if isinstance(to, ListTerm) else None
         ag.register_ask(msg_id, ctx.intention, args[3], timeout, perf, n)
     for r in receivers or []:
@@ -114,8 +116,6 @@ def clear_source_self(ctx: Any, args: list) -> bool:
 
 @internal_action(".signal")
 def signal(ctx: Any, args: list) -> bool:
-    from ..intentions import Event
-    from ..plans import ADD, BELIEF, Trigger
     arg_count(args, 1)
     if isinstance(args[0], Literal):
         ctx.ag.add_event(Event(Trigger(ADD, BELIEF, args[0])))

@@ -46,7 +46,7 @@ def puts(ctx: Any, args: list) -> bool:
 
     def rep(m: Any) -> str:
         try:
-            t = resolve(parse_term(m.group(1)), ctx.s)
+            t = resolve(parse_term(m.group(1)), ctx.s, ctx.ag)
         except AslSyntaxError:
             return m.group(0)
         return to_print_str(t)
@@ -200,9 +200,9 @@ def random_(ctx: Any, args: list) -> Any:
 def range_(ctx: Any, args: list) -> Any:
     """``.range(V, Start, End[, Step])`` enumerates numbers (nothing when Start > End)."""
     arg_count(args, 3, 4)
-    start = eval_arith(args[1], ctx.s)
-    end = eval_arith(args[2], ctx.s)
-    step = eval_arith(args[3], ctx.s) if len(args) == 4 else 1.0
+    start = eval_arith(args[1], ctx.s, ctx.ag)
+    end = eval_arith(args[2], ctx.s, ctx.ag)
+    step = eval_arith(args[3], ctx.s, ctx.ag) if len(args) == 4 else 1.0
     if step == 0:
         raise IAError("step 0 in .range")
 
@@ -281,7 +281,7 @@ def assertz(ctx: Any, args: list) -> bool:
 def findall(ctx: Any, args: list) -> bool:
     """``.findall(Template, Query, List)``."""
     arg_count(args, 3)
-    res = [resolve(args[0], sol) for sol in ctx.solve(args[1])]
+    res = [resolve(args[0], sol, ctx.ag) for sol in ctx.solve(args[1])]
     return ctx.unify(args[2], make_list(res))
 
 
@@ -290,7 +290,7 @@ def setof(ctx: Any, args: list) -> bool:
     arg_count(args, 3)
     res: list = []
     for sol in ctx.solve(args[1]):
-        v = resolve(args[0], sol)
+        v = resolve(args[0], sol, ctx.ag)
         if v not in res:
             res.append(v)
     res.sort(key=sort_key)

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..intentions import has_goal, java_map_order
+from ..intentions import Suspension, has_goal, java_map_order
 from ..plans import ACHIEVE, ADD, deed_str
 from ..terms import Literal, PlanTerm, Var, make_list, term_str
 from ..unify import unify
-from . import arg_count, internal_action, wrong_arg
+from . import SUSPEND, arg_count, internal_action, wrong_arg
 
 
 def _places(ag: Any) -> list:
@@ -25,12 +25,12 @@ def _places(ag: Any) -> list:
     for ev in ag.events:
         if ev.intention is not None:
             out.append(("E", ev.intention))
-    for _, ev in java_map_order(ag.pending_events, lambda kv: kv[0]):
-        if ev.intention is not None:
-            out.append(("PE", ev.intention))
+    for held in java_map_order(ag.pending_events, lambda p: p.key):
+        if held.event.intention is not None:
+            out.append(("PE", held.event.intention))
     cur = ag.current
     pend = [i for i in ag.suspended.values() if i is not cur]
-    pa = [i for i in pend if i.suspended is not None and i.suspended.startswith("action")]
+    pa = [i for i in pend if i.suspended is Suspension.ACTION]
     out.extend(("PA", i) for i in sorted(pa, key=lambda i: i.id & 15))
     pi = [i for i in pend if i.pi_key is not None]
     out.extend(("PI", i) for i in java_map_order(pi, lambda i: i.pi_key))
@@ -188,14 +188,13 @@ def drop_all_events(ctx: Any, args: list) -> bool:
 @internal_action(".suspend")
 def suspend(ctx: Any, args: list) -> Any:
     """``.suspend(G)`` / ``.suspend`` (the current intention), jason.stdlib.suspend."""
-    from . import SUSPEND
     arg_count(args, 0, 1)
     ag = ctx.ag
     if not args:
         i = ctx.intention
         if i is None:
             return False
-        ag.suspend(i, "suspended")
+        ag.suspend(i, Suspension.SUSPENDED)
         i.sus_ia = True
         i.pi_key = f"suspended-self-{i.id}"
         return SUSPEND
@@ -233,7 +232,7 @@ def suspended(ctx: Any, args: list) -> Any:
         elif i.sus_ia and (i.pi_key or "").startswith("suspended-"):
             reason = Literal("suspend_ia")
         else:
-            reason = Literal(i.suspended or "no_reason")
+            reason = Literal(i.suspended.value if i.suspended is not None else "no_reason")
         return s2 if unify(args[1], reason, s2) else False
     return False
 
