@@ -1,16 +1,6 @@
 """``rosrun turtlebot_sim sim``: the simulated TurtleBot 2 robots speaking kobuki_node's topics.
 
-Private parameters:
-    ~world (str, required): path of the world file (YAML, see :mod:`turtlebot_sim.config`), e.g.
-        the case study's ``$(rospack find rason_diagnosis)/worlds/case_study.yaml``.
-    ~real_time_factor (float, 1.0): sim seconds per wall second; 0 = as fast as possible.
-    ~camera_rate (float, world file's ``camera.rate``, 15): Kinect frames per sim second; 0 = off.
-    ~seed (int, world file's ``seed``): randomisation seed (poses, lighting, colours, noise).
-    ~render_workers (int, 1): Kinect rendering processes (2 helps at 30 Hz on an idle machine).
-    ~odom_rate (float, 50): odometry and ground truth rate (sim Hz).
-    ~cmd_timeout (float, 0.6): sim seconds without a velocity command before the robot stops.
-    ~stats_period (float, 10): wall seconds between "turtlebot_sim stats:" log lines (rtf,
-        frames, ms per rendered frame, time spent waiting for the renderer).
+Private parameters: :class:`SimParams` (``rosrun turtlebot_sim sim --help`` prints them).
 
 Topics (``<r>`` = each robot's name, relative to the node's namespace, so ``__ns:=/test1`` gives
 ``/test1/faulty/...``; all stamps are sim time; /clock every physics step):
@@ -28,6 +18,7 @@ from __future__ import annotations
 
 import sys
 import time
+from dataclasses import dataclass
 
 import rospy
 from geometry_msgs.msg import Twist
@@ -35,6 +26,7 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image, PointCloud2
 
+from rason.ros.params import exit_on_help, load_or_exit, param, required
 from turtlebot_sim import msgs
 from turtlebot_sim.render import Frame, RenderPool
 from turtlebot_sim.world import World
@@ -115,22 +107,40 @@ class Stats:
                 f"render {per_frame:.1f} ms/frame, waited {self.waited:.2f} s for the renderer")
 
 
+@dataclass(frozen=True)
+class SimParams:
+    """The simulator node's private parameters."""
+
+    world: str = required("path of the world file (YAML, see turtlebot_sim.config), e.g. "
+                          "$(rospack find rason_diagnosis)/worlds/case_study.yaml")
+    real_time_factor: float = param(1.0, "sim seconds per wall second; 0 = as fast as possible",
+                                    minimum=0.0)
+    camera_rate: float | None = param(None, "Kinect frames per sim second (default: the world "
+                                      "file's camera.rate); 0 = no camera", minimum=0.0)
+    seed: int | None = param(None, "randomisation seed: poses, lighting, colours, noise "
+                             "(default: the world file's seed)")
+    render_workers: int = param(1, "Kinect rendering processes (2 help at 30 Hz on an idle "
+                                "machine)", minimum=1, maximum=16)
+    odom_rate: float = param(50.0, "odometry and ground-truth rate (sim Hz)", minimum=1.0)
+    cmd_timeout: float = param(0.6, "sim seconds without a velocity command before a robot "
+                               "stops", minimum=0.0)
+    stats_period: float = param(10.0, "wall seconds between 'turtlebot_sim stats:' log lines "
+                                "(rtf, frames, ms per rendered frame, time waiting for the "
+                                "renderer)", minimum=0.1)
+
+
 class SimNode:
     """The physics loop: step, publish /clock, odometry and Kinect frames, keep the pace."""
 
-    def __init__(self) -> None:
-        world_file = rospy.get_param("~world", None)
-        if not world_file:
-            raise SystemExit("turtlebot_sim: ~world is required, the path of a world file, e.g. "
-                             "_world:=$(rospack find rason_diagnosis)/worlds/case_study.yaml")
-        seed = rospy.get_param("~seed", None)
-        self.world = World.from_yaml(world_file, seed=None if seed is None else int(seed))
+    def __init__(self, params: SimParams) -> None:
+        self.world = World.from_yaml(params.world, seed=params.seed)
         cfg = self.world.config
-        self.rtf = float(rospy.get_param("~real_time_factor", 1.0))
-        self.camera_rate = float(rospy.get_param("~camera_rate", cfg["camera"]["rate"]))
-        workers = int(rospy.get_param("~render_workers", 1))
-        odom_rate = float(rospy.get_param("~odom_rate", 50.0))
-        timeout = float(rospy.get_param("~cmd_timeout", 0.6))
+        self.rtf = params.real_time_factor
+        self.camera_rate = (params.camera_rate if params.camera_rate is not None
+                            else float(cfg["camera"]["rate"]))
+        workers = params.render_workers
+        odom_rate = params.odom_rate
+        timeout = params.cmd_timeout
         self.odom_every = max(1, round(1.0 / (odom_rate * self.world.dt)))
 
         self.clock = rospy.Publisher("/clock", Clock, queue_size=10)
@@ -140,9 +150,9 @@ class SimNode:
         if self.world.cameras and self.camera_rate > 0:
             self.pool = RenderPool(cfg, workers=workers)
         self.next_frame = 0.0
-        self.stats = Stats(float(rospy.get_param("~stats_period", 10.0)))
+        self.stats = Stats(params.stats_period)
         rospy.loginfo("turtlebot_sim: world %s, robots %s, cameras %s at %.1f Hz, "
-                      "real-time factor %s, seed %s", world_file, self.world.names,
+                      "real-time factor %s, seed %s", params.world, self.world.names,
                       self.world.cameras, self.camera_rate, self.rtf or "max", cfg["seed"])
 
     def run(self) -> None:
@@ -204,8 +214,11 @@ class SimNode:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``rosrun turtlebot_sim sim``."""
-    rospy.init_node("turtlebot_sim", argv=argv if argv is not None else sys.argv)
-    node = SimNode()
+    argv = argv if argv is not None else sys.argv
+    exit_on_help(argv, SimParams, "rosrun turtlebot_sim sim _world:=FILE.yaml [_name:=value ...]",
+                 __doc__.split("\n")[0].split(": ", 1)[-1])
+    rospy.init_node("turtlebot_sim", argv=argv)
+    node = SimNode(load_or_exit(SimParams, "turtlebot_sim"))
     try:
         node.run()
     except (KeyboardInterrupt, rospy.ROSInterruptException):

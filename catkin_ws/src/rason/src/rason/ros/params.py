@@ -1,0 +1,165 @@
+"""Node parameters declared once: read, checked, and documented from one dataclass.
+
+Every node of the workspace states its private parameters as a frozen dataclass whose fields
+carry the default and the one line of documentation::
+
+    @dataclass(frozen=True)
+    class BeepParams:
+        volume: float = param(0.5, "loudness from 0 to 1", minimum=0.0, maximum=1.0)
+        sound: str = required("name of the sound to play")
+
+    params = load(BeepParams)              # reads ~volume, ~sound; ParamError if invalid
+    print(help_text(BeepParams, "rosrun my_pkg beep"))   # what --help prints
+
+:func:`load` reads ``~name`` for every field (the default when it is not set), converts it to the
+field's type, and rejects what does not fit (wrong type, non-finite numbers, out of range) with a
+:class:`ParamError` naming the parameter. :func:`help_text` prints the table that the nodes'
+``--help`` shows and that README links to, so each parameter's doc lives in one place.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+import types
+import typing
+from collections.abc import Sequence
+from typing import Any, TypeVar
+
+import rospy
+
+T = TypeVar("T")
+
+_REQUIRED = object()
+
+
+class ParamError(ValueError):
+    """A private parameter is missing, of the wrong type, or out of range."""
+
+
+def param(default: Any, doc: str, *, minimum: float | None = None,
+          maximum: float | None = None) -> Any:
+    """A parameter with a default; numbers must be finite and within [minimum, maximum]."""
+    factory = (lambda: list(default)) if isinstance(default, list) else None
+    metadata = {"doc": doc, "minimum": minimum, "maximum": maximum}
+    if factory is not None:
+        return dataclasses.field(default_factory=factory, metadata=metadata)
+    return dataclasses.field(default=default, metadata=metadata)
+
+
+def required(doc: str) -> Any:
+    """A parameter the node cannot start without."""
+    return dataclasses.field(default=_REQUIRED, metadata={"doc": doc, "minimum": None,
+                                                           "maximum": None})
+
+
+def _kinds(hint: Any) -> tuple[tuple[type, ...], bool]:
+    """The accepted Python types of a field's annotation, and whether None is allowed."""
+    if isinstance(hint, types.UnionType) or typing.get_origin(hint) is typing.Union:
+        args = typing.get_args(hint)
+        kinds = tuple(typing.get_origin(a) or a for a in args if a is not type(None))
+        return kinds, type(None) in args
+    return (typing.get_origin(hint) or hint,), False
+
+
+def _convert(name: str, value: Any, hint: Any, spec: dataclasses.Field) -> Any:
+    kinds, optional = _kinds(hint)
+    if value is None:
+        if optional:
+            return None
+        raise ParamError(f"~{name}: a value is required")
+    if bool in kinds:
+        if isinstance(value, bool):
+            return value
+        raise ParamError(f"~{name}: expected true or false, got {value!r}")
+    if float in kinds or int in kinds:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ParamError(f"~{name}: expected a number, got {value!r}")
+        if not math.isfinite(value):
+            raise ParamError(f"~{name}: must be finite, got {value!r}")
+        if int in kinds and float not in kinds:
+            if value != int(value):
+                raise ParamError(f"~{name}: expected a whole number, got {value!r}")
+            value = int(value)
+        else:
+            value = float(value)
+        low, high = spec.metadata["minimum"], spec.metadata["maximum"]
+        if low is not None and value < low:
+            raise ParamError(f"~{name}: must be at least {low}, got {value}")
+        if high is not None and value > high:
+            raise ParamError(f"~{name}: must be at most {high}, got {value}")
+        return value
+    if list in kinds:
+        if isinstance(value, str):
+            value = [v.strip() for v in value.strip("[]").split(",") if v.strip()]
+        if not isinstance(value, list):
+            raise ParamError(f"~{name}: expected a list, got {value!r}")
+        return [str(v) for v in value]
+    if str in kinds:
+        return str(value)
+    raise ParamError(f"~{name}: unsupported parameter type {hint!r}")
+
+
+def parse(cls: type[T], given: dict[str, Any]) -> T:
+    """The parameters of ``cls`` from a ``{name: value}`` mapping (names without ``~``)."""
+    hints = typing.get_type_hints(cls)
+    values: dict[str, Any] = {}
+    for spec in dataclasses.fields(cls):  # type: ignore[arg-type]
+        if spec.name in given:
+            values[spec.name] = _convert(spec.name, given[spec.name], hints[spec.name], spec)
+        elif spec.default is _REQUIRED:
+            raise ParamError(f"~{spec.name} is required: {spec.metadata['doc']}")
+    return cls(**values)
+
+
+def load(cls: type[T]) -> T:
+    """The node's private parameters of ``cls`` from the parameter server."""
+    given = {spec.name: rospy.get_param(f"~{spec.name}")
+             for spec in dataclasses.fields(cls)  # type: ignore[arg-type]
+             if rospy.has_param(f"~{spec.name}")}
+    return parse(cls, given)
+
+
+def _default_text(spec: dataclasses.Field) -> str:
+    if spec.default is _REQUIRED:
+        return "required"
+    if spec.default is not dataclasses.MISSING:
+        return repr(spec.default)
+    return repr(spec.default_factory())  # type: ignore[misc]
+
+
+def rows(cls: type) -> list[tuple[str, str, str]]:
+    """``(~name, default, doc)`` for every parameter of ``cls``."""
+    return [(f"~{spec.name}", _default_text(spec), spec.metadata["doc"])
+            for spec in dataclasses.fields(cls)]
+
+
+def help_text(cls: type, usage: str, summary: str = "") -> str:
+    """What the node's ``--help`` prints: usage, summary, and the parameter table."""
+    table = rows(cls)
+    width = max(len(name) for name, _, _ in table) + 2
+    dwidth = max(len(default) for _, default, _ in table) + 2
+    lines = [f"usage: {usage}", ""]
+    if summary:
+        lines += [summary.strip(), ""]
+    lines.append("private parameters (_name:=value on the rosrun line):")
+    lines += [f"  {name:<{width}}{default:<{dwidth}}{doc}" for name, default, doc in table]
+    return "\n".join(lines)
+
+
+def exit_on_help(argv: Sequence[str], cls: type, usage: str, summary: str = "") -> None:
+    """Print :func:`help_text` and exit 0 when ``argv`` asks for ``-h``/``--help``."""
+    if "-h" in argv[1:] or "--help" in argv[1:]:
+        print(help_text(cls, usage, summary))
+        raise SystemExit(0)
+
+
+def load_or_exit(cls: type[T], node: str) -> T:
+    """:func:`load`, or a clear one-line error and exit status 2 for a bad parameter."""
+    try:
+        return load(cls)
+    except ParamError as error:
+        rospy.logfatal("%s: %s", node, error)
+        print(f"{node}: {error}", file=sys.stderr)
+        raise SystemExit(2) from None

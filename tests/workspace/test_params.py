@@ -1,0 +1,62 @@
+"""Node parameters declared once (rason.ros.params): conversion, checks and the --help table."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+from dataclasses import dataclass
+
+import pytest
+
+from rason.ros.params import ParamError, help_text, param, parse, required
+
+
+@dataclass(frozen=True)
+class Example:
+    path: str = required("where the thing is")
+    speed: float = param(0.2, "m/s", minimum=0.0, maximum=1.0)
+    count: int = param(3, "how many", minimum=1)
+    rate: float | None = param(None, "Hz, default from elsewhere", minimum=0.0)
+    enabled: bool = param(True, "on or off")
+    names: list = param([], "who may talk")
+
+
+def test_defaults_and_conversions():
+    p = parse(Example, {"path": "/x", "speed": 1, "count": 4.0, "names": "[a, b]"})
+    assert (p.path, p.speed, p.count, p.rate, p.enabled, p.names) == ("/x", 1.0, 4, None, True,
+                                                                      ["a", "b"])
+    assert isinstance(p.speed, float) and isinstance(p.count, int)
+    assert parse(Example, {"path": "/x", "names": ["c"]}).names == ["c"]
+    assert parse(Example, {"path": "/x"}).names == []
+
+
+@pytest.mark.parametrize("given, message", [
+    ({}, "~path is required"),
+    ({"path": "/x", "speed": 1e9}, "~speed: must be at most 1.0"),
+    ({"path": "/x", "speed": -0.1}, "~speed: must be at least 0.0"),
+    ({"path": "/x", "speed": math.nan}, "~speed: must be finite"),
+    ({"path": "/x", "rate": math.inf}, "~rate: must be finite"),
+    ({"path": "/x", "speed": "fast"}, "~speed: expected a number"),
+    ({"path": "/x", "count": 2.5}, "~count: expected a whole number"),
+    ({"path": "/x", "enabled": "yes"}, "~enabled: expected true or false"),
+    ({"path": "/x", "speed": True}, "~speed: expected a number"),
+])
+def test_bad_values_are_rejected_with_the_parameter_named(given, message):
+    with pytest.raises(ParamError, match=message.replace("[", r"\[")):
+        parse(Example, given)
+
+
+def test_help_lists_every_parameter_with_default_and_doc():
+    text = help_text(Example, "rosrun pkg node", "Does things.")
+    assert text.startswith("usage: rosrun pkg node")
+    for name, default, doc in (("~path", "required", "where the thing is"),
+                               ("~speed", "0.2", "m/s"), ("~names", "[]", "who may talk")):
+        line = next(line for line in text.splitlines() if line.strip().startswith(name + " "))
+        assert default in line and doc in line
+
+
+def test_sim_node_help_is_its_parameter_table():
+    out = subprocess.run(["rosrun", "turtlebot_sim", "sim", "--help"], capture_output=True,
+                         text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert "~world" in out.stdout and "required" in out.stdout and "~real_time_factor" in out.stdout
