@@ -11,6 +11,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from rason_vision.convert import cloud_to_xyz, image_to_rgb
+from rason_vision.detector import detect
+
 if TYPE_CHECKING:
     from rason_diagnosis.monitor import RunMonitor
     from rason_diagnosis.scenario import RunResult
@@ -65,9 +68,6 @@ def save_run_picture(monitor: RunMonitor, result: RunResult, path) -> None:
 
 
 def _draw_frame(ax, image_msg, cloud_msg) -> None:
-    from rason_vision.convert import cloud_to_xyz, image_to_rgb
-    from rason_vision.detector import detect
-
     rgb = image_to_rgb(image_msg)
     ax.imshow(rgb)
     title = "Helper's camera at the feedback moment"

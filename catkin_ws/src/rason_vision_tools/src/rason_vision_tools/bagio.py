@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import lz4.frame
 import numpy as np
 from rosbags.rosbag1 import Reader, Writer
 from rosbags.typesys import Stores, get_typestore
@@ -34,7 +35,6 @@ _STORE = get_typestore(Stores.ROS1_NOETIC)
 @dataclass
 class Frame:
     """One Kinect frame: RGB image, organized optical-frame point cloud, ground truth."""
-
     stamp_ns: int
     rgb: np.ndarray
     xyz: np.ndarray
@@ -65,8 +65,6 @@ def cloud_message(frame: Frame, seq: int) -> Any:
 
 def _ros1_lz4(data: bytes) -> bytes:
     """LZ4 frames as ROS 1's roslz4 reads them (rosbags' own LZ4 chunks are unreadable)."""
-    import lz4.frame
-
     return lz4.frame.compress(data, block_linked=False, content_checksum=True, store_size=False)
 
 

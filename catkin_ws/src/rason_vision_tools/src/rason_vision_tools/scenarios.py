@@ -27,6 +27,7 @@ import numpy as np
 
 from rason_vision.geometry import CYLINDER_OFFSET, cylinder_axes_in_camera, relative_from_axes
 from rason_vision_tools.synthetic import Cylinder, Scene
+from turtlebot_sim.world import World
 
 #: Kinect optical centre in Helper's base frame (m), as built by turtlebot_sim.
 CAMERA_OFFSET = (0.135, 0.0, 0.45)
@@ -43,7 +44,6 @@ ORANGE_LIKE = [0.95, 0.42, 0.08]
 @dataclass
 class Distractor:
     """A static object placed by range and bearing from Helper's camera."""
-
     shape: str
     distance: float
     bearing: float
@@ -57,7 +57,6 @@ class Distractor:
 @dataclass
 class Scenario:
     """One frame to render: Faulty relative to Helper's camera, and the scene around it."""
-
     case: str
     distance: float = 1.5
     bearing: float = 0.0
@@ -149,8 +148,6 @@ def _expectation(s: Scenario, truth: dict[str, Any]) -> str:
 
 def render(s: Scenario) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
     """Render a scenario with the simulator: (rgb, xyz, ground truth dict)."""
-    from turtlebot_sim.world import World
-
     with World.from_yaml(world_config(s)) as world:
         hx, hy, hyaw = s.helper[0], s.helper[1], math.radians(s.helper[2])
         world.set_pose("helper", hx, hy, hyaw)

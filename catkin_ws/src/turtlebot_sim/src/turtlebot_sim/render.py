@@ -35,12 +35,12 @@ from typing import Any
 import numpy as np
 
 from turtlebot_model.cloud import pack_cloud
+from turtlebot_sim.world import World
 
 
 @dataclass
 class Frame:
     """One rendered Kinect frame, for the instant ``stamp`` (sim seconds)."""
-
     stamp: float
     robot: str
     rgb: np.ndarray        # HxWx3 uint8, RGB order
@@ -50,8 +50,6 @@ class Frame:
 
 def _worker(conn: Connection) -> None:
     """Worker process body: get the scene, build it, then render on request until told to stop."""
-    from turtlebot_sim.world import World
-
     signal.signal(signal.SIGINT, signal.SIG_IGN)   # the parent stops us (None or a closed pipe)
     cfg, index = conn.recv()
     world = World(cfg, render_only=True)
@@ -79,7 +77,6 @@ def _worker(conn: Connection) -> None:
 
 class RenderPool:
     """``workers`` rendering processes, at most one frame in flight per worker."""
-
     def __init__(self, cfg: dict[str, Any], workers: int = 2, timeout: float = 60.0):
         self._conns: list[Connection] = []
         self._procs: list[subprocess.Popen] = []

@@ -31,6 +31,8 @@ import xmlrpc.client
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
+import rospy  # local: the harness itself must work without rospy importable
+
 #: The master this process's rospy node was initialised against (rospy allows only one).
 _ROSPY_MASTER: str | None = None
 
@@ -61,7 +63,6 @@ def processes_left_by(parent_pid: int) -> list[str]:
 class HarnessError(RuntimeError):
     """A ROS process did not start, or something waited for did not appear in time."""
 
-
 def free_port() -> int:
     """A TCP port on the loopback interface that was free a moment ago."""
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
@@ -71,7 +72,6 @@ def free_port() -> int:
 
 class Process:
     """A process started by the harness, in its own process group, its output captured."""
-
     def __init__(self, name: str, argv: Sequence[str], env: dict[str, str], log_path: Path,
                  echo: bool | str = False, cwd: str | Path | None = None):
         self.name = name
@@ -379,8 +379,6 @@ class RosHarness:
     # -- rospy in this process ---------------------------------------------------------------------
     def init_rospy(self, name: str = "rason_test") -> None:
         """Make this process a rospy node of this master (rospy allows one per process)."""
-        import rospy  # local: the harness itself must work without rospy importable
-
         os.environ.update({k: self.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOME",
                                                     "ROS_LOG_DIR")})
         global _ROSPY_MASTER
