@@ -38,11 +38,7 @@ from rason.asl import Agent, AgentOptions, Message, parse_term, term_str
 from rason.ros.arch import RosAgArch
 from rason.ros.feedback import parse_accepted, parse_feedback
 from rason.ros.perceptions import PerceptionFilter
-from rason.ros.presence import Directory
-
-MESSAGES_TOPIC = "/jason/messages"
-PRESENCE = "presence"     # content "hello": a newcomer asks everyone to announce themselves
-GOODBYE = "goodbye"
+from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
 
 
 @dataclass
@@ -113,7 +109,7 @@ class RasonNode:
         rospy.Timer(rospy.Duration(0.05), self.on_check_actions)
         rospy.Timer(rospy.Duration(self._presence_period), self.on_presence)
         for name in self.agents:
-            self._announce(name, "hello")
+            self._announce(name, HELLO)
         for hosted in self.agents.values():
             hosted.thread.start()
 
@@ -203,7 +199,7 @@ class RasonNode:
                 self.directory.forget(msg.sender)
                 return
             self.directory.heard(msg.sender, now)
-            if msg.content == "hello":           # a newcomer: let it know us at once
+            if msg.content == HELLO:           # a newcomer: let it know us at once
                 for name in self.agents:
                     self._announce(name)
             return
