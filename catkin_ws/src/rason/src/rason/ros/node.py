@@ -21,6 +21,8 @@ Private parameters (``_name:=value`` on the rosrun line):
   ~perception_sources ([])    perception sources the agent wants; [] = all
   ~presence_period (1.0)    s between presence announcements on /jason/messages
   ~presence_timeout (3.5)   s after which a silent agent is forgotten
+  ~internal_actions ([])    Python modules whose @internal_action functions the agents get
+                            (read by rason.ros.main before the agents load)
   ~tro (true)               tail-recursion optimisation (Jason's ``tro`` agent option)
   ~max_intention_depth (10000)  an intention deeper than this fails with error(intention_too_deep)
 """
