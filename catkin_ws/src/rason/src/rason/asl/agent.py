@@ -446,6 +446,7 @@ class Agent:
             del self.ask_waits[k]
         for k in [k for k, p in self.pending_actions.items() if p.intention is i]:
             del self.pending_actions[k]
+            self.arch.action_abandoned(self, k)      # nobody waits for it: stop it
         if any(ev.intention is i for ev in self.events):
             self.events = deque(ev for ev in self.events if ev.intention is not i)
         if self.pending_events:

@@ -104,8 +104,8 @@ class UnknownReceiver(Exception):
 class AgentArch:
     """Base architecture: the seam between an agent and its environment / infrastructure.
 
-    Subclasses override :meth:`perceive`, :meth:`act`, :meth:`send`, :meth:`broadcast`,
-    :meth:`agent_names`, :meth:`console`.
+    Subclasses override :meth:`perceive`, :meth:`act`, :meth:`action_abandoned`, :meth:`send`,
+    :meth:`broadcast`, :meth:`agent_names`, :meth:`console`.
     """
 
     def __init__(self, clock: Clock | None = None) -> None:
@@ -120,6 +120,10 @@ class AgentArch:
         # jason.infra.local.LocalAgArch.act without an environment
         agent.action_feedback(action_id, False, "action_failed", "no environment configured!",
                               annots=[Literal("noenv")])
+
+    def action_abandoned(self, agent: Agent, action_id: int) -> None:
+        """The agent no longer waits for action ``action_id``: the intention that issued it was
+        dropped, or failed or finished above it. An environment stops the action here."""
 
     def send(self, agent: Agent, message: Message) -> None:
         raise UnknownReceiver(f"unknown receiver {message.receiver}")

@@ -1,5 +1,6 @@
 """Command line: ``python -m rason.asl run FILE.mas2j|FILE.asl [--timeout S] [--seed N] [--no-tro]
-[--max-intention-depth N]``."""
+[--max-intention-depth N]
+[--internal-actions MODULE]``."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import sys
 from .agent import AgentOptions
 from .parser import AslSyntaxError
 from .runtime import run_file
+from .stdlib import ModuleLoadError, load_modules
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -23,7 +25,15 @@ def main(argv: list[str] | None = None) -> int:
     r.add_argument("--max-intention-depth", type=int, default=AgentOptions.max_intention_depth,
                    metavar="N", help="fail an intention deeper than N intended means "
                    f"(default {AgentOptions.max_intention_depth})")
+    r.add_argument("--internal-actions", metavar="MODULE", action="append", default=[],
+                   help="import this Python module first: its @internal_action functions "
+                        "become internal actions of every agent (repeatable)")
     args = ap.parse_args(argv)
+    try:
+        load_modules(args.internal_actions)
+    except ModuleLoadError as e:
+        print(str(e), file=sys.stderr)
+        return 2
     sys.setrecursionlimit(max(sys.getrecursionlimit(), 20000))
     try:
         options = AgentOptions(tro=args.tro, max_intention_depth=args.max_intention_depth)

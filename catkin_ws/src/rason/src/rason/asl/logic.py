@@ -9,7 +9,18 @@ from typing import TYPE_CHECKING, Any
 from .functions import FunctionHost
 from .parser import Rule
 from .stdlib import call_ia
-from .terms import AnnotVar, ArithExpr, ListTerm, Literal, LogExpr, RelExpr, Var, is_constant, make_list
+from .terms import (
+    AnnotVar,
+    ArithExpr,
+    ListTerm,
+    Literal,
+    LogExpr,
+    RelExpr,
+    Var,
+    is_constant,
+    is_internal_action,
+    make_list,
+)
 from .unify import (
     ArithError,
     annot_options,
@@ -69,7 +80,7 @@ def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Ite
         tf = type(f)
     if tf is Literal:
         fn = f.functor
-        if fn[0] == ".":
+        if is_internal_action(fn):
             yield from _solve_ia(ag, f, s, intention)
             return
         if not f.args and not f.annots and not f.neg:
@@ -123,7 +134,7 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
             and f.right.op in _NUMERIC_COMPARE):
         return None
     left, rel = f.left, f.right
-    if (type(left) is not Literal or not left.args or left.functor[0] == "." or left.annots
+    if (type(left) is not Literal or not left.args or is_internal_action(left.functor) or left.annots
             or left.tail is not None
             or not all(type(a) is Var or is_constant(a) for a in left.args)
             or not all(type(x) in (Var, float) for x in (rel.left, rel.right))):

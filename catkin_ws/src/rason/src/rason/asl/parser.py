@@ -48,6 +48,7 @@ from .terms import (
     Var,
     fresh_name,
     is_constant,
+    is_internal_action,
     merge_annots,
     term_str,
 )
@@ -358,7 +359,7 @@ class _ToAst(Transformer):
             return Deed(K_DEL_BEL, t.left, meta.line)
         t = _fix(t)
         if isinstance(t, Literal):
-            if t.functor.startswith("."):
+            if is_internal_action(t.functor):
                 return Deed(K_INTERNAL, t, meta.line)
             return Deed(K_ACTION, t, meta.line)
         if isinstance(t, (Var, AnnotVar)):

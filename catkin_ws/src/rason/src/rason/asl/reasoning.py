@@ -36,7 +36,7 @@ from .plans import (
     Trigger,
 )
 from .stdlib import SUSPEND, FailGoal, IAError, call_ia
-from .terms import ListTerm, Literal, RelExpr, is_ground, term_str
+from .terms import ListTerm, Literal, RelExpr, is_ground, is_internal_action, term_str
 from .unify import ArithError, rename_vars, resolve, unify
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -547,7 +547,7 @@ def _exec_test_goal(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool
         im.u = sol
         return True
     lit = resolve(f, u, ag)
-    if (isinstance(lit, Literal) and not lit.functor.startswith(".")
+    if (isinstance(lit, Literal) and not is_internal_action(lit.functor)
             and ag.pl.has_candidate(ADD, TEST, lit)):
         lit = lit.with_self_source()
         if not is_ground(lit):

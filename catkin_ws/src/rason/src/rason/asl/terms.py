@@ -141,6 +141,12 @@ class Literal:
         return term_str(self)
 
 
+def is_internal_action(functor: str) -> bool:
+    """Jason's rule: a literal whose (unquoted) functor has a dot is an internal action, from
+    the standard library (``.print``) or a user's (``my.act``, see ``stdlib.internal_action``)."""
+    return "." in functor and functor[0] != "'"
+
+
 def atom(name: str) -> Literal:
     return Literal(name)
 

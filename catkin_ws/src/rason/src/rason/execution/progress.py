@@ -24,14 +24,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from rason.execution.results import BAD_MOVE, NO_PROGRESS, OK, Verdict
 from turtlebot_model.geometry import wrap_rad
 
-OK = "OK"
-NO_PROGRESS = "no_progress"
-BAD_MOVE = "bad_move"
+__all__ = ["BAD_MOVE", "MOVE", "NO_PROGRESS", "OK", "TURN", "CheckParams", "MotionMonitor",
+           "Pose2D", "Verdict", "parse_target"]
 
 MOVE = "move"
 TURN = "turn"
+#: Largest ``|move|`` (m) and ``|turn|`` (deg) accepted by default: a room, two full turns.
+MAX_DISTANCE = 10.0
+MAX_ANGLE = 720.0
 
 
 @dataclass(frozen=True)
@@ -54,18 +57,6 @@ class CheckParams:
     min_travel: float = 0.05             # m from the start before bad_move is checked
     settle_time: float = 0.0             # s at rest required after the goal (0: report at once)
     settle_timeout: float = 1.0          # s after the goal at which OK is reported anyway
-
-
-@dataclass(frozen=True)
-class Verdict:
-    """How a motion ended: ``result`` (OK, no_progress, bad_move) and a human message."""
-
-    result: str
-    message: str
-
-    @property
-    def ok(self) -> bool:
-        return self.result == OK
 
 
 class MotionMonitor:
@@ -185,13 +176,14 @@ class MotionMonitor:
                            f"(goal {math.degrees(self.target):.1f} deg)" + note)
 
 
-def parse_target(kind: str, parameters: list[str], turn_clockwise: bool = True) -> float:
+def parse_target(kind: str, parameters: list[str], turn_clockwise: bool = True,
+                 max_distance: float = MAX_DISTANCE, max_angle: float = MAX_ANGLE) -> float:
     """The signed goal of ``move(meters)`` (m) or ``turn(degrees)`` (rad, counter-clockwise).
 
     ``turn(d)`` with positive ``d`` turns clockwise (to the right) when `turn_clockwise`, as
     the thesis' Helper expects (``turn(5)`` steps right; ``turn(Deg)`` with ``Deg < 0``, a
     robot left of the image centre, turns left). Raises ValueError (-> ``bad_parameters``)
-    unless there is exactly one finite number.
+    unless there is exactly one finite number within ``max_distance`` m / ``max_angle`` deg.
     """
     if len(parameters) != 1:
         raise ValueError(f"{kind} takes one number, got {len(parameters)} parameters")
@@ -203,8 +195,12 @@ def parse_target(kind: str, parameters: list[str], turn_clockwise: bool = True) 
     if not math.isfinite(value):
         raise ValueError(f"{kind}: {text!r} is not a finite number")
     if kind == MOVE:
+        if abs(value) > max_distance:
+            raise ValueError(f"move: {text} m is beyond the limit of {max_distance:g} m")
         return value
     if kind == TURN:
+        if abs(value) > max_angle:
+            raise ValueError(f"turn: {text} deg is beyond the limit of {max_angle:g} deg")
         radians = math.radians(value)
         return -radians if turn_clockwise else radians
     raise ValueError(f"unknown motion {kind!r}")

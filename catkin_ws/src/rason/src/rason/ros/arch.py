@@ -1,8 +1,10 @@
 """RosAgArch: the agent architecture that plugs a rason.asl agent into ROS (thesis 5.2).
 
 The agent's environment is ROS: actions go out as ``jason_msgs/Action`` and come back as
-``action_feedback`` Events; percepts come from the node's perception table; messages to other
-agents travel on the global ``/jason/messages`` topic. Time is ROS time, so ``/clock`` works.
+``action_feedback`` Events; an action the agent gives up (its timeout, its intention dropped or
+failed, the node stopping) is cancelled with ``jason_msgs/ActionCancel`` on ``jason/cancel``;
+percepts come from the node's perception table; messages to other agents travel on the global
+``/jason/messages`` topic. Time is ROS time, so ``/clock`` works.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ from typing import TYPE_CHECKING
 import rospy
 
 from rason.asl import AgentArch, Clock, Message, UnknownReceiver, parse_literal
-from rason.ros.feedback import Feedback
+from rason.ros.feedback import CancelReason, Feedback
 from rason.ros.perceptions import PerceptionFilter, PerceptionTable
 
 if TYPE_CHECKING:
@@ -77,6 +79,12 @@ class RosAgArch(AgentArch):
             self.pending[action_id] = PendingAction(action_id, str(action), self.clock.now())
         self.node.publish_action(self.name, action_id, action)
 
+    def action_abandoned(self, agent: Agent, action_id: int) -> None:
+        with self._lock:
+            pending = self.pending.pop(action_id, None)
+        if pending is not None:
+            self.node.publish_cancel(self.name, action_id, CancelReason.DROPPED)
+
     def send(self, agent: Agent, message: Message) -> None:
         if self.node.deliver_local(message):
             return
@@ -125,19 +133,29 @@ class RosAgArch(AgentArch):
             for pending in list(self.pending.values()):
                 if pending.accepted_at is None and ack_timeout > 0 \
                         and now - pending.sent_at > ack_timeout:
-                    failed.append((pending, "no_decomposer",
+                    failed.append((pending, CancelReason.NO_DECOMPOSER,
                                    f"no decomposer acknowledged {pending.text} within "
                                    f"{ack_timeout:g} s"))
                 elif action_timeout > 0 and now - (pending.accepted_at or pending.sent_at) \
                         > action_timeout:
-                    failed.append((pending, "action_timeout",
+                    failed.append((pending, CancelReason.ACTION_TIMEOUT,
                                    f"{pending.text} did not finish within {action_timeout:g} s"))
             for pending, _, _ in failed:
                 del self.pending[pending.action_id]
         for pending, reason, text in failed:
             rospy.logwarn("[%s] %s", self.name, text)
+            self.node.publish_cancel(self.name, pending.action_id, reason)
             if self.agent is not None:
                 self.agent.action_feedback(pending.action_id, False, reason, text)
+
+    def cancel_all(self, reason: str) -> int:
+        """Cancel every pending action (the agent stops); how many there were."""
+        with self._lock:
+            ids = list(self.pending)
+            self.pending.clear()
+        for action_id in ids:
+            self.node.publish_cancel(self.name, action_id, reason)
+        return len(ids)
 
     def pending_texts(self) -> list[str]:
         with self._lock:

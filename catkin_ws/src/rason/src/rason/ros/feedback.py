@@ -5,7 +5,9 @@ it may acknowledge with ``Event(agent, "action_accepted", [action_id])`` and, wh
 ``Event(agent, "action_feedback", [result, action_id, message])``: ``result`` is ``OK`` or the
 failure reason (``no_progress``, ``bad_move``...), in the thesis' order. The public Rason code
 used ``[action_id, result, message]``; :func:`parse_feedback` accepts that order too when it is
-unambiguous (first parameter an integer, second not).
+unambiguous (first parameter an integer, second not). An agent that gives an action up
+publishes ``ActionCancel(agent, action_id, reason)`` on ``jason/cancel`` (rason's addition):
+the decomposer stops it and answers ``cancelled``.
 """
 
 from __future__ import annotations
@@ -16,6 +18,15 @@ from typing import Protocol
 ACTION_ACCEPTED = "action_accepted"
 ACTION_FEEDBACK = "action_feedback"
 OK = "OK"
+
+
+class CancelReason:
+    """Why an agent cancels an action (``jason_msgs/ActionCancel.reason`` on ``jason/cancel``)."""
+
+    ACTION_TIMEOUT = "action_timeout"   # accepted, but not finished within ~action_timeout
+    NO_DECOMPOSER = "no_decomposer"     # not acknowledged within ~ack_timeout
+    DROPPED = "dropped"                 # its intention was dropped, or failed or ended above it
+    SHUTDOWN = "shutdown"               # the agent's node is shutting down
 
 
 class EventLike(Protocol):

@@ -7,7 +7,7 @@ import os
 import sys
 from pathlib import Path
 
-from rason.asl import AslSyntaxError, load_agent_source, load_mas2j
+from rason.asl import AslSyntaxError, ModuleLoadError, load_agent_source, load_mas2j, load_modules
 from rason.ros.perceptions import PerceptionFilter
 
 # rospy reads the node's namespace from sys.argv when it is imported, so it is imported only
@@ -51,6 +51,14 @@ def _run(node_name: str, argv: list[str],
     from rason.ros.node import RasonNode
 
     rospy.init_node(node_name)
+    try:
+        added = load_modules(_module_names(rospy.get_param("~internal_actions", [])))
+    except ModuleLoadError as err:
+        print(f"rason: {err}", file=sys.stderr)
+        rospy.signal_shutdown("bad ~internal_actions")
+        return 2
+    if added:
+        rospy.loginfo("internal actions loaded: %s", ", ".join(added))
     node = RasonNode(base_ns=ns)
     try:
         for name, source, path, pfilter, options in sources:
@@ -64,6 +72,19 @@ def _run(node_name: str, argv: list[str],
     rospy.loginfo("hosting %s in namespace %s", ", ".join(node.agents), ns)
     rospy.spin()
     return 0
+
+
+def _module_names(value: object) -> list[str]:
+    """``~internal_actions`` (a YAML list, or ``"[a.b, c]"``) as module names; like
+    ``python -m``, the current directory is searched for them too."""
+    if isinstance(value, (list, tuple)):
+        names = [str(v).strip() for v in value]
+    else:
+        names = [v.strip() for v in str(value).strip("[]").split(",")]
+    names = [n for n in names if n]
+    if names and os.getcwd() not in sys.path:
+        sys.path.insert(0, os.getcwd())
+    return names
 
 
 def _user_args(argv: list[str]) -> list[str]:

@@ -5,6 +5,7 @@
 
 Topics (relative names, so one robot per namespace works; un-namespaced it is the thesis):
   jason/action        publish   jason_msgs/Action      actions for the decomposers
+  jason/cancel        publish   jason_msgs/ActionCancel  actions the agent gave up (stop them)
   jason/event         subscribe jason_msgs/Event       action_accepted / action_feedback
   jason/perception    subscribe jason_msgs/Perception  per-source perception lists
   /jason/messages     both      jason_msgs/AgentMessage  agent communication and presence (global)
@@ -20,6 +21,8 @@ Private parameters (``_name:=value`` on the rosrun line):
   ~perception_sources ([])    perception sources the agent wants; [] = all
   ~presence_period (1.0)    s between presence announcements on /jason/messages
   ~presence_timeout (3.5)   s after which a silent agent is forgotten
+  ~internal_actions ([])    Python modules whose @internal_action functions the agents get
+                            (read by rason.ros.main before the agents load)
   ~tro (true)               tail-recursion optimisation (Jason's ``tro`` agent option)
   ~max_intention_depth (10000)  an intention deeper than this fails with error(intention_too_deep)
 """
@@ -27,22 +30,20 @@ Private parameters (``_name:=value`` on the rosrun line):
 from __future__ import annotations
 
 import threading
+import time
 import uuid
 from dataclasses import dataclass
 
 import rospy
-from jason_msgs.msg import Action, AgentMessage, Event, Perception
+from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from jason_msgs.srv import Mind, MindResponse
 
 from rason.asl import Agent, AgentOptions, Message, parse_term, term_str
 from rason.ros.arch import RosAgArch
-from rason.ros.feedback import parse_accepted, parse_feedback
+from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
+from rason.ros.guard import guarded
 from rason.ros.perceptions import PerceptionFilter
-from rason.ros.presence import Directory
-
-MESSAGES_TOPIC = "/jason/messages"
-PRESENCE = "presence"     # content "hello": a newcomer asks everyone to announce themselves
-GOODBYE = "goodbye"
+from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
 
 
 @dataclass
@@ -78,6 +79,7 @@ class RasonNode:
 
         # -- topics (subscriptions start with the agents: see start) -------------------------------
         self.action_pub = rospy.Publisher(self.topic("jason/action"), Action, queue_size=100)
+        self.cancel_pub = rospy.Publisher(self.topic("jason/cancel"), ActionCancel, queue_size=100)
         self.message_pub = rospy.Publisher(MESSAGES_TOPIC, AgentMessage, queue_size=100)
         self._presence_period = presence_period
 
@@ -105,15 +107,18 @@ class RasonNode:
 
     def start(self) -> None:
         """Subscribe (latched messages may arrive at once), announce the agents, start them."""
-        rospy.Subscriber(self.topic("jason/event"), Event, self.on_event, queue_size=100)
-        rospy.Subscriber(self.topic("jason/perception"), Perception, self.on_perception,
+        # Every callback is guarded: a bad message costs a warning, never a timer or the node.
+        rospy.Subscriber(self.topic("jason/event"), Event, guarded("jason/event")(self.on_event),
+                         queue_size=100)
+        rospy.Subscriber(self.topic("jason/perception"), Perception,
+                         guarded("jason/perception")(self.on_perception),
                          queue_size=100, tcp_nodelay=True)
-        rospy.Subscriber(MESSAGES_TOPIC, AgentMessage, self.on_message, queue_size=200,
-                         tcp_nodelay=True)
-        rospy.Timer(rospy.Duration(0.05), self.on_check_actions)
-        rospy.Timer(rospy.Duration(self._presence_period), self.on_presence)
+        rospy.Subscriber(MESSAGES_TOPIC, AgentMessage, guarded(MESSAGES_TOPIC)(self.on_message),
+                         queue_size=200, tcp_nodelay=True)
+        rospy.Timer(rospy.Duration(0.05), guarded("action timeouts")(self.on_check_actions))
+        rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
         for name in self.agents:
-            self._announce(name, "hello")
+            self._announce(name, HELLO)
         for hosted in self.agents.values():
             hosted.thread.start()
 
@@ -124,14 +129,18 @@ class RasonNode:
             rospy.logerr("agent %s stopped: %s", agent.name, err)
 
     def shutdown(self) -> None:
-        """Stop every reasoning cycle and say goodbye on the network."""
+        """Stop every reasoning cycle, cancel the pending actions, say goodbye on the network."""
         self.stop.set()
+        cancelled = 0
         for name, hosted in self.agents.items():
             hosted.agent.wake()
+            cancelled += hosted.arch.cancel_all(CancelReason.SHUTDOWN)
             try:
                 self._announce(name, GOODBYE)
             except rospy.ROSException:
                 pass
+        if cancelled:
+            time.sleep(0.1)       # let the cancels leave before the connections close
         for hosted in self.agents.values():
             hosted.thread.join(2.0)
 
@@ -140,6 +149,15 @@ class RasonNode:
         name, args = action.functor, [term_str(arg) for arg in action.args]
         self.action_pub.publish(Action(agent=agent, action_id=action_id, action=name,
                                        parameters=args))
+
+    def publish_cancel(self, agent: str, action_id: int, reason: str) -> None:
+        """Tell the decomposers that `agent` gave action `action_id` up."""
+        try:
+            self.cancel_pub.publish(ActionCancel(agent=agent, action_id=action_id, reason=reason))
+        except rospy.ROSException as err:     # shutting down: the goodbye still stops it
+            rospy.logwarn("cannot cancel action %d of %s: %s", action_id, agent, err)
+        else:
+            rospy.loginfo("[%s] cancelled action %d (%s)", agent, action_id, reason)
 
     def publish_message(self, message: Message) -> None:
         self.message_pub.publish(AgentMessage(
@@ -203,7 +221,7 @@ class RasonNode:
                 self.directory.forget(msg.sender)
                 return
             self.directory.heard(msg.sender, now)
-            if msg.content == "hello":           # a newcomer: let it know us at once
+            if msg.content == HELLO:           # a newcomer: let it know us at once
                 for name in self.agents:
                     self._announce(name)
             return

@@ -11,6 +11,14 @@ from __future__ import annotations
 import threading
 from collections.abc import Iterable
 
+#: The global topic of agent messages and presence announcements (jason_msgs/AgentMessage).
+MESSAGES_TOPIC = "/jason/messages"
+#: Performative of a presence announcement; its content is "" (still here), HELLO (a newcomer:
+#: everyone announce yourselves) or GOODBYE (leaving now).
+PRESENCE = "presence"
+HELLO = "hello"
+GOODBYE = "goodbye"
+
 
 class Directory:
     """Agent names with the time (seconds, any clock) each was last heard from."""

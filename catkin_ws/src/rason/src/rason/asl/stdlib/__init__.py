@@ -12,14 +12,22 @@ Adding one is a single decorated function::
     @internal_action(".my_ia")
     def my_ia(ctx, args):
         return ctx.unify(args[0], 42.0)
+
+A user's own internal actions take a dotted name without the leading dot, as in Jason
+(``my.act``): put them in a Python module (``from rason.asl import internal_action``) and
+load it with :func:`load_modules` (``python -m rason.asl run --internal-actions MODULE``,
+``rosrun rason agent ... _internal_actions:=[MODULE]``). Numbers arrive as ``float``, atoms
+and structures as ``Literal``, strings as ``str``; ``ctx.unify(a, b)`` binds, ``ctx.ag`` is
+the agent.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import importlib
+from collections.abc import Callable, Iterable
 from typing import Any
 
-from ..terms import Literal
+from ..terms import Literal, is_internal_action
 from ..unify import resolve
 
 IA_REGISTRY: dict[str, Callable] = {}
@@ -46,7 +54,10 @@ class FailGoal(Exception):
 
 
 def internal_action(*names: str) -> Callable:
-    """Register an internal action under one or more names (``".print"``)."""
+    """Register an internal action under one or more names (``".print"``, ``"my.act"``)."""
+    for n in names:
+        if not is_internal_action(n):
+            raise ValueError(f"internal action name {n!r} has no dot: use '.{n}' or 'lib.{n}'")
 
     def deco(fn: Callable) -> Callable:
         for n in names:
@@ -54,6 +65,26 @@ def internal_action(*names: str) -> Callable:
         return fn
 
     return deco
+
+
+class ModuleLoadError(Exception):
+    """A module of internal actions could not be imported (the message says why)."""
+
+
+def load_modules(modules: Iterable[str]) -> list[str]:
+    """Import the named Python modules (``my_package.my_actions``) so that their
+    ``@internal_action`` functions register; the names they added, sorted."""
+    before = set(IA_REGISTRY)
+    for name in modules:
+        name = name.strip()
+        if not name:
+            continue
+        try:
+            importlib.import_module(name)
+        except Exception as err:
+            raise ModuleLoadError(f"cannot load internal actions from module {name!r}: "
+                                  f"{type(err).__name__}: {err}") from err
+    return sorted(set(IA_REGISTRY) - before)
 
 
 def call_ia(ctx: Any, lit: Literal) -> Any:

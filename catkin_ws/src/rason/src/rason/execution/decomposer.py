@@ -1,0 +1,289 @@
+"""Write a decomposer in a few lines: the action protocol, timeouts, cancel and feedback done once.
+
+A decomposer turns an agent's action (``beep(2)``) into commands for the robot. Subclass
+:class:`Decomposer`, name the actions it handles and fill in what is yours::
+
+    class Beeper(Decomposer):
+        actions = ("beep",)
+
+        def setup(self) -> None:                       # publishers, own parameters
+            self.buzzer = rospy.Publisher("buzzer", Bool, queue_size=1)
+
+        def parse(self, action: str, parameters: list[str]) -> float:
+            return float(parameters[0])                # ValueError -> bad_parameters
+
+        def start(self, goal: Goal) -> None:
+            self.buzzer.publish(True)
+
+        def step(self, goal: Goal, now: float) -> Verdict | None:
+            return Verdict(OK, "beeped") if now - goal.started >= goal.target else None
+
+        def halt(self, goal: Goal) -> None:            # every ending goes through here
+            self.buzzer.publish(False)
+
+    if __name__ == "__main__":
+        run(Beeper, "beeper")
+
+What the base does (names relative, so ``__ns:=/robot`` puts it under the robot):
+
+* ``jason/action`` (jason_msgs/Action, in): actions named in ``actions`` (and from the agents
+  in ``~agents``, if given) are parsed, acknowledged with ``action_accepted [id]`` and started;
+  a ValueError/TypeError from :meth:`Decomposer.parse` answers ``bad_parameters`` instead.
+  With ``exclusive`` (default) a new action preempts the running one (``preempted``).
+* ``jason/event`` (jason_msgs/Event, out): ``action_feedback [RESULT, id, message]`` once per
+  action, RESULT ``OK`` or a reason (:mod:`rason.execution.results`).
+* ``jason/cancel`` (jason_msgs/ActionCancel, in): the agent gave the action up; it is halted at
+  once and ends ``cancelled``.
+* ``/jason/messages`` (jason_msgs/AgentMessage, in): the agents' presence. An agent that said
+  ``goodbye``, or was heard before and then not for ``~presence_timeout`` s, has its actions
+  halted and ended ``cancelled``: nothing runs for an agent that is gone. (An issuer never heard,
+  such as ``rosrun rason act``, is not supervised this way.)
+* A timer at ``~watchdog_rate`` Hz (ROS time) calls :meth:`Decomposer.step` for every running
+  action and ends the ones older than ``~timeout`` s (``timeout``).
+
+Every callback is exception-safe (:mod:`rason.ros.guard`); one re-entrant lock,
+:attr:`Decomposer.lock`, is held around all of them, including the ones registered with
+:meth:`Decomposer.subscribe`. Private parameters: ``~agents`` ([] = all), ``~timeout``
+(class attribute ``timeout``, 0 = none), ``~presence_timeout`` (3.5, 0 = not supervised),
+``~watchdog_rate`` (class attribute ``rate``, 20 Hz).
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import rospy
+from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event
+
+from rason.execution.results import (
+    ACTION_FAILED,
+    BAD_PARAMETERS,
+    CANCELLED,
+    OK,
+    PREEMPTED,
+    TIMEOUT,
+    Verdict,
+)
+from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
+from rason.ros.guard import RateLimitedWarnings, clip, guarded
+from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE
+
+__all__ = ["OK", "Decomposer", "Goal", "Verdict", "run"]
+
+#: Every action of an agent (ActionCancel.action_id).
+ALL_ACTIONS = -1
+
+
+@dataclass
+class Goal:
+    """One running action: who asked, what, and the decomposer's own state for it."""
+
+    agent: str
+    action_id: int
+    action: str
+    parameters: list[str]
+    target: Any            # what parse() returned
+    started: float         # ROS time (s) it was accepted
+    state: Any = None      # free for the subclass
+
+    @property
+    def key(self) -> tuple[str, int]:
+        return (self.agent, self.action_id)
+
+    def __str__(self) -> str:
+        return f"{self.action}({', '.join(self.parameters)}) of {self.agent} " \
+               f"(action {self.action_id})"
+
+
+class Decomposer:
+    """Base class of decomposers; override :meth:`parse`, :meth:`start`, :meth:`step`,
+    :meth:`halt` (and :meth:`setup` for publishers and parameters of your own)."""
+
+    #: The actions handled (``Action.action``).
+    actions: tuple[str, ...] = ()
+    #: One action at a time: a new one preempts the running one (False: run side by side).
+    exclusive: ClassVar[bool] = True
+    #: Acknowledge with ``action_accepted`` (False: a thesis-only decomposer).
+    acknowledge: bool = True
+    #: Default of ``~timeout``: seconds an action may run (0 = no limit).
+    timeout: ClassVar[float] = 0.0
+    #: Default of ``~watchdog_rate``: Hz of :meth:`step` and the checks.
+    rate: ClassVar[float] = 20.0
+
+    def __init__(self) -> None:
+        self.name = rospy.get_name().rsplit("/", 1)[-1]
+        agents = rospy.get_param("~agents", [])
+        self.agents: set[str] = {agents} if isinstance(agents, str) else set(agents)
+        self.action_timeout = float(rospy.get_param("~timeout", type(self).timeout))
+        self.presence_timeout = float(rospy.get_param("~presence_timeout", 3.5))
+        self.lock = threading.RLock()
+        self.warnings = RateLimitedWarnings()
+        self.goals: dict[tuple[str, int], Goal] = {}
+        self.heard: dict[str, float] = {}          # agent -> ROS time it was last heard
+        self.events = rospy.Publisher("jason/event", Event, queue_size=100)
+        self.setup()
+        self.subscribe("jason/action", Action, self._on_action, queue_size=100)
+        self.subscribe("jason/cancel", ActionCancel, self._on_cancel, queue_size=100)
+        self.subscribe(MESSAGES_TOPIC, AgentMessage, self._on_message, queue_size=200)
+        rate = float(rospy.get_param("~watchdog_rate", type(self).rate))
+        rospy.Timer(rospy.Duration(1.0 / rate), self._locked("watchdog", self._on_tick))
+        rospy.on_shutdown(self._on_shutdown)
+
+    # -- to override ----------------------------------------------------------------------
+    def setup(self) -> None:
+        """Create publishers, subscribers (:meth:`subscribe`) and read parameters."""
+
+    def parse(self, action: str, parameters: list[str]) -> Any:
+        """The goal's target from the action's parameters; ValueError -> ``bad_parameters``."""
+        return parameters
+
+    def start(self, goal: Goal) -> Verdict | None:
+        """Begin `goal`; return a Verdict to end it at once."""
+        return None
+
+    def step(self, goal: Goal, now: float) -> Verdict | None:
+        """Called at ``~watchdog_rate`` (ROS time `now`); return a Verdict to end the goal."""
+        return None
+
+    def halt(self, goal: Goal) -> None:
+        """Leave the actuators safe: called whenever `goal` ends, however it ends."""
+
+    def preempted(self, goal: Goal, by: Action) -> Verdict:
+        """How `goal` ends when action `by` takes over (``exclusive`` decomposers)."""
+        return Verdict(PREEMPTED, f"preempted by {by.action}({', '.join(by.parameters)}) "
+                                  f"(action {by.action_id})")
+
+    # -- for subclasses -------------------------------------------------------------------
+    def subscribe(self, topic: str, msg_type: type, callback: Callable[[Any], None],
+                  **kwargs: Any) -> rospy.Subscriber:
+        """A subscriber whose callback runs exception-safe with :attr:`lock` held."""
+        kwargs.setdefault("tcp_nodelay", True)
+        return rospy.Subscriber(topic, msg_type, self._locked(topic, callback), **kwargs)
+
+    def finish(self, goal: Goal, verdict: Verdict) -> None:
+        """End `goal` (if it still runs): halt, then report ``verdict``."""
+        with self.lock:
+            if self.goals.get(goal.key) is not goal:
+                return
+            del self.goals[goal.key]
+            try:
+                self.halt(goal)
+            except Exception as err:  # the feedback must still go out
+                rospy.logerr(f"{self.name}: halt of {goal} raised {type(err).__name__}: "
+                             f"{clip(str(err))}")
+            self.feedback(goal.agent, goal.action_id, verdict)
+
+    def running(self, agent: str | None = None) -> list[Goal]:
+        """The running goals (of `agent`), oldest first."""
+        with self.lock:
+            return [g for g in self.goals.values() if agent is None or g.agent == agent]
+
+    def feedback(self, agent: str, action_id: int, verdict: Verdict) -> None:
+        log = rospy.loginfo if verdict.ok or verdict.result == PREEMPTED else rospy.logwarn
+        log(f"{self.name}: action {action_id} of {agent} -> {verdict.result} ({verdict.message})")
+        self.events.publish(Event(agent=agent, event_type=ACTION_FEEDBACK,
+                                  parameters=[verdict.result, str(action_id), verdict.message]))
+
+    # -- callbacks ------------------------------------------------------------------------
+    def _locked(self, what: str, callback: Callable[..., None]) -> Callable[..., None]:
+        @guarded(f"{self.name} {what}", self.warnings)
+        def run_locked(*args: Any) -> None:
+            with self.lock:
+                callback(*args)
+        return run_locked
+
+    def _on_action(self, msg: Action) -> None:
+        if msg.action not in self.actions or (self.agents and msg.agent not in self.agents):
+            return
+        parameters = list(msg.parameters)
+        try:
+            target = self.parse(msg.action, parameters)
+        except (ValueError, TypeError, IndexError) as err:
+            self.feedback(msg.agent, msg.action_id, Verdict(BAD_PARAMETERS, clip(str(err))))
+            return
+        if self.exclusive:
+            for old in self.running():
+                self.finish(old, self.preempted(old, msg))
+        previous = self.goals.get((msg.agent, msg.action_id))
+        if previous is not None:
+            self.finish(previous, Verdict(PREEMPTED, "the same action id again"))
+        goal = Goal(msg.agent, msg.action_id, msg.action, parameters, target,
+                    rospy.get_time())
+        self.goals[goal.key] = goal
+        if self.acknowledge:
+            self.events.publish(Event(agent=msg.agent, event_type=ACTION_ACCEPTED,
+                                      parameters=[str(msg.action_id)]))
+        rospy.loginfo(f"{self.name}: {goal}")
+        self._settle(goal, self.start, goal)
+
+    def _on_cancel(self, msg: ActionCancel) -> None:
+        reason = clip(msg.reason or "no reason given", 100)
+        for goal in self.running(msg.agent):
+            if msg.action_id in (goal.action_id, ALL_ACTIONS):
+                self.finish(goal, Verdict(CANCELLED, f"cancelled by {msg.agent}: {reason}"))
+
+    def _on_message(self, msg: AgentMessage) -> None:
+        if msg.performative == PRESENCE and msg.content == GOODBYE:
+            self.heard.pop(msg.sender, None)
+            for goal in self.running(msg.sender):
+                self.finish(goal, Verdict(CANCELLED, f"agent {msg.sender} said goodbye"))
+            return
+        if msg.sender:
+            self.heard[msg.sender] = rospy.get_time()
+
+    def _on_tick(self, _event: Any) -> None:
+        now = rospy.get_time()
+        for goal in self.running():
+            verdict = self._supervision(goal, now)
+            if verdict is not None:
+                self.finish(goal, verdict)
+            else:
+                self._settle(goal, self.step, goal, now)
+        # forget agents long gone that run nothing here (bounded memory)
+        if self.presence_timeout > 0:
+            busy = {g.agent for g in self.goals.values()}
+            for agent, last in list(self.heard.items()):
+                if agent not in busy and now - last > 4 * self.presence_timeout:
+                    del self.heard[agent]
+
+    def _supervision(self, goal: Goal, now: float) -> Verdict | None:
+        """A verdict when nobody supervises `goal` any more or it ran out of time."""
+        if self.action_timeout > 0 and now - goal.started > self.action_timeout:
+            return Verdict(TIMEOUT, f"{goal.action} did not finish within "
+                                    f"{self.action_timeout:g} s")
+        last = self.heard.get(goal.agent)
+        if self.presence_timeout > 0 and last is not None \
+                and now - last > self.presence_timeout:
+            return Verdict(CANCELLED, f"agent {goal.agent} not heard for {now - last:.2f} s")
+        return None
+
+    def _settle(self, goal: Goal, hook: Callable[..., Verdict | None], *args: Any) -> None:
+        """Run a subclass hook for `goal`; end the goal with its verdict or its exception."""
+        try:
+            verdict = hook(*args)
+        except Exception as err:  # a bug in a hook fails the action, not the node
+            verdict = Verdict(ACTION_FAILED, f"{type(err).__name__}: {clip(str(err))}")
+        if verdict is not None:
+            self.finish(goal, verdict)
+
+    def _on_shutdown(self) -> None:
+        """Leave every actuator safe when the node ends."""
+        with self.lock:
+            for goal in list(self.goals.values()):
+                try:
+                    self.halt(goal)
+                except Exception:  # shutting down: best effort
+                    pass
+
+
+def run(decomposer: Callable[[], Decomposer], node_name: str) -> int:
+    """``rospy.init_node(node_name)``, build the decomposer, spin; the exit status."""
+    rospy.init_node(node_name)
+    node = decomposer()
+    rospy.loginfo(f"{node_name}: handling {', '.join(node.actions)} in namespace "
+                  f"{rospy.get_namespace()}")
+    rospy.spin()
+    return 0
