@@ -30,7 +30,7 @@ STEPS = ("detection", "location", "diagnosis", "total")
 
 def step_values(fault: str, step: int) -> list[float]:
     """The finished runs' values of one step."""
-    return [run[step] for run in TABLES[fault][1] if run[step] is not None]
+    return [value for run in TABLES[fault][1] if (value := run[step]) is not None]
 
 
 def mean(fault: str, step: int) -> float:

@@ -113,7 +113,7 @@ def read_bag(path: str | Path) -> Iterator[Frame]:
     pending: dict[int, dict[str, Any]] = {}
     with Reader(Path(path)) as reader:
         for conn, t, raw in reader.messages():
-            msg = _STORE.deserialize_ros1(raw, conn.msgtype)
+            msg: Any = _STORE.deserialize_ros1(raw, conn.msgtype)
             if conn.topic == IMAGE_TOPIC:
                 stamp = msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec
                 pending.setdefault(stamp, {})["rgb"] = image_to_rgb(msg)

@@ -185,7 +185,7 @@ def _distractors(rng: np.random.Generator, s: Scenario, count: int) -> list[Dist
     placed: list[tuple[float, float]] = []
     fb = math.radians(s.bearing)
     faulty_xz = (s.distance * math.sin(fb), s.distance * math.cos(fb)) if s.faulty else None
-    out = []
+    out: list[Distractor] = []
     for _ in range(200):
         if len(out) >= count:
             break

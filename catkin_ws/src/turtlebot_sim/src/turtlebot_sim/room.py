@@ -93,5 +93,5 @@ def calibrate(client: int, size: Sequence[float], height: float,
             lightSpecularCoeff=float(light["specular"]), renderer=p.ER_TINY_RENDERER,
             physicsClientId=client)
         pixel = np.asarray(rgba, dtype=np.uint8).reshape(8, 8, 4)[4, 4, :3]
-        colors.append(tuple(int(c) for c in pixel))
+        colors.append((int(pixel[0]), int(pixel[1]), int(pixel[2])))
     return colors

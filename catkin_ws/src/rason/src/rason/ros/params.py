@@ -126,7 +126,7 @@ def _default_text(spec: dataclasses.Field) -> str:
         return "required"
     if spec.default is not dataclasses.MISSING:
         return repr(spec.default)
-    return repr(spec.default_factory())  # type: ignore[misc]
+    return repr(spec.default_factory())  # type: ignore[operator]
 
 
 def rows(cls: type) -> list[tuple[str, str, str]]:

@@ -30,6 +30,7 @@ import time
 import xmlrpc.client
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
+from typing import Any
 
 import rospy  # local: the harness itself must work without rospy importable
 
@@ -301,7 +302,8 @@ class RosHarness:
         return done.stdout
 
     # -- the master ---------------------------------------------------------------------------
-    def _master(self) -> xmlrpc.client.ServerProxy:
+    def _master(self) -> Any:
+        """The master's XML-RPC API (its answers are untyped ``[code, message, value]`` lists)."""
         return xmlrpc.client.ServerProxy(self.master_uri)
 
     def _master_up(self) -> bool:
