@@ -10,7 +10,7 @@ percepts come from the node's perception table; messages to other agents travel 
 from __future__ import annotations
 
 import threading
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import rospy
@@ -86,6 +86,7 @@ class RosAgArch(AgentArch):
             self.node.publish_cancel(self.name, action_id, CancelReason.DROPPED)
 
     def send(self, agent: Agent, message: Message) -> None:
+        self.node.note_message(self.name, message, outgoing=True)
         if self.node.deliver_local(message):
             return
         if not self.node.directory.knows(message.receiver, self.clock.now()):
@@ -95,6 +96,7 @@ class RosAgArch(AgentArch):
 
     def broadcast(self, agent: Agent, message: Message) -> None:
         message.receiver = ""
+        self.node.note_message(self.name, message, outgoing=True)
         self.node.deliver_local(message)
         self.node.publish_message(message)
 
@@ -148,6 +150,7 @@ class RosAgArch(AgentArch):
             if self.agent is not None:
                 self.agent.action_feedback(pending.action_id, False, reason, text)
 
+<<<<<<< HEAD
     def cancel_all(self, reason: str) -> int:
         """Cancel every pending action (the agent stops); how many there were."""
         with self._lock:
@@ -156,6 +159,12 @@ class RosAgArch(AgentArch):
         for action_id in ids:
             self.node.publish_cancel(self.name, action_id, reason)
         return len(ids)
+=======
+    def pending_actions(self) -> list[PendingAction]:
+        """A copy of the actions waiting for feedback (for the published mind)."""
+        with self._lock:
+            return [replace(p) for p in self.pending.values()]
+>>>>>>> dd3f29e (mind inspector: agents publish their mind on the latched topic jason/NAME/mind_state (on change, ~mind_state_rate); rosrun rason mind_inspector serves one page for the graph (aiohttp, server-sent events, history per agent, robots' map, camera, diagnostics); setup.py installs every subpackage and the page; aiohttp, selenium pinned; chromium for the browser test)
 
     def pending_texts(self) -> list[str]:
         with self._lock:
