@@ -165,11 +165,14 @@ class Track:
     """A robot's pose from one source (its odometry or the simulator's ground truth)."""
 
     pose: Pose | None = None
+    first: Pose | None = None         # the first pose seen (anchors odometry on the map)
     trail: list[list[float]] = field(default_factory=list)   # [x, y] points
 
     def add(self, pose: Pose) -> None:
         last = self.pose
         self.pose = pose
+        if self.first is None:
+            self.first = pose
         if last is None or not self.trail or \
                 math.hypot(pose.x - self.trail[-1][0], pose.y - self.trail[-1][1]) > TRAIL_STEP_M \
                 or abs(pose.yaw - last.yaw) > TRAIL_STEP_RAD:
@@ -249,4 +252,4 @@ class RobotsView:
 def _track(track: Track | None) -> dict | None:
     if track is None or track.pose is None:
         return None
-    return {"pose": asdict(track.pose), "trail": list(track.trail)}
+    return {"pose": asdict(track.pose), "first": asdict(track.first), "trail": list(track.trail)}

@@ -292,12 +292,27 @@ function drawRobots(view) {
     "no /diagnostics yet");
 }
 
+// A robot's odometry starts at its own origin: put it on the map where the simulator's ground
+// truth was when the inspector saw both first, so the two paths start together and drift apart.
+function anchored(robot) {
+  const odom = robot.odom, truth = robot.truth;
+  if (!odom || !truth) return odom;
+  const turn = truth.first.yaw - odom.first.yaw;
+  const c = Math.cos(turn), s = Math.sin(turn);
+  const move = ([x, y]) => {
+    const dx = x - odom.first.x, dy = y - odom.first.y;
+    return [truth.first.x + c * dx - s * dy, truth.first.y + s * dx + c * dy];
+  };
+  const [px, py] = move([odom.pose.x, odom.pose.y]);
+  return {pose: {x: px, y: py, yaw: odom.pose.yaw + turn}, trail: odom.trail.map(move)};
+}
+
 function drawMap(view, names, color, seen) {
   const canvas = $("map");
   const ctx = canvas.getContext("2d");
   const points = [];
   for (const name of names) {
-    for (const track of [view.robots[name].truth, view.robots[name].odom]) {
+    for (const track of [view.robots[name].truth, anchored(view.robots[name])]) {
       if (!track) continue;
       points.push([track.pose.x, track.pose.y], ...track.trail);
     }
@@ -332,7 +347,7 @@ function drawMap(view, names, color, seen) {
 
   for (const name of names) {
     const r = view.robots[name];
-    for (const [track, dashed] of [[r.truth, false], [r.odom, true]]) {
+    for (const [track, dashed] of [[r.truth, false], [anchored(r), true]]) {
       if (!track) continue;
       ctx.strokeStyle = color(name); ctx.lineWidth = dashed ? 1.5 : 2.5;
       ctx.setLineDash(dashed ? [6, 4] : []);
