@@ -21,8 +21,7 @@ from sensor_msgs.msg import Image
 from std_msgs.msg import String
 
 from rason.inspector.store import BadMindState, CameraFrame, InspectorStore, Pose
-from rason.ros.node import GOODBYE, MESSAGES_TOPIC, PRESENCE
-from rason.ros.presence import Directory
+from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE, Directory
 from turtlebot_model.geometry import yaw_from_quaternion
 
 MIND_STATE_SUFFIX = "/mind_state"

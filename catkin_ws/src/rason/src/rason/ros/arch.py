@@ -150,7 +150,6 @@ class RosAgArch(AgentArch):
             if self.agent is not None:
                 self.agent.action_feedback(pending.action_id, False, reason, text)
 
-<<<<<<< HEAD
     def cancel_all(self, reason: str) -> int:
         """Cancel every pending action (the agent stops); how many there were."""
         with self._lock:
@@ -159,12 +158,11 @@ class RosAgArch(AgentArch):
         for action_id in ids:
             self.node.publish_cancel(self.name, action_id, reason)
         return len(ids)
-=======
+
     def pending_actions(self) -> list[PendingAction]:
         """A copy of the actions waiting for feedback (for the published mind)."""
         with self._lock:
             return [replace(p) for p in self.pending.values()]
->>>>>>> dd3f29e (mind inspector: agents publish their mind on the latched topic jason/NAME/mind_state (on change, ~mind_state_rate); rosrun rason mind_inspector serves one page for the graph (aiohttp, server-sent events, history per agent, robots' map, camera, diagnostics); setup.py installs every subpackage and the page; aiohttp, selenium pinned; chromium for the browser test)
 
     def pending_texts(self) -> list[str]:
         with self._lock:

@@ -23,14 +23,11 @@ Private parameters (``_name:=value`` on the rosrun line):
   ~perception_sources ([])    perception sources the agent wants; [] = all
   ~presence_period (1.0)    s between presence announcements on /jason/messages
   ~presence_timeout (3.5)   s after which a silent agent is forgotten
-<<<<<<< HEAD
   ~internal_actions ([])    Python modules whose @internal_action functions the agents get
                             (read by rason.ros.main before the agents load)
   ~tro (true)               tail-recursion optimisation (Jason's ``tro`` agent option)
   ~max_intention_depth (10000)  an intention deeper than this fails with error(intention_too_deep)
-=======
   ~mind_state_rate (10.0)   Hz at most of jason/NAME/mind_state (on change); 0 = not published
->>>>>>> dd3f29e (mind inspector: agents publish their mind on the latched topic jason/NAME/mind_state (on change, ~mind_state_rate); rosrun rason mind_inspector serves one page for the graph (aiohttp, server-sent events, history per agent, robots' map, camera, diagnostics); setup.py installs every subpackage and the page; aiohttp, selenium pinned; chromium for the browser test)
 """
 
 from __future__ import annotations
@@ -46,13 +43,9 @@ from jason_msgs.srv import Mind, MindResponse
 
 from rason.asl import Agent, AgentOptions, Message, parse_term, term_str
 from rason.ros.arch import RosAgArch
-<<<<<<< HEAD
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.guard import guarded
-=======
-from rason.ros.feedback import parse_accepted, parse_feedback
 from rason.ros.mind_state import MindStatePublisher, mind_state_topic
->>>>>>> dd3f29e (mind inspector: agents publish their mind on the latched topic jason/NAME/mind_state (on change, ~mind_state_rate); rosrun rason mind_inspector serves one page for the graph (aiohttp, server-sent events, history per agent, robots' map, camera, diagnostics); setup.py installs every subpackage and the page; aiohttp, selenium pinned; chromium for the browser test)
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
 
@@ -81,14 +74,11 @@ class RasonNode:
             _as_list(rospy.get_param("~perception_sources", [])))
         presence_period = float(rospy.get_param("~presence_period", 1.0))
         self.directory = Directory(float(rospy.get_param("~presence_timeout", 3.5)))
-<<<<<<< HEAD
         self.agent_options = AgentOptions(
             tro=bool(rospy.get_param("~tro", AgentOptions.tro)),
             max_intention_depth=int(rospy.get_param("~max_intention_depth",
                                                     AgentOptions.max_intention_depth)))
-=======
         self.mind_state_rate = float(rospy.get_param("~mind_state_rate", 10.0))
->>>>>>> dd3f29e (mind inspector: agents publish their mind on the latched topic jason/NAME/mind_state (on change, ~mind_state_rate); rosrun rason mind_inspector serves one page for the graph (aiohttp, server-sent events, history per agent, robots' map, camera, diagnostics); setup.py installs every subpackage and the page; aiohttp, selenium pinned; chromium for the browser test)
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
@@ -132,19 +122,13 @@ class RasonNode:
         rospy.Subscriber(self.topic("jason/perception"), Perception,
                          guarded("jason/perception")(self.on_perception),
                          queue_size=100, tcp_nodelay=True)
-<<<<<<< HEAD
         rospy.Subscriber(MESSAGES_TOPIC, AgentMessage, guarded(MESSAGES_TOPIC)(self.on_message),
                          queue_size=200, tcp_nodelay=True)
         rospy.Timer(rospy.Duration(0.05), guarded("action timeouts")(self.on_check_actions))
         rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
-=======
-        rospy.Subscriber(MESSAGES_TOPIC, AgentMessage, self.on_message, queue_size=200,
-                         tcp_nodelay=True)
-        rospy.Timer(rospy.Duration(0.05), self.on_check_actions)
-        rospy.Timer(rospy.Duration(self._presence_period), self.on_presence)
         if self.mind_state_rate > 0:
-            rospy.Timer(rospy.Duration(1.0 / self.mind_state_rate), self.on_mind_state)
->>>>>>> dd3f29e (mind inspector: agents publish their mind on the latched topic jason/NAME/mind_state (on change, ~mind_state_rate); rosrun rason mind_inspector serves one page for the graph (aiohttp, server-sent events, history per agent, robots' map, camera, diagnostics); setup.py installs every subpackage and the page; aiohttp, selenium pinned; chromium for the browser test)
+            rospy.Timer(rospy.Duration(1.0 / self.mind_state_rate),
+                        guarded("mind_state")(self.on_mind_state))
         for name in self.agents:
             self._announce(name, HELLO)
         for hosted in self.agents.values():
