@@ -19,6 +19,8 @@ APT_PACKAGES=(
   libstd-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libsensor-msgs-dev libdiagnostic-msgs-dev
   # build tools and Debian's Python venv
   cmake g++ make python3-venv
+  # the mind inspector's browser test (headless, driven by selenium)
+  chromium chromium-driver
 )
 
 step() { printf '\n==> setup: %s\n' "$*"; }

@@ -46,13 +46,16 @@ def test_demo_runs_from_the_install_space(tmp_path):
         f"source {shlex.quote(str(venv_bin / 'activate'))}",
         f"source {shlex.quote(str(install / 'setup.bash'))}",
         "rosrun rason_diagnosis demo --fault right_actuator --seed 4 --quiet "
-        f"--out {shlex.quote(str(out))}",
+        f"--inspector-port 0 --out {shlex.quote(str(out))}",
     ])
     run = subprocess.run(["bash", "-c", script], cwd=tmp_path, env=_clean_env(),
                          capture_output=True, text=True, timeout=400)
     assert "diagnosis      : right_actuator" in run.stdout and "CORRECT" in run.stdout, \
         run.stdout[-3000:] + run.stderr[-3000:]
     assert run.returncode == 0
+    # the mind inspector ran from the install space too (it serves its page from the package)
+    assert "[demo] mind inspector: http://127.0.0.1:" in run.stdout, run.stdout[-3000:]
+    assert list(install.glob("lib/python3*/dist-packages/rason/inspector/static/app.js"))
     # The package path the demo used was the install space's, not the source tree.
     where = subprocess.run(["bash", "-c", f"source {shlex.quote(str(install / 'setup.bash'))} && "
                             "rospack find rason_diagnosis"], env=_clean_env(),

@@ -2,4 +2,7 @@
 from catkin_pkg.python_setup import generate_distutils_setup
 from setuptools import find_packages, setup
 
-setup(**generate_distutils_setup(packages=find_packages('src'), package_dir={'': 'src'}))
+# Every subpackage (rason.asl, rason.ros, rason.inspector, ...) and the inspector's page, so that
+# a catkin install space has them too.
+setup(**generate_distutils_setup(packages=find_packages("src"), package_dir={"": "src"},
+                                 package_data={"rason.inspector": ["static/*"]}))

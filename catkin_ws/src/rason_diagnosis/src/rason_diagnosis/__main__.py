@@ -28,6 +28,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", action="store_true", help="print the result as JSON at the end")
     parser.add_argument("--quiet", action="store_true", help="do not stream the agents' console")
     parser.add_argument("--timeout", type=float, default=300.0, help="simulated seconds allowed")
+    parser.add_argument("--inspector", action=argparse.BooleanOptionalAction, default=True,
+                        help="watch the run in the mind inspector (web page; default: on)")
+    parser.add_argument("--inspector-port", type=int, default=3272,
+                        help="the inspector's port on 127.0.0.1 (0: any free port)")
     args = parser.parse_args(argv)
 
     seed = args.seed if args.seed is not None else int(time.time()) % 100000
@@ -35,7 +39,8 @@ def main(argv: list[str] | None = None) -> int:
     out = args.out or Path("out") / f"demo-{fault}-{seed}"
     print(f"[demo] fault {fault}, seed {seed}; output in {out}", flush=True)
     result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,
-                          sim_timeout=args.timeout)
+                          sim_timeout=args.timeout,
+                          inspector_port=args.inspector_port if args.inspector else None)
 
     print("\n[demo] ---------------- result ----------------")
     print(f"[demo] injected fault : {fault}")

@@ -48,6 +48,7 @@ class RunResult:
     wall_s: float = 0.0
     error: str = ""
     out_dir: str = ""
+    inspector: str = ""        # the mind inspector's address, when it watched the run
     console: list[str] = field(default_factory=list)
 
     def to_json(self) -> str:
@@ -59,8 +60,13 @@ def _diff(a: float | None, b: float | None) -> float | None:
 
 
 def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, echo: bool = True,
-                 sim_timeout: float = 300.0, real_time_factor: float = 1.0) -> RunResult:
-    """Run one scenario; returns its result (never raises for a failed diagnosis)."""
+                 sim_timeout: float = 300.0, real_time_factor: float = 1.0,
+                 inspector_port: int | None = None) -> RunResult:
+    """Run one scenario; returns its result (never raises for a failed diagnosis).
+
+    With `inspector_port` (0: any free port) the mind inspector watches the run; its address is
+    printed (and kept in ``result.inspector``) as soon as it listens.
+    """
     if fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -70,6 +76,8 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
     ros = RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs")
     try:
         with ros:
+            if inspector_port is not None:
+                result.inspector = _start_inspector(ros, inspector_port)
             _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor)
     except HarnessError as err:
         result.error = str(err).splitlines()[0]
@@ -148,6 +156,22 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
     except Exception as err:
         _say(echo, f"[demo] could not draw the run picture: {err}")
     monitor.close()
+
+
+def _start_inspector(ros: RosHarness, port: int) -> str:
+    """Start ``rosrun rason mind_inspector`` and print its address; "" if it cannot listen."""
+    inspector = ros.rosrun("rason", "mind_inspector", params={"port": port})
+    try:
+        line = inspector.wait_for_line(r"mind inspector: (http://\S+)|cannot listen.*", timeout=30)
+    except HarnessError as err:
+        print(f"[demo] mind inspector did not start: {str(err).splitlines()[0]}", flush=True)
+        return ""
+    if line.group(1) is None:
+        print(f"[demo] mind inspector not started: {line.group(0)}", flush=True)
+        return ""
+    print(f"[demo] mind inspector: {line.group(1)}  (open it in a browser to watch the run)",
+          flush=True)
+    return line.group(1)
 
 
 DIAGNOSIS = re.compile(r"diagnosis\((\w+)\)")

@@ -15,6 +15,7 @@ from typing import Any
 from . import reasoning
 from .arch import AgentArch, Message
 from .beliefs import BeliefBase
+from .inspection import MindState, mind_state
 from .intentions import (
     ActionResult,
     AskWait,
@@ -259,6 +260,11 @@ class Agent:
     def count_solutions(self, query: Any) -> int:
         """``.count(Q)``: how many solutions Q has in the current mental state."""
         return sum(1 for _ in solve(self, query, {}))
+
+    def mind_state(self) -> MindState:
+        """Structured snapshot of the mental state, for a mind inspector (read-only)."""
+        with self._state_lock:
+            return mind_state(self)
 
     def request_stop(self) -> None:
         self._stop_requested = True

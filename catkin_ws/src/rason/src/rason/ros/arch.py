@@ -10,7 +10,7 @@ percepts come from the node's perception table; messages to other agents travel 
 from __future__ import annotations
 
 import threading
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import rospy
@@ -86,6 +86,7 @@ class RosAgArch(AgentArch):
             self.node.publish_cancel(self.name, action_id, CancelReason.DROPPED)
 
     def send(self, agent: Agent, message: Message) -> None:
+        self.node.note_message(self.name, message, outgoing=True)
         if self.node.deliver_local(message):
             return
         if not self.node.directory.knows(message.receiver, self.clock.now()):
@@ -95,6 +96,7 @@ class RosAgArch(AgentArch):
 
     def broadcast(self, agent: Agent, message: Message) -> None:
         message.receiver = ""
+        self.node.note_message(self.name, message, outgoing=True)
         self.node.deliver_local(message)
         self.node.publish_message(message)
 
@@ -156,6 +158,11 @@ class RosAgArch(AgentArch):
         for action_id in ids:
             self.node.publish_cancel(self.name, action_id, reason)
         return len(ids)
+
+    def pending_actions(self) -> list[PendingAction]:
+        """A copy of the actions waiting for feedback (for the published mind)."""
+        with self._lock:
+            return [replace(p) for p in self.pending.values()]
 
     def pending_texts(self) -> list[str]:
         with self._lock:

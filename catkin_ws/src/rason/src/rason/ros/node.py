@@ -11,6 +11,8 @@ Topics (relative names, so one robot per namespace works; un-namespaced it is th
   /jason/messages     both      jason_msgs/AgentMessage  agent communication and presence (global)
 Services:
   jason/NAME/mind     jason_msgs/Mind   the agent's beliefs, desires, intentions, pending actions
+Topic jason/NAME/mind_state (std_msgs/String, latched): the mind as JSON for the mind inspector
+  (rason.ros.mind_state), published on change at most ~mind_state_rate times a second.
 
 Private parameters (``_name:=value`` on the rosrun line):
   ~ack_timeout (2.0)        s of ROS time a decomposer has to acknowledge an action, else the
@@ -25,6 +27,7 @@ Private parameters (``_name:=value`` on the rosrun line):
                             (read by rason.ros.main before the agents load)
   ~tro (true)               tail-recursion optimisation (Jason's ``tro`` agent option)
   ~max_intention_depth (10000)  an intention deeper than this fails with error(intention_too_deep)
+  ~mind_state_rate (10.0)   Hz at most of jason/NAME/mind_state (on change); 0 = not published
 """
 
 from __future__ import annotations
@@ -42,6 +45,7 @@ from rason.asl import Agent, AgentOptions, Message, parse_term, term_str
 from rason.ros.arch import RosAgArch
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.guard import guarded
+from rason.ros.mind_state import MindStatePublisher, mind_state_topic
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
 
@@ -53,6 +57,7 @@ class HostedAgent:
     agent: Agent
     arch: RosAgArch
     thread: threading.Thread
+    mind_state: MindStatePublisher | None = None
 
 
 class RasonNode:
@@ -73,6 +78,7 @@ class RasonNode:
             tro=bool(rospy.get_param("~tro", AgentOptions.tro)),
             max_intention_depth=int(rospy.get_param("~max_intention_depth",
                                                     AgentOptions.max_intention_depth)))
+        self.mind_state_rate = float(rospy.get_param("~mind_state_rate", 10.0))
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
@@ -102,6 +108,9 @@ class RasonNode:
         thread = threading.Thread(target=self._run_agent, args=(agent,), name=f"agent-{name}",
                                   daemon=True)
         hosted = HostedAgent(agent, arch, thread)
+        if self.mind_state_rate > 0:
+            hosted.mind_state = MindStatePublisher(
+                agent, arch, mind_state_topic(self.base_ns, name), self.base_ns)
         self.agents[name] = hosted
         return hosted
 
@@ -117,6 +126,9 @@ class RasonNode:
                          queue_size=200, tcp_nodelay=True)
         rospy.Timer(rospy.Duration(0.05), guarded("action timeouts")(self.on_check_actions))
         rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
+        if self.mind_state_rate > 0:
+            rospy.Timer(rospy.Duration(1.0 / self.mind_state_rate),
+                        guarded("mind_state")(self.on_mind_state))
         for name in self.agents:
             self._announce(name, HELLO)
         for hosted in self.agents.values():
@@ -176,14 +188,24 @@ class RasonNode:
             hosted = self.agents.get(message.receiver)
             if hosted is None:
                 return False
-            hosted.agent.receive(message)
+            self._receive(hosted, message)
             return True
         for name, hosted in self.agents.items():
             if name != message.sender:
-                hosted.agent.receive(Message(sender=message.sender, receiver=name,
-                                             performative=message.performative,
-                                             content=message.content, msg_id=message.msg_id))
+                self._receive(hosted, Message(sender=message.sender, receiver=name,
+                                              performative=message.performative,
+                                              content=message.content, msg_id=message.msg_id))
         return False
+
+    def _receive(self, hosted: HostedAgent, message: Message) -> None:
+        hosted.agent.receive(message)
+        self.note_message(hosted.agent.name, message, outgoing=False)
+
+    def note_message(self, agent_name: str, message: Message, outgoing: bool) -> None:
+        """Keep a message `agent_name` received or sent for its published mind."""
+        hosted = self.agents.get(agent_name)
+        if hosted is not None and hosted.mind_state is not None:
+            hosted.mind_state.note_message(message, outgoing, rospy.get_time())
 
     def console(self, agent_name: str, text: str) -> None:
         with self._console_lock:
@@ -240,7 +262,7 @@ class RasonNode:
                 rospy.logwarn("[%s] dropped message from %s with unreadable content %r: %s",
                               name, msg.sender, msg.content, err)
                 continue
-            hosted.agent.receive(Message(
+            self._receive(hosted, Message(
                 sender=msg.sender, receiver=name, performative=msg.performative,
                 content=content, msg_id=msg.reply_with, in_reply_to=msg.in_reply_to or None))
 
@@ -254,6 +276,16 @@ class RasonNode:
             self._announce(name)
         for gone in self.directory.expire(rospy.get_time()):
             rospy.loginfo("agent %s not heard for %.1f s: forgotten", gone, self.directory.timeout)
+
+    def on_mind_state(self, _event: rospy.timer.TimerEvent) -> None:
+        now = rospy.get_time()
+        for hosted in self.agents.values():
+            if hosted.mind_state is not None:
+                try:
+                    hosted.mind_state.tick(now)
+                except Exception as err:  # the inspector's view must never stop the agent
+                    rospy.logwarn_throttle(10.0, "[%s] mind_state not published: %s",
+                                           hosted.agent.name, err)
 
     # -- services ---------------------------------------------------------------------------------------
     def mind(self, agent: Agent, arch: RosAgArch) -> MindResponse:

@@ -1,0 +1,162 @@
+"""A structured, read-only picture of an agent's mind (what a mind inspector shows).
+
+:func:`mind_state` reads the belief base, the events and the intentions of an agent and returns
+plain records (dataclasses of strings, numbers and lists) that serialise to JSON as they are.
+It never changes the agent; :meth:`Agent.mind_state` calls it under the agent's state lock.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from enum import StrEnum
+from typing import TYPE_CHECKING
+
+from .intentions import Event, IntendedMeans
+from .parser import Rule
+from .plans import ADD, K_LOOP, Deed, body_deeds, deed_str
+from .terms import Literal, term_str
+
+if TYPE_CHECKING:
+    from .agent import Agent
+
+
+class Step(StrEnum):
+    """Where a formula of a plan body stands in an intended means."""
+
+    DONE = "done"
+    CURRENT = "current"
+    TODO = "todo"
+
+
+@dataclass
+class BeliefView:
+    """One belief: its functor/arity group, its text without annotations, the rest apart."""
+
+    group: str                 # "robot/4", "~ok/0"
+    text: str                  # robot(faulty,10,1.2,90)
+    annots: list[str]          # annotations other than source(...)
+    sources: list[str]         # percept, self, helper...
+
+
+@dataclass
+class BodyStep:
+    """One formula of a plan body and whether it ran, runs now, or is still to run."""
+
+    text: str
+    step: Step
+
+
+@dataclass
+class MeansView:
+    """A plan instance on an intention stack (an intended means)."""
+
+    trigger: str
+    plan: str                  # "@label +!g : context" (the head as written)
+    where: str                 # "faulty.asl:12"
+    body: list[BodyStep]
+    doing: str | None          # the formula being (or last) executed, inside blocks too
+    unifier: dict[str, str]
+
+
+@dataclass
+class IntentionView:
+    """An intention: its stack of plan instances, the top first."""
+
+    id: int
+    suspended: str | None      # None when runnable, else what it waits for ("action 3", ...)
+    means: list[MeansView]
+
+
+@dataclass
+class EventView:
+    trigger: str
+    intention: int | None      # the intention it belongs to; None for an external event
+
+
+@dataclass
+class MindState:
+    """Everything an inspector shows of one agent's mind, at one moment."""
+
+    beliefs: list[BeliefView] = field(default_factory=list)
+    rules: list[str] = field(default_factory=list)
+    events: list[EventView] = field(default_factory=list)
+    desires: list[str] = field(default_factory=list)
+    intentions: list[IntentionView] = field(default_factory=list)
+
+
+def mind_state(agent: Agent) -> MindState:
+    """Read `agent`'s mind (call with the agent's state lock held: see Agent.mind_state)."""
+    state = MindState()
+    for b in agent.bb:
+        if isinstance(b, Rule):
+            state.rules.append(str(b))
+        elif isinstance(b, Literal):
+            state.beliefs.append(_belief(b))
+    held = [ev for _, ev in agent.pending_events]
+    for ev in [*agent.events, *held]:
+        state.events.append(_event(ev))
+        if ev.trigger.is_goal:
+            state.desires.append(str(ev.trigger))
+    for i in agent.all_intentions():
+        state.intentions.append(IntentionView(
+            id=i.id, suspended=agent._suspension_text(i) or None,
+            means=[_means(im) for im in reversed(i.ims)]))
+        state.desires.extend(str(im.trigger) for im in i.ims
+                             if im.trigger.is_goal and im.trigger.op == ADD)
+    return state
+
+
+def _belief(b: Literal) -> BeliefView:
+    sources, annots = [], []
+    for a in b.annots:
+        if isinstance(a, Literal) and a.functor == "source" and len(a.args) == 1:
+            sources.append(term_str(a.args[0]))
+        else:
+            annots.append(term_str(a))
+    return BeliefView(group=f"{'~' if b.neg else ''}{b.functor}/{len(b.args)}",
+                      text=term_str(b.no_annots()), annots=annots, sources=sources)
+
+
+def _event(ev: Event) -> EventView:
+    return EventView(trigger=str(ev.trigger),
+                     intention=ev.intention.id if ev.intention is not None else None)
+
+
+def _means(im: IntendedMeans) -> MeansView:
+    plan = im.plan
+    head = plan.as_text().split(" <- ", 1)[0]
+    src = plan.src.removeprefix("file:")
+    where = f"{os.path.basename(src) or src}:{plan.line}" if src else f"line {plan.line}"
+    return MeansView(trigger=str(im.trigger), plan=head, where=where, body=_body_steps(im),
+                     doing=deed_str(im.current) if im.current is not None else None,
+                     unifier={k: term_str(v) for k, v in im.u.items()})
+
+
+def _body_steps(im: IntendedMeans) -> list[BodyStep]:
+    """The plan's body, each top-level formula marked done, current or still to run.
+
+    The current formula is the one being executed or last executed (``im.current``), or the
+    if/while/for block that holds it; before the first one it is none of them.
+    """
+    body = im.plan.body
+    deed = im.current
+    if deed is not None and deed.kind == K_LOOP:
+        deed = deed.extra[1]          # the next round of a while/for: the loop itself
+    current = _top_level_index(body, deed) if deed is not None else None
+    if current is None:               # nothing run yet: what left the stack is done
+        remaining = {id(d) for d in im.stack}
+        current_left = next((k for k, d in enumerate(body) if id(d) in remaining), len(body))
+        return [BodyStep(deed_str(d), Step.DONE if k < current_left else Step.TODO)
+                for k, d in enumerate(body)]
+    return [BodyStep(deed_str(d), Step.DONE if k < current else
+                     Step.CURRENT if k == current else Step.TODO)
+            for k, d in enumerate(body)]
+
+
+def _top_level_index(body: tuple, deed: Deed) -> int | None:
+    """Index of the top-level formula of `body` that is `deed` or holds it in a block."""
+    for k, d in enumerate(body):
+        if d is deed or any(inner is deed for inner in body_deeds((d,))):
+            return k
+    return None

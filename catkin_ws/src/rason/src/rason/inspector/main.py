@@ -1,0 +1,78 @@
+"""``rosrun rason mind_inspector [_port:=3272] [_host:=127.0.0.1] [_history:=300]``.
+
+One web page for every agent on the ROS graph (beliefs, events, intentions, actions, messages,
+with a history to step back through) and for the robots (poses, what Helper's synthesizer sees,
+the camera, the fault injector's diagnostics). It listens on the loopback interface unless
+``_host:=0.0.0.0`` opens it to other machines.
+
+Private parameters:
+  ~host (127.0.0.1)        address to listen on
+  ~port (3272)             TCP port; 0 picks a free one (the address is logged either way)
+  ~history (300)           mind states kept per agent for the page's history
+  ~presence_timeout (3.5)  s (ROS time) after which a silent agent leaves the page
+"""
+
+from __future__ import annotations
+
+import asyncio
+import signal
+import sys
+
+import rospy
+from aiohttp import web
+
+from rason.inspector.graph import GraphWatcher
+from rason.inspector.store import InspectorStore
+from rason.inspector.web import make_app
+
+DEFAULT_PORT = 3272
+LOOPBACK = ("127.0.0.1", "localhost", "::1")
+
+
+async def serve(app: web.Application, host: str, port: int) -> int:
+    """Serve until SIGINT/SIGTERM or ROS shutdown; 1 if the address cannot be bound."""
+    runner = web.AppRunner(app, access_log=None)
+    await runner.setup()
+    site = web.TCPSite(runner, host, port)
+    try:
+        await site.start()
+    except OSError as err:
+        rospy.logerr("mind inspector: cannot listen on %s:%d: %s", host, port, err)
+        await runner.cleanup()
+        return 1
+    bound = runner.addresses[0][1] if runner.addresses else port
+    shown = "127.0.0.1" if host in ("0.0.0.0", "") else host
+    scope = ("loopback only; _host:=0.0.0.0 opens it to other machines" if host in LOOPBACK
+             else f"listening on {host}: reachable from other machines")
+    rospy.loginfo("mind inspector: http://%s:%d/ (%s)", shown, bound, scope)
+    loop = asyncio.get_running_loop()
+    stop = asyncio.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        loop.add_signal_handler(sig, stop.set)
+    rospy.on_shutdown(lambda: loop.call_soon_threadsafe(stop.set))
+    await stop.wait()
+    await runner.cleanup()
+    return 0
+
+
+def main() -> int:
+    rospy.init_node("mind_inspector", disable_signals=True)
+    host = str(rospy.get_param("~host", "127.0.0.1"))
+    port = int(rospy.get_param("~port", DEFAULT_PORT))
+    history = int(rospy.get_param("~history", 300))
+    if not 0 <= port <= 65535 or history < 1:
+        rospy.logerr("mind inspector: ~port must be 0-65535 and ~history >= 1 (got %s, %s)",
+                     port, history)
+        return 2
+    store = InspectorStore(history)
+    watcher = GraphWatcher(store, float(rospy.get_param("~presence_timeout", 3.5)))
+    watcher.start()
+    app = make_app(store, rospy.get_time, lambda pages: watcher.want_camera(pages > 0))
+    try:
+        return asyncio.run(serve(app, host, port))
+    finally:
+        rospy.signal_shutdown("mind inspector stopped")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

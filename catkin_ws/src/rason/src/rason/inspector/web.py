@@ -1,0 +1,218 @@
+"""The inspector's web server (aiohttp): the page, its static files, a JSON API, pushed events.
+
+Routes (anything else is 404; a wrong method 405; a malformed query 400):
+
+  GET /                              the page (static/index.html)
+  GET /static/{file}                 its JavaScript and CSS, served from the package
+  GET /api/agents                    the agents present: name, topic, namespace, history bounds
+  GET /api/agents/{name}/mind        the latest mind state; ?index=N for state N of the history
+  GET /api/robots                    poses, trails, perceptions, diagnostics, camera frame info
+  GET /api/camera/{robot}.jpg        the robot's last camera frame as JPEG
+  GET /api/events                    server-sent events: ``agents``, ``mind`` (agent, index),
+                                     ``robots`` (at most ROBOTS_HZ a second), ``clock``
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import re
+from collections.abc import Callable
+from importlib import resources
+from pathlib import Path
+
+from aiohttp import web
+
+from rason.inspector.store import CameraFrame, InspectorStore
+
+ROBOTS_HZ = 5.0
+KEEPALIVE_S = 15.0
+MAX_CLIENTS = 32
+CLIENT_QUEUE = 256
+NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,99}$")
+
+
+def static_dir() -> Path:
+    """The page's files, inside the installed package (devel or install space alike)."""
+    return Path(str(resources.files("rason.inspector") / "static"))
+
+
+class EventHub:
+    """Fan-out of pushed events to the connected pages (each has a bounded queue)."""
+
+    def __init__(self, on_clients: Callable[[int], None] | None = None) -> None:
+        self.queues: set[asyncio.Queue] = set()
+        self.on_clients = on_clients or (lambda n: None)
+
+    def publish(self, kind: str, payload: dict) -> None:
+        text = f"event: {kind}\ndata: {json.dumps(payload, separators=(',', ':'))}\n\n"
+        for queue in list(self.queues):
+            if queue.full():        # a page that does not read: drop it, it reconnects
+                self.queues.discard(queue)
+                _close(queue)
+                continue
+            queue.put_nowait(text)
+
+    def connect(self) -> asyncio.Queue | None:
+        if len(self.queues) >= MAX_CLIENTS:
+            return None
+        queue: asyncio.Queue = asyncio.Queue(maxsize=CLIENT_QUEUE)
+        self.queues.add(queue)
+        self.on_clients(len(self.queues))
+        return queue
+
+    def disconnect(self, queue: asyncio.Queue) -> None:
+        self.queues.discard(queue)
+        self.on_clients(len(self.queues))
+
+
+def _close(queue: asyncio.Queue) -> None:
+    """End a page's event stream: what it did not read yet is dropped."""
+    while not queue.empty():
+        queue.get_nowait()
+    queue.put_nowait(None)
+
+
+def make_app(store: InspectorStore, clock: Callable[[], float],
+             on_clients: Callable[[int], None] | None = None) -> web.Application:
+    """The application; `clock` gives ROS time (for action ages), `on_clients` the page count."""
+    app = web.Application()
+    hub = EventHub(on_clients)
+    app["store"], app["hub"], app["clock"] = store, hub, clock
+
+    async def bind_loop(app: web.Application) -> None:
+        loop = asyncio.get_running_loop()
+        store.on_change = lambda kind, payload: loop.call_soon_threadsafe(hub.publish, kind,
+                                                                          payload)
+        app["robots_task"] = asyncio.create_task(_push_robots(app))
+
+    async def stop_tasks(app: web.Application) -> None:
+        app["robots_task"].cancel()
+        for queue in list(hub.queues):
+            _close(queue)
+        store.on_change = lambda kind, payload: None
+
+    app.on_startup.append(bind_loop)
+    app.on_shutdown.append(stop_tasks)
+    static = static_dir()
+    app.router.add_get("/", lambda _request: web.FileResponse(static / "index.html"))
+    app.router.add_static("/static", static, show_index=False, follow_symlinks=False)
+    app.router.add_get("/api/agents", agents)
+    app.router.add_get("/api/agents/{name}/mind", mind)
+    app.router.add_get("/api/robots", robots)
+    app.router.add_get("/api/camera/{robot}.jpg", camera)
+    app.router.add_get("/api/events", events)
+    return app
+
+
+def _error(status: type[web.HTTPException], text: str) -> web.HTTPException:
+    return status(text=json.dumps({"error": text}), content_type="application/json")
+
+
+async def agents(request: web.Request) -> web.Response:
+    store: InspectorStore = request.app["store"]
+    return web.json_response({"agents": store.agents(), "now": request.app["clock"]()})
+
+
+async def mind(request: web.Request) -> web.Response:
+    store: InspectorStore = request.app["store"]
+    name = request.match_info["name"]
+    if not NAME.match(name):
+        raise _error(web.HTTPBadRequest, f"not an agent name: {name!r}")
+    index = None
+    unknown = set(request.query) - {"index"}
+    if unknown:
+        raise _error(web.HTTPBadRequest, f"unknown query parameter(s): {', '.join(sorted(unknown))}")
+    if "index" in request.query:
+        text = request.query["index"]
+        if not text.isdigit() or len(text) > 18:
+            raise _error(web.HTTPBadRequest, f"index must be a whole number >= 0, not {text!r}")
+        index = int(text)
+    if not store.known(name):
+        raise _error(web.HTTPNotFound, f"no agent named {name!r} has been seen")
+    entry = store.mind(name, index)
+    if entry is None:
+        what = "no mind state yet" if index is None else f"state {index} is not in the history"
+        raise _error(web.HTTPNotFound, f"agent {name!r}: {what}")
+    return web.json_response({**entry, "now": request.app["clock"]()})
+
+
+async def robots(request: web.Request) -> web.Response:
+    store: InspectorStore = request.app["store"]
+    return web.json_response({**store.robots.snapshot(), "now": request.app["clock"]()})
+
+
+async def camera(request: web.Request) -> web.Response:
+    store: InspectorStore = request.app["store"]
+    robot = request.match_info["robot"]
+    if not NAME.match(robot):
+        raise _error(web.HTTPBadRequest, f"not a robot name: {robot!r}")
+    frame = store.robots.frame(robot)
+    if frame is None:
+        raise _error(web.HTTPNotFound, f"no camera frame from {robot!r} (yet)")
+    data = await asyncio.get_running_loop().run_in_executor(None, _jpeg, frame)
+    if data is None:
+        raise _error(web.HTTPNotFound, f"cannot show {robot}'s frame ({frame.encoding})")
+    return web.Response(body=data, content_type="image/jpeg",
+                        headers={"Cache-Control": "no-store"})
+
+
+def _jpeg(frame: CameraFrame) -> bytes | None:
+    import cv2
+    import numpy as np
+
+    channels = {"rgb8": 3, "bgr8": 3, "mono8": 1}.get(frame.encoding)
+    if channels is None or len(frame.data) < frame.width * frame.height * channels:
+        return None
+    pixels = np.frombuffer(frame.data, np.uint8)[:frame.width * frame.height * channels]
+    image = pixels.reshape(frame.height, frame.width, channels)
+    if frame.encoding == "rgb8":
+        image = cv2.cvtColor(image, cv2.COLOR_RGB2BGR)
+    ok, encoded = cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, 80])
+    return encoded.tobytes() if ok else None
+
+
+async def events(request: web.Request) -> web.StreamResponse:
+    hub: EventHub = request.app["hub"]
+    store: InspectorStore = request.app["store"]
+    queue = hub.connect()
+    if queue is None:
+        raise _error(web.HTTPServiceUnavailable, "too many pages open")
+    response = web.StreamResponse(headers={"Content-Type": "text/event-stream",
+                                           "Cache-Control": "no-store"})
+    try:
+        await response.prepare(request)
+        hello = {"agents": store.agents(), "robots": store.robots.snapshot(),
+                 "now": request.app["clock"]()}
+        await response.write(f"event: hello\ndata: {json.dumps(hello)}\n\n".encode())
+        while True:
+            try:
+                text = await asyncio.wait_for(queue.get(), KEEPALIVE_S)
+            except TimeoutError:
+                text = ": keep-alive\n\n"
+            if text is None:
+                break
+            await response.write(text.encode())
+    except (ConnectionResetError, asyncio.CancelledError):
+        pass
+    finally:
+        hub.disconnect(queue)
+    return response
+
+
+async def _push_robots(app: web.Application) -> None:
+    """The robots' view and the ROS clock, at most ROBOTS_HZ a second, when something changed."""
+    store: InspectorStore = app["store"]
+    hub: EventHub = app["hub"]
+    sent = -1
+    while True:
+        await asyncio.sleep(1.0 / ROBOTS_HZ)
+        if not hub.queues:
+            continue
+        now = app["clock"]()
+        if store.robots.version != sent:
+            snapshot = store.robots.snapshot()
+            sent = snapshot["version"]
+            hub.publish("robots", {**snapshot, "now": now})
+        else:
+            hub.publish("clock", {"now": now})

@@ -1,0 +1,96 @@
+"""The agent's mind as a latched topic, for the mind inspector (``jason/NAME/mind_state``).
+
+Each hosted agent gets a :class:`MindStatePublisher`. A timer of the node (ROS time, at most
+``~mind_state_rate`` Hz) asks every publisher to :meth:`~MindStatePublisher.tick`: it takes a
+snapshot of the mind (:meth:`rason.asl.Agent.mind_state`), adds the pending actions with the ROS
+time they were sent and the last messages in and out, and publishes it as JSON in a
+``std_msgs/String`` only when something changed. The topic is latched, so an inspector started
+later gets the current state at once.
+
+The JSON document (``MIND_STATE_VERSION``): ``agent``, ``node``, ``namespace``, ``stamp`` (ROS
+seconds of the snapshot), ``seq`` (counts publications), ``mind`` (beliefs, rules, events,
+desires, intentions: see :mod:`rason.asl.inspection`), ``actions`` (id, text, sent_at,
+accepted_at), ``messages_in`` and ``messages_out`` (time, sender, receiver, performative,
+content), oldest first.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+from collections import deque
+from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING
+
+import rospy
+from std_msgs.msg import String
+
+from rason.asl import Message, term_str
+
+if TYPE_CHECKING:
+    from rason.asl import Agent
+    from rason.ros.arch import RosAgArch
+
+MIND_STATE_VERSION = 1
+MESSAGES_KEPT = 10
+
+
+def mind_state_topic(base_ns: str, agent: str) -> str:
+    """The topic of `agent`'s mind under the robot namespace `base_ns` ("/", "/helper/")."""
+    return f"{base_ns.rstrip('/')}/jason/{agent}/mind_state"
+
+
+@dataclass
+class MessageView:
+    """A message an agent received or sent, with the ROS time it passed the node."""
+
+    time: float
+    sender: str
+    receiver: str
+    performative: str
+    content: str
+
+
+class MindStatePublisher:
+    """Publishes one agent's mind on change (see the module's docstring)."""
+
+    def __init__(self, agent: Agent, arch: RosAgArch, topic: str, namespace: str) -> None:
+        self.agent = agent
+        self.arch = arch
+        self.namespace = namespace
+        self.publisher = rospy.Publisher(topic, String, queue_size=1, latch=True)
+        self.messages_in: deque[MessageView] = deque(maxlen=MESSAGES_KEPT)
+        self.messages_out: deque[MessageView] = deque(maxlen=MESSAGES_KEPT)
+        self._lock = threading.Lock()
+        self._last = ""
+        self.seq = 0
+
+    def note_message(self, message: Message, outgoing: bool, now: float) -> None:
+        """Remember a message the agent received (or sent) at ROS time `now`."""
+        view = MessageView(time=now, sender=message.sender, receiver=message.receiver or "",
+                           performative=message.performative, content=term_str(message.content))
+        with self._lock:
+            (self.messages_out if outgoing else self.messages_in).append(view)
+
+    def document(self) -> dict:
+        """The mind as a JSON-ready dict, without stamp and seq (they change every time)."""
+        mind = self.agent.mind_state()
+        actions = [{"id": p.action_id, "text": p.text, "sent_at": p.sent_at,
+                    "accepted_at": p.accepted_at} for p in self.arch.pending_actions()]
+        with self._lock:
+            messages_in = [asdict(m) for m in self.messages_in]
+            messages_out = [asdict(m) for m in self.messages_out]
+        return {"version": MIND_STATE_VERSION, "agent": self.agent.name,
+                "node": rospy.get_name(), "namespace": self.namespace, "mind": asdict(mind),
+                "actions": actions, "messages_in": messages_in, "messages_out": messages_out}
+
+    def tick(self, now: float) -> bool:
+        """Publish the mind if it changed since the last publication; True if published."""
+        body = json.dumps(self.document(), separators=(",", ":"))
+        if body == self._last:
+            return False
+        self._last = body
+        self.seq += 1
+        # stamp and seq go first, outside what is compared
+        self.publisher.publish(String(data=f'{{"stamp":{now!r},"seq":{self.seq},{body[1:]}'))
+        return True
