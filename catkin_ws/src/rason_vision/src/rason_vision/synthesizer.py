@@ -15,19 +15,23 @@ Private parameters (defaults in brackets):
 ``~orange_lower``/``~orange_upper`` [[5,130,60]/[22,255,255]] (OpenCV HSV),
 ``~spacing`` [0.227], ``~tolerance_low``/``~tolerance_high`` [0.007/0.023] (pairs within
 ``[spacing - low, spacing + high]`` = [0.22, 0.25] m), ``~radius`` [0.03],
-``~slop`` [0.05] s and ``~queue_size`` [10] of the synchronizer and subscribers,
-``~buff_size`` [1048576] of the subscribers; ``~timing`` [false] logs, per frame, the pair's
-age at the callback (header stamp to message-in), the processing time and the age when the
-perception is published.
+``~max_pixels`` [4194304]: larger frames are refused. ``~slop``, ``~queue_size``,
+``~buff_size``, ``~source``, ``~timing``: as every synthesizer (:mod:`rason.execution.synthesizer`).
+
+Bad frames (empty, truncated, huge, image and cloud of different sizes, a cloud with no valid
+depth at all) are rejected with a rate-limited warning and publish nothing; the node carries on.
 """
 
 from __future__ import annotations
 
 import sys
-import time
 from typing import Any
 
-from rason_vision.convert import cloud_to_xyz, image_to_rgb
+import numpy as np
+from sensor_msgs.msg import Image, PointCloud2
+
+from rason.execution.synthesizer import BadFrame, Synthesizer, run
+from rason_vision.convert import MAX_PIXELS, cloud_to_xyz, image_to_rgb
 from rason_vision.detector import DetectorConfig, HsvRange, detect
 from rason_vision.geometry import format_literal
 
@@ -51,73 +55,34 @@ def config_from_params(get: Any) -> DetectorConfig:
         radius=float(get("~radius", base.radius)))
 
 
-class RobotSynthesizer:
-    """The node's state: detector configuration, the publisher and the synchronizer."""
+class RobotSynthesizer(Synthesizer):
+    """Kinect image + organized cloud pairs -> ``robot(Name, Angle, Depth, Yaw)``."""
 
-    def __init__(self) -> None:
-        import message_filters
+    inputs = (("camera/rgb/image_raw", Image), ("camera/depth_registered/points", PointCloud2))
+    source_suffix = "_robot"
+
+    def setup(self) -> None:
         import rospy
-        from jason_msgs.msg import Perception
-        from sensor_msgs.msg import Image, PointCloud2
 
-        self._rospy = rospy
-        self._perception = Perception
         self.config = config_from_params(rospy.get_param)
         self.robot_name = str(rospy.get_param("~robot_name", "faulty"))
-        self.source = rospy.get_name().rsplit("/", 1)[-1] + "_robot"
-        self.publisher = rospy.Publisher("jason/perception", Perception, queue_size=10)
-        # rospy's receive buffer: 1 MB measured faster than 64 kB or 16 MB for 5 MB clouds.
-        big = int(rospy.get_param("~buff_size", 1 << 20))
-        # Room for bursts (rosbag play catching up, a busy CPU) so no frame pair is lost;
-        # processing takes a few ms, far below a frame period, so the queues stay short.
-        queue = int(rospy.get_param("~queue_size", 10))
-        image_sub = message_filters.Subscriber("camera/rgb/image_raw", Image, queue_size=queue,
-                                               buff_size=big, tcp_nodelay=True)
-        cloud_sub = message_filters.Subscriber("camera/depth_registered/points", PointCloud2,
-                                               queue_size=queue, buff_size=big, tcp_nodelay=True)
-        self.sync = message_filters.ApproximateTimeSynchronizer(
-            [image_sub, cloud_sub], queue_size=queue, slop=float(rospy.get_param("~slop", 0.05)))
-        self.sync.registerCallback(self.on_frame)
-        self.frames = 0
-        self.timing = bool(rospy.get_param("~timing", False))
+        self.max_pixels = int(rospy.get_param("~max_pixels", MAX_PIXELS))
 
-    def perceptions(self, image_msg: Any, cloud_msg: Any) -> list[str]:
+    def perceive(self, image_msg: Any, cloud_msg: Any) -> list[str]:
         """The complete perception list for one frame pair."""
-        result = detect(image_to_rgb(image_msg), cloud_to_xyz(cloud_msg), self.config)
-        det = result.detection
+        rgb = image_to_rgb(image_msg, self.max_pixels)
+        xyz = cloud_to_xyz(cloud_msg, self.max_pixels)
+        if rgb.shape[:2] != xyz.shape[:2]:
+            raise BadFrame(f"image {rgb.shape[1]}x{rgb.shape[0]} and cloud "
+                           f"{xyz.shape[1]}x{xyz.shape[0]} differ in size")
+        if not np.isfinite(xyz[..., 2]).any():
+            raise BadFrame("the cloud has no valid depth point")
+        det = detect(rgb, xyz, self.config).detection
         if det is None:
             return []
         return [format_literal(self.robot_name, det.angle, det.depth, det.yaw)]
 
-    def on_frame(self, image_msg: Any, cloud_msg: Any) -> None:
-        """Synchronizer callback: detect and publish (an empty list when nothing is seen)."""
-        start = time.perf_counter()
-        entry_age = (self._rospy.Time.now() - cloud_msg.header.stamp).to_sec() if self.timing \
-            else 0.0
-        try:
-            literals = self.perceptions(image_msg, cloud_msg)
-        except ValueError as err:
-            self._rospy.logwarn_throttle(5.0, f"robot_synthesizer: bad frame: {err}")
-            literals = []
-        self.publisher.publish(self._perception(source=self.source, perception=literals))
-        self.frames += 1
-        if self.timing:
-            done = time.perf_counter()
-            age = (self._rospy.Time.now() - cloud_msg.header.stamp).to_sec()
-            self._rospy.loginfo(f"timing frame {self.frames}: stamp to callback "
-                                f"{entry_age * 1000:.1f} ms, processing "
-                                f"{(done - start) * 1000:.1f} ms, stamp to published "
-                                f"{age * 1000:.1f} ms")
-        self._rospy.logdebug(f"frame {self.frames}: {literals}")
-
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``rosrun rason_vision robot_synthesizer``."""
-    import rospy
-
-    rospy.init_node("robot_synthesizer", argv=argv if argv is not None else sys.argv)
-    node = RobotSynthesizer()
-    rospy.loginfo(f"robot_synthesizer: publishing {rospy.resolve_name('jason/perception')} "
-                  f"as {node.source}")
-    rospy.spin()
-    return 0
+    return run(RobotSynthesizer, "robot_synthesizer", argv if argv is not None else sys.argv)
