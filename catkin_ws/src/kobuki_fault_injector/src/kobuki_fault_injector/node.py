@@ -9,11 +9,14 @@ Service ``fault_injector`` (``kobuki_fault_injector/FaultInjector``): ``left_act
 ``right_actuator``, ``both_actuators``, ``odometry`` or ``cancel``; see
 :mod:`kobuki_fault_injector.faults` for what each does. The active fault (``none`` without one)
 is published latched on ``fault_injector/status`` (std_msgs/String) and, once a second and on
-every change, on ``/diagnostics`` (level WARN while a fault is active, OK otherwise).
+every change, on ``/diagnostics`` (level WARN while a fault is active, OK otherwise). A velocity
+command with a non-finite component is replaced by a stop (with a rate-limited warning).
 """
 
 from __future__ import annotations
 
+import dataclasses
+import math
 import threading
 
 import rospy
@@ -28,6 +31,7 @@ from kobuki_fault_injector.srv import (
     FaultInjectorRequest,
     FaultInjectorResponse,
 )
+from rason.ros.guard import guarded
 
 
 def twist_to_velocity(msg: Twist) -> Velocity:
@@ -56,17 +60,26 @@ class FaultInjectorNode:
         self.status_pub = rospy.Publisher("fault_injector/status", String, queue_size=1,
                                           latch=True)
         self.diagnostics_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
-        rospy.Subscriber("cmd_vel", Twist, self.on_cmd_vel, queue_size=10)
-        rospy.Subscriber("mobile_base/odom", Odometry, self.on_odom, queue_size=50)
+        # Guarded callbacks: a bad message costs a rate-limited warning, never the node.
+        rospy.Subscriber("cmd_vel", Twist, guarded("fault_injector cmd_vel")(self.on_cmd_vel),
+                         queue_size=10)
+        rospy.Subscriber("mobile_base/odom", Odometry,
+                         guarded("fault_injector odom")(self.on_odom), queue_size=50)
         rospy.Service("fault_injector", FaultInjector, self.on_request)
 
         self.publish_status()
-        rospy.Timer(rospy.Duration(1.0), lambda _event: self.publish_diagnostics())
+        rospy.Timer(rospy.Duration(1.0),
+                    guarded("fault_injector diagnostics")(lambda _event: self.publish_diagnostics()))
 
     # -- callbacks --------------------------------------------------------------------------
     def on_cmd_vel(self, msg: Twist) -> None:
+        velocity = twist_to_velocity(msg)
+        if not all(math.isfinite(v) for v in dataclasses.astuple(velocity)):
+            self.cmd_out.publish(Twist())          # a corrupt command stops the base
+            raise ValueError(f"non-finite velocity command {dataclasses.astuple(velocity)}: "
+                             "sent a stop instead")
         with self.lock:
-            out = self.state.command(twist_to_velocity(msg))
+            out = self.state.command(velocity)
         self.cmd_out.publish(velocity_to_twist(out))
 
     def on_odom(self, msg: Odometry) -> None:
