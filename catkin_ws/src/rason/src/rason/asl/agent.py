@@ -450,9 +450,9 @@ class Agent:
             self.event_waits = [w for w in self.event_waits if w.intention is not i]
         for k in [k for k, w in self.ask_waits.items() if w.intention is i]:
             del self.ask_waits[k]
-        for k in [k for k, p in self.pending_actions.items() if p.intention is i]:
-            del self.pending_actions[k]
-            self.arch.action_abandoned(self, k)      # nobody waits for it: stop it
+        for aid in [aid for aid, p in self.pending_actions.items() if p.intention is i]:
+            del self.pending_actions[aid]
+            self.arch.action_abandoned(self, aid)    # nobody waits for it: stop it
         if any(ev.intention is i for ev in self.events):
             self.events = deque(ev for ev in self.events if ev.intention is not i)
         if self.pending_events:
