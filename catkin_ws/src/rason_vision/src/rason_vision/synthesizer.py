@@ -18,7 +18,10 @@ Private parameters (defaults in brackets):
 ``~slop`` [0.05] s and ``~queue_size`` [10] of the synchronizer and subscribers,
 ``~buff_size`` [1048576] of the subscribers; ``~timing`` [false] logs, per frame, the pair's
 age at the callback (header stamp to message-in), the processing time and the age when the
-perception is published.
+perception is published; ``~perception_ttl`` [0.5] s (about 7 frame periods of the 15 Hz
+Kinect): declared as the parameter ``jason/perception_ttl/<source>``, so an agent clears this
+source's percepts when no frame has been processed for that long (camera unplugged, node dead);
+0 declares nothing.
 """
 
 from __future__ import annotations
@@ -30,6 +33,9 @@ from typing import Any
 from rason_vision.convert import cloud_to_xyz, image_to_rgb
 from rason_vision.detector import DetectorConfig, HsvRange, detect
 from rason_vision.geometry import format_literal
+
+#: Seconds an agent keeps this node's last list without a new frame (about 7 frames at 15 Hz).
+PERCEPTION_TTL = 0.5
 
 
 def config_from_params(get: Any) -> DetectorConfig:
@@ -65,6 +71,9 @@ class RobotSynthesizer:
         self.config = config_from_params(rospy.get_param)
         self.robot_name = str(rospy.get_param("~robot_name", "faulty"))
         self.source = rospy.get_name().rsplit("/", 1)[-1] + "_robot"
+        self.perception_ttl = float(rospy.get_param("~perception_ttl", PERCEPTION_TTL))
+        if self.perception_ttl > 0:   # before the first publication, so agents find it at once
+            rospy.set_param(f"jason/perception_ttl/{self.source}", self.perception_ttl)
         self.publisher = rospy.Publisher("jason/perception", Perception, queue_size=10)
         # rospy's receive buffer: 1 MB measured faster than 64 kB or 16 MB for 5 MB clouds.
         big = int(rospy.get_param("~buff_size", 1 << 20))

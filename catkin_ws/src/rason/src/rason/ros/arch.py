@@ -66,7 +66,8 @@ class RosAgArch(AgentArch):
         self.agent: Agent | None = None
         self.perceptions: PerceptionTable = PerceptionTable(
             parse=parse_literal, warn=lambda text: rospy.logwarn("[%s] %s", name, text),
-            mode=node.perception_mode, filter=perception_filter or PerceptionFilter())
+            mode=node.perception_mode, filter=perception_filter or PerceptionFilter(),
+            ttl=node.perception_ttl)
         self.pending: dict[int, PendingAction] = {}
         self._lock = threading.Lock()
 
@@ -108,7 +109,18 @@ class RosAgArch(AgentArch):
 
     # -- from the node -------------------------------------------------------------------------------
     def on_perception(self, source: str, perceptions: list[str]) -> None:
-        if self.perceptions.update(source, perceptions) and self.agent is not None:
+        if self.perceptions.update(source, perceptions, self.clock.now()) \
+                and self.agent is not None:
+            self.agent.wake()
+
+    def expire_perceptions(self, now: float) -> None:
+        """Clear the sources silent for longer than their TTL (the agent gets ``-`` events)."""
+        expired = self.perceptions.expire(now)
+        for source in expired:
+            rospy.logwarn("[%s] perception source '%s' silent for longer than its time to live "
+                          "(%g s): its percepts are cleared", self.name, source,
+                          self.node.perception_ttl(source))
+        if expired and self.agent is not None:
             self.agent.wake()
 
     def on_accepted(self, action_id: int) -> None:

@@ -48,7 +48,7 @@ def _run(node_name: str, argv: list[str],
     sys.argv = argv
     import rospy
 
-    from rason.ros.node import RasonNode
+    from rason.ros.node import ParameterError, RasonNode
 
     rospy.init_node(node_name)
     try:
@@ -59,7 +59,12 @@ def _run(node_name: str, argv: list[str],
         return 2
     if added:
         rospy.loginfo("internal actions loaded: %s", ", ".join(added))
-    node = RasonNode(base_ns=ns)
+    try:
+        node = RasonNode(base_ns=ns)
+    except ParameterError as err:
+        print(f"rason: bad parameter: {err}", file=sys.stderr)
+        rospy.signal_shutdown("bad parameter")
+        return 2
     try:
         for name, source, path, pfilter, options in sources:
             node.host(name, source, str(path), pfilter, options)

@@ -25,6 +25,13 @@ Private parameters (``_name:=value`` on the rosrun line):
   ~presence_timeout (3.5)   s after which a silent agent is forgotten
   ~internal_actions ([])    Python modules whose @internal_action functions the agents get
                             (read by rason.ros.main before the agents load)
+  ~perception_ttl (0.0)     s of ROS time a perception source may stay silent before its list is
+                            cleared (its percepts are removed); 0 = a list stands until replaced.
+                            Applies to sources that declare no TTL of their own (see below)
+  ~perception_ttls ({})     per-source TTLs, e.g. "{robot_synthesizer_robot: 0.3}"; they win
+                            over the source's own declaration and over ~perception_ttl
+A perception source declares its own TTL as the parameter ``jason/perception_ttl/<source>`` in
+the robot's namespace (the robot synthesizer does, from its ``~perception_ttl``).
   ~tro (true)               tail-recursion optimisation (Jason's ``tro`` agent option)
   ~max_intention_depth (10000)  an intention deeper than this fails with error(intention_too_deep)
   ~mind_state_rate (10.0)   Hz at most of jason/NAME/mind_state (on change); 0 = not published
@@ -32,12 +39,15 @@ Private parameters (``_name:=value`` on the rosrun line):
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 import uuid
 from dataclasses import dataclass
 
+import rosgraph.names
 import rospy
+import yaml
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from jason_msgs.srv import Mind, MindResponse
 
@@ -79,6 +89,12 @@ class RasonNode:
             max_intention_depth=int(rospy.get_param("~max_intention_depth",
                                                     AgentOptions.max_intention_depth)))
         self.mind_state_rate = float(rospy.get_param("~mind_state_rate", 10.0))
+        self.default_perception_ttl = _seconds("~perception_ttl", rospy.get_param(
+            "~perception_ttl", 0.0))
+        self.perception_ttls = {str(source): _seconds(f"~perception_ttls/{source}", ttl)
+                                for source, ttl in _as_map(rospy.get_param("~perception_ttls",
+                                                                           {})).items()}
+        self._declared_ttls: dict[str, float | None] = {}
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
@@ -125,6 +141,7 @@ class RasonNode:
         rospy.Subscriber(MESSAGES_TOPIC, AgentMessage, guarded(MESSAGES_TOPIC)(self.on_message),
                          queue_size=200, tcp_nodelay=True)
         rospy.Timer(rospy.Duration(0.05), guarded("action timeouts")(self.on_check_actions))
+        rospy.Timer(rospy.Duration(0.05), guarded("perception TTLs")(self.on_check_perceptions))
         rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
         if self.mind_state_rate > 0:
             rospy.Timer(rospy.Duration(1.0 / self.mind_state_rate),
@@ -271,6 +288,38 @@ class RasonNode:
         for hosted in self.agents.values():
             hosted.arch.check_timeouts(now, self.ack_timeout, self.action_timeout)
 
+    def on_check_perceptions(self, _event: rospy.timer.TimerEvent) -> None:
+        now = rospy.get_time()
+        for hosted in self.agents.values():
+            hosted.arch.expire_perceptions(now)
+
+    def perception_ttl(self, source: str) -> float:
+        """A perception source's time to live: this node's map, the source's own declaration
+        (parameter ``jason/perception_ttl/<source>``, read once), else ``~perception_ttl``."""
+        if source in self.perception_ttls:
+            return self.perception_ttls[source]
+        if source not in self._declared_ttls:
+            self._declared_ttls[source] = self._declared_ttl(source)
+        declared = self._declared_ttls[source]
+        return self.default_perception_ttl if declared is None else declared
+
+    def _declared_ttl(self, source: str) -> float | None:
+        if not rosgraph.names.is_legal_base_name(source):
+            return None
+        key = self.topic(f"jason/perception_ttl/{source}")
+        try:
+            value = rospy.get_param(key, None)
+        except (OSError, rospy.ROSException) as err:
+            rospy.logwarn("cannot read %s (%s): using ~perception_ttl", key, err)
+            return None
+        if value is None:
+            return None
+        try:
+            return _seconds(key, value)
+        except ParameterError as err:
+            rospy.logwarn("%s: using ~perception_ttl", err)
+            return None
+
     def on_presence(self, _event: rospy.timer.TimerEvent) -> None:
         for name in self.agents:
             self._announce(name)
@@ -294,6 +343,33 @@ class RasonNode:
                             desires=mind.get("desires", []),
                             intentions=mind.get("intentions", []),
                             pending_actions=arch.pending_texts())
+
+
+class ParameterError(ValueError):
+    """A node parameter with an unusable value."""
+
+
+def _seconds(name: str, value: object) -> float:
+    """A duration parameter: a finite number of seconds >= 0."""
+    try:
+        seconds = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        seconds = math.nan
+    if not math.isfinite(seconds) or seconds < 0:
+        raise ParameterError(f"{name} must be a number of seconds >= 0, not {value!r}")
+    return seconds
+
+
+def _as_map(value: object) -> dict[str, object]:
+    """A map parameter given as a YAML map (rosrun's ``_p:="{a: 1}"``) or as a YAML string."""
+    if isinstance(value, str):
+        try:
+            value = yaml.safe_load(value) if value.strip() else {}
+        except yaml.YAMLError as err:
+            raise ParameterError(f"not a map: {value!r} ({err})") from err
+    if not isinstance(value, dict):
+        raise ParameterError(f"not a map: {value!r}")
+    return value
 
 
 def _as_list(value: object) -> list[str]:
