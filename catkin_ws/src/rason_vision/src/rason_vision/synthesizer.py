@@ -72,8 +72,7 @@ class RobotSynthesizer:
         self.robot_name = str(rospy.get_param("~robot_name", "faulty"))
         self.source = rospy.get_name().rsplit("/", 1)[-1] + "_robot"
         self.perception_ttl = float(rospy.get_param("~perception_ttl", PERCEPTION_TTL))
-        if self.perception_ttl > 0:   # before the first publication, so agents find it at once
-            rospy.set_param(f"jason/perception_ttl/{self.source}", self.perception_ttl)
+        self.declare_ttl()            # before the first publication, so agents find it at once
         self.publisher = rospy.Publisher("jason/perception", Perception, queue_size=10)
         # rospy's receive buffer: 1 MB measured faster than 64 kB or 16 MB for 5 MB clouds.
         big = int(rospy.get_param("~buff_size", 1 << 20))
@@ -89,6 +88,11 @@ class RobotSynthesizer:
         self.sync.registerCallback(self.on_frame)
         self.frames = 0
         self.timing = bool(rospy.get_param("~timing", False))
+
+    def declare_ttl(self) -> None:
+        """Tell agents how long this source's list stays valid (also after a master restart)."""
+        if self.perception_ttl > 0:
+            self._rospy.set_param(f"jason/perception_ttl/{self.source}", self.perception_ttl)
 
     def perceptions(self, image_msg: Any, cloud_msg: Any) -> list[str]:
         """The complete perception list for one frame pair."""
@@ -124,8 +128,11 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of ``rosrun rason_vision robot_synthesizer``."""
     import rospy
 
+    from rason.ros.master_watch import watch_master
+
     rospy.init_node("robot_synthesizer", argv=argv if argv is not None else sys.argv)
     node = RobotSynthesizer()
+    watch_master(on_registered=[node.declare_ttl])
     rospy.loginfo(f"robot_synthesizer: publishing {rospy.resolve_name('jason/perception')} "
                   f"as {node.source}")
     rospy.spin()

@@ -48,6 +48,7 @@ def _run(node_name: str, argv: list[str],
     sys.argv = argv
     import rospy
 
+    from rason.ros.master_watch import watch_master
     from rason.ros.node import ParameterError, RasonNode
 
     rospy.init_node(node_name)
@@ -74,6 +75,7 @@ def _run(node_name: str, argv: list[str],
         return 2
     node.start()
     rospy.on_shutdown(node.shutdown)
+    watch_master(on_registered=[node.on_master_restarted])
     rospy.loginfo("hosting %s in namespace %s", ", ".join(node.agents), ns)
     rospy.spin()
     return 0

@@ -151,6 +151,11 @@ class RasonNode:
         for hosted in self.agents.values():
             hosted.thread.start()
 
+    def on_master_restarted(self) -> None:
+        """Registered again with a restarted master: ask everyone to announce themselves."""
+        for name in self.agents:
+            self._announce(name, "hello")
+
     def _run_agent(self, agent: Agent) -> None:
         try:
             agent.run(self.stop)
