@@ -37,3 +37,8 @@ def wait_until(condition, timeout: float, what: str, poll: float = 0.05) -> floa
             raise HarnessError(f"{what} did not happen within {timeout} s")
         time.sleep(poll)
     return time.monotonic() - start
+
+
+def connected_to(publisher, node: str) -> bool:
+    """True once rospy `publisher` has a connection to the subscriber node `node` (full name)."""
+    return any(getattr(c, "endpoint_id", "") == node for c in publisher.impl.connections)

@@ -30,6 +30,12 @@ Private parameters (``_name:=value`` on the rosrun line):
                             Applies to sources that declare no TTL of their own (see below)
   ~perception_ttls ({})     per-source TTLs, e.g. "{robot_synthesizer_robot: 0.3}"; they win
                             over the source's own declaration and over ~perception_ttl
+  ~auth_key_file ("")       file holding the shared key that signs and checks every message on
+                            /jason/messages; "" = no authentication (anyone may send anything)
+  ~auth_window (10.0)       s of ROS time a signed message stays acceptable (replay protection)
+  ~trusted_senders ([])     senders that may use tellHow, untellHow, askHow, achieve, unachieve
+                            with the agents of this node; [] = everyone (in a .mas2j, per agent:
+                            ``trusted_senders="[boss]"``)
 A perception source declares its own TTL as the parameter ``jason/perception_ttl/<source>`` in
 the robot's namespace (the robot synthesizer does, from its ``~perception_ttl``).
   ~tro (true)               tail-recursion optimisation (Jason's ``tro`` agent option)
@@ -53,8 +59,17 @@ from jason_msgs.srv import Mind, MindResponse
 
 from rason.asl import Agent, AgentOptions, Message, parse_term, term_str
 from rason.ros.arch import RosAgArch
+from rason.ros.auth import (
+    AuthKeyError,
+    MessageAuth,
+    SignedFields,
+    TrustPolicy,
+    Verdict,
+    load_key,
+    new_nonce,
+)
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
-from rason.ros.guard import guarded
+from rason.ros.guard import RateLimitedWarnings, clip, guarded
 from rason.ros.mind_state import MindStatePublisher, mind_state_topic
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
@@ -95,6 +110,10 @@ class RasonNode:
                                 for source, ttl in _as_map(rospy.get_param("~perception_ttls",
                                                                            {})).items()}
         self._declared_ttls: dict[str, float | None] = {}
+        self.auth = _message_auth(str(rospy.get_param("~auth_key_file", "") or ""),
+                                  _seconds("~auth_window", rospy.get_param("~auth_window", 10.0)))
+        self.trust = TrustPolicy.of(_as_list(rospy.get_param("~trusted_senders", [])))
+        self.drops = RateLimitedWarnings(period=10.0)
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
@@ -115,7 +134,8 @@ class RasonNode:
              options: dict | None = None) -> HostedAgent:
         """Create agent `name` from AgentSpeak `source`, serve its mind, start its cycle
         (`options`: the agent's own `.mas2j` options, over the node's `~tro`...)."""
-        arch = RosAgArch(self, name, perception_filter or self.default_filter)
+        arch = RosAgArch(self, name, perception_filter or self.default_filter,
+                         _agent_trust(options or {}, self.trust))
         agent = Agent(name, source, arch, filename=filename,
                       options=AgentOptions.from_options(options or {}, self.agent_options))
         arch.agent = agent
@@ -194,11 +214,19 @@ class RasonNode:
             rospy.loginfo("[%s] cancelled action %d (%s)", agent, action_id, reason)
 
     def publish_message(self, message: Message) -> None:
-        self.message_pub.publish(AgentMessage(
+        self._publish(AgentMessage(
             sender=message.sender, receiver=message.receiver or "",
             performative=message.performative, content=term_str(message.content),
             reply_with=message.msg_id or uuid.uuid4().hex[:12],
             in_reply_to=message.in_reply_to or ""))
+
+    def _publish(self, msg: AgentMessage) -> None:
+        """Stamp, and sign when this node has a key, then publish on /jason/messages."""
+        msg.stamp = rospy.Time.now()
+        msg.nonce = new_nonce()
+        if self.auth is not None:
+            msg.signature = self.auth.sign(_signed_fields(msg))
+        self.message_pub.publish(msg)
 
     def deliver_local(self, message: Message) -> bool:
         """Hand a message to the agents of this process it is for; True if it was only for them.
@@ -220,6 +248,12 @@ class RasonNode:
         return False
 
     def _receive(self, hosted: HostedAgent, message: Message) -> None:
+        """Give `message` to a hosted agent if its acceptance hook lets it in."""
+        if not hosted.arch.accepts(message):
+            self.drops.warn(f"untrusted {clip(message.sender, 64)}",
+                            f"[{hosted.arch.name}] dropped {message.performative} from "
+                            f"'{message.sender}': not a trusted sender")
+            return
         hosted.agent.receive(message)
         self.note_message(hosted.agent.name, message, outgoing=False)
 
@@ -234,8 +268,8 @@ class RasonNode:
             print(f"[{agent_name}] {text}", flush=True)
 
     def _announce(self, name: str, content: str = "") -> None:
-        self.message_pub.publish(AgentMessage(sender=name, receiver="", performative=PRESENCE,
-                                              content=content, reply_with="", in_reply_to=""))
+        self._publish(AgentMessage(sender=name, receiver="", performative=PRESENCE,
+                                   content=content, reply_with="", in_reply_to=""))
 
     # -- callbacks --------------------------------------------------------------------------------------
     def on_event(self, msg: Event) -> None:
@@ -257,10 +291,18 @@ class RasonNode:
             hosted.arch.on_perception(msg.source, msg.perception)
 
     def on_message(self, msg: AgentMessage) -> None:
+        if msg.sender in self.agents:
+            return  # our own publication (delivered in-process already), or a forgery of it
         now = rospy.get_time()
-        if msg.performative == PRESENCE:
-            if msg.sender in self.agents:
+        if self.auth is not None:
+            verdict = self.auth.verify(_signed_fields(msg), msg.signature,
+                                       rospy.get_rostime().to_nsec())
+            if verdict is not Verdict.OK:
+                self.drops.warn(f"{verdict.value} {clip(msg.sender, 64)}",
+                                f"dropped a {verdict.value} {msg.performative or '?'} message "
+                                f"claiming to be from '{msg.sender}'")
                 return
+        if msg.performative == PRESENCE:
             if msg.content == GOODBYE:
                 self.directory.forget(msg.sender)
                 return
@@ -269,8 +311,6 @@ class RasonNode:
                 for name in self.agents:
                     self._announce(name)
             return
-        if msg.sender in self.agents:
-            return  # our own publication: delivered in-process already
         self.directory.heard(msg.sender, now)
         receivers = ([msg.receiver] if msg.receiver
                      else [n for n in self.agents if n != msg.sender])
@@ -352,6 +392,33 @@ class RasonNode:
 
 class ParameterError(ValueError):
     """A node parameter with an unusable value."""
+
+
+def _message_auth(key_file: str, window: float) -> MessageAuth | None:
+    """The node's authentication, or None (open) without a key file."""
+    if not key_file:
+        return None
+    try:
+        return MessageAuth(load_key(key_file, warn=rospy.logwarn), window)
+    except AuthKeyError as err:
+        raise ParameterError(f"~auth_key_file: {err}") from err
+
+
+def _agent_trust(options: dict, default: TrustPolicy) -> TrustPolicy:
+    """An agent's trusted senders: its ``.mas2j`` option ``trusted_senders``, else the node's."""
+    value = options.get("trusted_senders")
+    if value is None:
+        return default
+    if isinstance(value, (list, tuple)):
+        names = [str(v) for v in value]
+    else:
+        names = str(value).strip().strip('"').strip("[]").split(",")
+    return TrustPolicy.of(n.strip().strip('"') for n in names)
+
+
+def _signed_fields(msg: AgentMessage) -> SignedFields:
+    return SignedFields(msg.sender, msg.receiver, msg.performative, msg.content, msg.reply_with,
+                        msg.in_reply_to, msg.stamp.to_nsec(), msg.nonce)
 
 
 def _seconds(name: str, value: object) -> float:
