@@ -10,7 +10,6 @@ import pytest
 from rason.ros.auth import (
     AuthKeyError,
     MessageAuth,
-    RateLimitedWarnings,
     SignedFields,
     TrustPolicy,
     Verdict,
@@ -91,13 +90,3 @@ def test_trust_policy_restricts_only_plan_and_goal_performatives():
     assert policy.accepts("robot", "mallory", "tell")
     assert policy.accepts("robot", "mallory", "askOne")
 
-
-def test_warnings_are_rate_limited_per_reason_and_sender():
-    said: list[str] = []
-    warnings = RateLimitedWarnings(said.append, period=10.0)
-    for t in range(5):
-        warnings.dropped("forged", "eve", "forged from eve", float(t))
-    warnings.dropped("forged", "mallory", "forged from mallory", 5.0)
-    warnings.dropped("forged", "eve", "forged from eve", 12.0)
-    assert said == ["forged from eve", "forged from mallory",
-                    "forged from eve (4 more since the last warning)"]
