@@ -81,3 +81,36 @@ def test_filter_by_functor_arity_and_source():
 def test_unknown_mode_is_an_error():
     with pytest.raises(ValueError, match="perception mode"):
         PerceptionTable(parse, mode="sometimes")
+
+
+def test_a_source_silent_past_its_ttl_is_cleared_and_comes_back_when_heard():
+    table = PerceptionTable(parse, ttl=lambda source: 0.5 if source == "cam" else 0.0)
+    table.update("cam", ["robot(faulty,1,2,3)"], now=10.0)
+    table.update("map", ["door(open)"], now=10.0)
+    assert sorted(table.percepts()) == ["door(open)", "robot(faulty,1,2,3)"]
+    assert table.expire(10.4) == []
+    table.update("cam", ["robot(faulty,1,2,3)"], now=10.4)
+    assert table.expire(10.8) == []                  # heard 0.4 s ago
+    assert table.expire(11.0) == ["cam"]
+    assert table.percepts() == ["door(open)"]          # a change: the agent gets - events
+    assert table.expire(100.0) == []                 # map has no TTL; cam is already gone
+    table.update("cam", ["robot(faulty,4,5,6)"], now=100.0)
+    assert sorted(table.percepts()) == ["door(open)", "robot(faulty,4,5,6)"]
+
+
+def test_a_clock_that_jumps_back_restarts_the_silence_and_queue_mode_expires_too():
+    table = PerceptionTable(parse, mode="queue", ttl=lambda _source: 1.0)
+    table.update("cam", ["p(1)"], now=50.0)
+    assert table.expire(2.0) == []                   # simulation restarted: time went back
+    assert table.expire(2.9) == []
+    table.update("cam", ["p(2)"], now=2.9)
+    assert table.expire(4.0) == ["cam"]              # the queued p(2) goes with its source
+    assert table.percepts() == []
+
+
+def test_a_ttl_that_is_not_a_number_is_warned_about_and_means_never():
+    warnings: list[str] = []
+    table = PerceptionTable(parse, warn=warnings.append, ttl=lambda _source: "soon")
+    table.update("cam", ["p"], now=1.0)
+    assert table.expire(1e9) == []
+    assert warnings and "time to live" in warnings[0]

@@ -16,7 +16,8 @@ Private parameters (defaults in brackets):
 ``~spacing`` [0.227], ``~tolerance_low``/``~tolerance_high`` [0.007/0.023] (pairs within
 ``[spacing - low, spacing + high]`` = [0.22, 0.25] m), ``~radius`` [0.03],
 ``~max_pixels`` [4194304]: larger frames are refused. ``~slop``, ``~queue_size``,
-``~buff_size``, ``~source``, ``~timing``: as every synthesizer (:mod:`rason.execution.synthesizer`).
+``~buff_size``, ``~source``, ``~timing``, ``~perception_ttl`` [0.5 s, about 7 frame periods of
+the 15 Hz Kinect]: as every synthesizer (:mod:`rason.execution.synthesizer`).
 
 Bad frames (empty, truncated, huge, image and cloud of different sizes, a cloud with no valid
 depth at all) are rejected with a rate-limited warning and publish nothing; the node carries on.
@@ -60,6 +61,8 @@ class RobotSynthesizer(Synthesizer):
 
     inputs = (("camera/rgb/image_raw", Image), ("camera/depth_registered/points", PointCloud2))
     source_suffix = "_robot"
+    #: About 7 frame periods of the 15 Hz Kinect: a camera silent that long is gone.
+    perception_ttl = 0.5
 
     def setup(self) -> None:
         import rospy

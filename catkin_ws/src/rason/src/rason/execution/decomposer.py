@@ -69,6 +69,7 @@ from rason.execution.results import (
 )
 from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
 from rason.ros.guard import RateLimitedWarnings, clip, guarded
+from rason.ros.master_watch import watch_master
 from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE
 
 __all__ = ["OK", "Decomposer", "Goal", "Verdict", "run"]
@@ -283,6 +284,7 @@ def run(decomposer: Callable[[], Decomposer], node_name: str) -> int:
     """``rospy.init_node(node_name)``, build the decomposer, spin; the exit status."""
     rospy.init_node(node_name)
     node = decomposer()
+    watch_master()
     rospy.loginfo(f"{node_name}: handling {', '.join(node.actions)} in namespace "
                   f"{rospy.get_namespace()}")
     rospy.spin()

@@ -31,7 +31,10 @@ What the base does (names relative, so ``__ns:=/robot`` puts them under the robo
 Private parameters: ``~source`` (node name + ``source_suffix``), ``~queue_size`` (10) and
 ``~buff_size`` (1048576, bytes) of the subscribers, ``~slop`` (0.05 s, several inputs only),
 ``~timing`` (false: log per frame the age of its stamp at the callback, the processing time and
-the age when published).
+the age when published), ``~perception_ttl`` (class attribute ``perception_ttl``, s; 0 = none):
+how long the source's list stays valid, declared as the parameter
+``jason/perception_ttl/<source>`` (again after a master restart), so that agents clear this
+source's percepts when no frame has been published for that long (camera unplugged, node dead).
 """
 
 from __future__ import annotations
@@ -44,6 +47,7 @@ import rospy
 from jason_msgs.msg import Perception
 
 from rason.ros.guard import RateLimitedWarnings, clip
+from rason.ros.master_watch import watch_master
 
 __all__ = ["BadFrame", "Synthesizer", "run"]
 
@@ -64,15 +68,19 @@ class Synthesizer:
     inputs: tuple[tuple[str, type], ...] = ()
     #: Appended to the node's name to make the default perception source.
     source_suffix: str = ""
+    #: Default of ``~perception_ttl``: seconds this source's percepts stay valid (0 = forever).
+    perception_ttl: float = 0.0
 
     def __init__(self) -> None:
         self.name = rospy.get_name().rsplit("/", 1)[-1]
         self.source = str(rospy.get_param("~source", self.name + self.source_suffix))
         self.timing = bool(rospy.get_param("~timing", False))
+        self.perception_ttl = float(rospy.get_param("~perception_ttl", type(self).perception_ttl))
         self.warnings = RateLimitedWarnings()
         self.frames = 0           # frames published
         self.rejected = 0         # frames refused
         self.setup()
+        self.declare_ttl()        # before the first publication, so agents find it at once
         self.publisher = rospy.Publisher("jason/perception", Perception, queue_size=10)
         queue = int(rospy.get_param("~queue_size", 10))
         # rospy's receive buffer: 1 MB measured faster than 64 kB or 16 MB for 5 MB clouds.
@@ -101,6 +109,11 @@ class Synthesizer:
         """The complete percept list for one message (or synchronized tuple of messages);
         raise :class:`BadFrame` for a frame you refuse."""
         raise NotImplementedError
+
+    def declare_ttl(self) -> None:
+        """Tell agents how long this source's list stays valid (``~perception_ttl`` > 0)."""
+        if self.perception_ttl > 0:
+            rospy.set_param(f"jason/perception_ttl/{self.source}", self.perception_ttl)
 
     # -- the guarded frame path -----------------------------------------------------------
     def on_frame(self, *msgs: Any) -> None:
@@ -154,6 +167,7 @@ def run(synthesizer: Callable[[], Synthesizer], node_name: str,
     """``rospy.init_node(node_name)``, build the synthesizer, spin; the exit status."""
     rospy.init_node(node_name, argv=argv)
     node = synthesizer()
+    watch_master(on_registered=[node.declare_ttl])
     rospy.loginfo(f"{node_name}: publishing {rospy.resolve_name('jason/perception')} "
                   f"as {node.source}")
     rospy.spin()

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import rospy
 
 from rason.asl import AgentArch, Clock, Message, UnknownReceiver, parse_literal
+from rason.ros.auth import TrustPolicy
 from rason.ros.feedback import CancelReason, Feedback
 from rason.ros.perceptions import PerceptionFilter, PerceptionTable
 
@@ -59,14 +60,17 @@ class RosAgArch(AgentArch):
     """Architecture of one agent hosted by a :class:`RasonNode`."""
 
     def __init__(self, node: RasonNode, name: str,
-                 perception_filter: PerceptionFilter | None = None):
+                 perception_filter: PerceptionFilter | None = None,
+                 trust: TrustPolicy | None = None):
         super().__init__(RosClock())
         self.node = node
         self.name = name
+        self.trust = trust or TrustPolicy()
         self.agent: Agent | None = None
         self.perceptions: PerceptionTable = PerceptionTable(
             parse=parse_literal, warn=lambda text: rospy.logwarn("[%s] %s", name, text),
-            mode=node.perception_mode, filter=perception_filter or PerceptionFilter())
+            mode=node.perception_mode, filter=perception_filter or PerceptionFilter(),
+            ttl=node.perception_ttl)
         self.pending: dict[int, PendingAction] = {}
         self._lock = threading.Lock()
 
@@ -106,9 +110,28 @@ class RosAgArch(AgentArch):
     def console(self, agent_name: str, text: str) -> None:
         self.node.console(agent_name, text)
 
+    def accepts(self, message: Message) -> bool:
+        """Jason's message acceptance hook: may `message` reach this agent at all?
+
+        By default senders outside the trust policy may not use ``tellHow``, ``untellHow``,
+        ``askHow``, ``achieve`` or ``unachieve``; override in a subclass to decide otherwise.
+        """
+        return self.trust.accepts(self.name, message.sender, message.performative)
+
     # -- from the node -------------------------------------------------------------------------------
     def on_perception(self, source: str, perceptions: list[str]) -> None:
-        if self.perceptions.update(source, perceptions) and self.agent is not None:
+        if self.perceptions.update(source, perceptions, self.clock.now()) \
+                and self.agent is not None:
+            self.agent.wake()
+
+    def expire_perceptions(self, now: float) -> None:
+        """Clear the sources silent for longer than their TTL (the agent gets ``-`` events)."""
+        expired = self.perceptions.expire(now)
+        for source in expired:
+            rospy.logwarn("[%s] perception source '%s' silent for longer than its time to live "
+                          "(%g s): its percepts are cleared", self.name, source,
+                          self.node.perception_ttl(source))
+        if expired and self.agent is not None:
             self.agent.wake()
 
     def on_accepted(self, action_id: int) -> None:

@@ -48,7 +48,8 @@ def _run(node_name: str, argv: list[str],
     sys.argv = argv
     import rospy
 
-    from rason.ros.node import RasonNode
+    from rason.ros.master_watch import watch_master
+    from rason.ros.node import ParameterError, RasonNode
 
     rospy.init_node(node_name)
     try:
@@ -59,7 +60,12 @@ def _run(node_name: str, argv: list[str],
         return 2
     if added:
         rospy.loginfo("internal actions loaded: %s", ", ".join(added))
-    node = RasonNode(base_ns=ns)
+    try:
+        node = RasonNode(base_ns=ns)
+    except ParameterError as err:
+        print(f"rason: bad parameter: {err}", file=sys.stderr)
+        rospy.signal_shutdown("bad parameter")
+        return 2
     try:
         for name, source, path, pfilter, options in sources:
             node.host(name, source, str(path), pfilter, options)
@@ -69,6 +75,7 @@ def _run(node_name: str, argv: list[str],
         return 2
     node.start()
     rospy.on_shutdown(node.shutdown)
+    watch_master(on_registered=[node.on_master_restarted])
     rospy.loginfo("hosting %s in namespace %s", ", ".join(node.agents), ns)
     rospy.spin()
     return 0

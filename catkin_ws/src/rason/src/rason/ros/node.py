@@ -25,6 +25,19 @@ Private parameters (``_name:=value`` on the rosrun line):
   ~presence_timeout (3.5)   s after which a silent agent is forgotten
   ~internal_actions ([])    Python modules whose @internal_action functions the agents get
                             (read by rason.ros.main before the agents load)
+  ~perception_ttl (0.0)     s of ROS time a perception source may stay silent before its list is
+                            cleared (its percepts are removed); 0 = a list stands until replaced.
+                            Applies to sources that declare no TTL of their own (see below)
+  ~perception_ttls ({})     per-source TTLs, e.g. "{robot_synthesizer_robot: 0.3}"; they win
+                            over the source's own declaration and over ~perception_ttl
+  ~auth_key_file ("")       file holding the shared key that signs and checks every message on
+                            /jason/messages; "" = no authentication (anyone may send anything)
+  ~auth_window (10.0)       s of ROS time a signed message stays acceptable (replay protection)
+  ~trusted_senders ([])     senders that may use tellHow, untellHow, askHow, achieve, unachieve
+                            with the agents of this node; [] = everyone (in a .mas2j, per agent:
+                            ``trusted_senders="[boss]"``)
+A perception source declares its own TTL as the parameter ``jason/perception_ttl/<source>`` in
+the robot's namespace (the robot synthesizer does, from its ``~perception_ttl``).
   ~tro (true)               tail-recursion optimisation (Jason's ``tro`` agent option)
   ~max_intention_depth (10000)  an intention deeper than this fails with error(intention_too_deep)
   ~mind_state_rate (10.0)   Hz at most of jason/NAME/mind_state (on change); 0 = not published
@@ -32,19 +45,31 @@ Private parameters (``_name:=value`` on the rosrun line):
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 import uuid
 from dataclasses import dataclass
 
+import rosgraph.names
 import rospy
+import yaml
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from jason_msgs.srv import Mind, MindResponse
 
 from rason.asl import Agent, AgentOptions, Message, parse_term, term_str
 from rason.ros.arch import RosAgArch
+from rason.ros.auth import (
+    AuthKeyError,
+    MessageAuth,
+    SignedFields,
+    TrustPolicy,
+    Verdict,
+    load_key,
+    new_nonce,
+)
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
-from rason.ros.guard import guarded
+from rason.ros.guard import RateLimitedWarnings, clip, guarded
 from rason.ros.mind_state import MindStatePublisher, mind_state_topic
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
@@ -79,6 +104,16 @@ class RasonNode:
             max_intention_depth=int(rospy.get_param("~max_intention_depth",
                                                     AgentOptions.max_intention_depth)))
         self.mind_state_rate = float(rospy.get_param("~mind_state_rate", 10.0))
+        self.default_perception_ttl = _seconds("~perception_ttl", rospy.get_param(
+            "~perception_ttl", 0.0))
+        self.perception_ttls = {str(source): _seconds(f"~perception_ttls/{source}", ttl)
+                                for source, ttl in _as_map(rospy.get_param("~perception_ttls",
+                                                                           {})).items()}
+        self._declared_ttls: dict[str, float | None] = {}
+        self.auth = _message_auth(str(rospy.get_param("~auth_key_file", "") or ""),
+                                  _seconds("~auth_window", rospy.get_param("~auth_window", 10.0)))
+        self.trust = TrustPolicy.of(_as_list(rospy.get_param("~trusted_senders", [])))
+        self.drops = RateLimitedWarnings(period=10.0)
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
@@ -99,7 +134,8 @@ class RasonNode:
              options: dict | None = None) -> HostedAgent:
         """Create agent `name` from AgentSpeak `source`, serve its mind, start its cycle
         (`options`: the agent's own `.mas2j` options, over the node's `~tro`...)."""
-        arch = RosAgArch(self, name, perception_filter or self.default_filter)
+        arch = RosAgArch(self, name, perception_filter or self.default_filter,
+                         _agent_trust(options or {}, self.trust))
         agent = Agent(name, source, arch, filename=filename,
                       options=AgentOptions.from_options(options or {}, self.agent_options))
         arch.agent = agent
@@ -125,6 +161,7 @@ class RasonNode:
         rospy.Subscriber(MESSAGES_TOPIC, AgentMessage, guarded(MESSAGES_TOPIC)(self.on_message),
                          queue_size=200, tcp_nodelay=True)
         rospy.Timer(rospy.Duration(0.05), guarded("action timeouts")(self.on_check_actions))
+        rospy.Timer(rospy.Duration(0.05), guarded("perception TTLs")(self.on_check_perceptions))
         rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
         if self.mind_state_rate > 0:
             rospy.Timer(rospy.Duration(1.0 / self.mind_state_rate),
@@ -133,6 +170,11 @@ class RasonNode:
             self._announce(name, HELLO)
         for hosted in self.agents.values():
             hosted.thread.start()
+
+    def on_master_restarted(self) -> None:
+        """Registered again with a restarted master: ask everyone to announce themselves."""
+        for name in self.agents:
+            self._announce(name, "hello")
 
     def _run_agent(self, agent: Agent) -> None:
         try:
@@ -172,11 +214,19 @@ class RasonNode:
             rospy.loginfo("[%s] cancelled action %d (%s)", agent, action_id, reason)
 
     def publish_message(self, message: Message) -> None:
-        self.message_pub.publish(AgentMessage(
+        self._publish(AgentMessage(
             sender=message.sender, receiver=message.receiver or "",
             performative=message.performative, content=term_str(message.content),
             reply_with=message.msg_id or uuid.uuid4().hex[:12],
             in_reply_to=message.in_reply_to or ""))
+
+    def _publish(self, msg: AgentMessage) -> None:
+        """Stamp, and sign when this node has a key, then publish on /jason/messages."""
+        msg.stamp = rospy.Time.now()
+        msg.nonce = new_nonce()
+        if self.auth is not None:
+            msg.signature = self.auth.sign(_signed_fields(msg))
+        self.message_pub.publish(msg)
 
     def deliver_local(self, message: Message) -> bool:
         """Hand a message to the agents of this process it is for; True if it was only for them.
@@ -198,6 +248,12 @@ class RasonNode:
         return False
 
     def _receive(self, hosted: HostedAgent, message: Message) -> None:
+        """Give `message` to a hosted agent if its acceptance hook lets it in."""
+        if not hosted.arch.accepts(message):
+            self.drops.warn(f"untrusted {clip(message.sender, 64)}",
+                            f"[{hosted.arch.name}] dropped {message.performative} from "
+                            f"'{message.sender}': not a trusted sender")
+            return
         hosted.agent.receive(message)
         self.note_message(hosted.agent.name, message, outgoing=False)
 
@@ -212,8 +268,8 @@ class RasonNode:
             print(f"[{agent_name}] {text}", flush=True)
 
     def _announce(self, name: str, content: str = "") -> None:
-        self.message_pub.publish(AgentMessage(sender=name, receiver="", performative=PRESENCE,
-                                              content=content, reply_with="", in_reply_to=""))
+        self._publish(AgentMessage(sender=name, receiver="", performative=PRESENCE,
+                                   content=content, reply_with="", in_reply_to=""))
 
     # -- callbacks --------------------------------------------------------------------------------------
     def on_event(self, msg: Event) -> None:
@@ -235,10 +291,18 @@ class RasonNode:
             hosted.arch.on_perception(msg.source, msg.perception)
 
     def on_message(self, msg: AgentMessage) -> None:
+        if msg.sender in self.agents:
+            return  # our own publication (delivered in-process already), or a forgery of it
         now = rospy.get_time()
-        if msg.performative == PRESENCE:
-            if msg.sender in self.agents:
+        if self.auth is not None:
+            verdict = self.auth.verify(_signed_fields(msg), msg.signature,
+                                       rospy.get_rostime().to_nsec())
+            if verdict is not Verdict.OK:
+                self.drops.warn(f"{verdict.value} {clip(msg.sender, 64)}",
+                                f"dropped a {verdict.value} {msg.performative or '?'} message "
+                                f"claiming to be from '{msg.sender}'")
                 return
+        if msg.performative == PRESENCE:
             if msg.content == GOODBYE:
                 self.directory.forget(msg.sender)
                 return
@@ -247,8 +311,6 @@ class RasonNode:
                 for name in self.agents:
                     self._announce(name)
             return
-        if msg.sender in self.agents:
-            return  # our own publication: delivered in-process already
         self.directory.heard(msg.sender, now)
         receivers = ([msg.receiver] if msg.receiver
                      else [n for n in self.agents if n != msg.sender])
@@ -270,6 +332,38 @@ class RasonNode:
         now = rospy.get_time()
         for hosted in self.agents.values():
             hosted.arch.check_timeouts(now, self.ack_timeout, self.action_timeout)
+
+    def on_check_perceptions(self, _event: rospy.timer.TimerEvent) -> None:
+        now = rospy.get_time()
+        for hosted in self.agents.values():
+            hosted.arch.expire_perceptions(now)
+
+    def perception_ttl(self, source: str) -> float:
+        """A perception source's time to live: this node's map, the source's own declaration
+        (parameter ``jason/perception_ttl/<source>``, read once), else ``~perception_ttl``."""
+        if source in self.perception_ttls:
+            return self.perception_ttls[source]
+        if source not in self._declared_ttls:
+            self._declared_ttls[source] = self._declared_ttl(source)
+        declared = self._declared_ttls[source]
+        return self.default_perception_ttl if declared is None else declared
+
+    def _declared_ttl(self, source: str) -> float | None:
+        if not rosgraph.names.is_legal_base_name(source):
+            return None
+        key = self.topic(f"jason/perception_ttl/{source}")
+        try:
+            value = rospy.get_param(key, None)
+        except (OSError, rospy.ROSException) as err:
+            rospy.logwarn("cannot read %s (%s): using ~perception_ttl", key, err)
+            return None
+        if value is None:
+            return None
+        try:
+            return _seconds(key, value)
+        except ParameterError as err:
+            rospy.logwarn("%s: using ~perception_ttl", err)
+            return None
 
     def on_presence(self, _event: rospy.timer.TimerEvent) -> None:
         for name in self.agents:
@@ -294,6 +388,60 @@ class RasonNode:
                             desires=mind.get("desires", []),
                             intentions=mind.get("intentions", []),
                             pending_actions=arch.pending_texts())
+
+
+class ParameterError(ValueError):
+    """A node parameter with an unusable value."""
+
+
+def _message_auth(key_file: str, window: float) -> MessageAuth | None:
+    """The node's authentication, or None (open) without a key file."""
+    if not key_file:
+        return None
+    try:
+        return MessageAuth(load_key(key_file, warn=rospy.logwarn), window)
+    except AuthKeyError as err:
+        raise ParameterError(f"~auth_key_file: {err}") from err
+
+
+def _agent_trust(options: dict, default: TrustPolicy) -> TrustPolicy:
+    """An agent's trusted senders: its ``.mas2j`` option ``trusted_senders``, else the node's."""
+    value = options.get("trusted_senders")
+    if value is None:
+        return default
+    if isinstance(value, (list, tuple)):
+        names = [str(v) for v in value]
+    else:
+        names = str(value).strip().strip('"').strip("[]").split(",")
+    return TrustPolicy.of(n.strip().strip('"') for n in names)
+
+
+def _signed_fields(msg: AgentMessage) -> SignedFields:
+    return SignedFields(msg.sender, msg.receiver, msg.performative, msg.content, msg.reply_with,
+                        msg.in_reply_to, msg.stamp.to_nsec(), msg.nonce)
+
+
+def _seconds(name: str, value: object) -> float:
+    """A duration parameter: a finite number of seconds >= 0."""
+    try:
+        seconds = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        seconds = math.nan
+    if not math.isfinite(seconds) or seconds < 0:
+        raise ParameterError(f"{name} must be a number of seconds >= 0, not {value!r}")
+    return seconds
+
+
+def _as_map(value: object) -> dict[str, object]:
+    """A map parameter given as a YAML map (rosrun's ``_p:="{a: 1}"``) or as a YAML string."""
+    if isinstance(value, str):
+        try:
+            value = yaml.safe_load(value) if value.strip() else {}
+        except yaml.YAMLError as err:
+            raise ParameterError(f"not a map: {value!r} ({err})") from err
+    if not isinstance(value, dict):
+        raise ParameterError(f"not a map: {value!r}")
+    return value
 
 
 def _as_list(value: object) -> list[str]:

@@ -8,6 +8,11 @@ kept until the agent perceives, and each one is parsed and applied in turn.
 
 Malformed perception strings are logged once per source and text, dropped, and the rest of the
 message still counts. An agent may also declare which functors and sources it wants.
+
+A source may have a time to live (TTL): when it has been silent for longer than that, its list
+is cleared as if it had published ``[]`` (:meth:`PerceptionTable.expire`), so a dead camera or
+synthesizer never leaves an old ``robot(...)`` belief behind. Times are whatever clock the
+caller passes (ROS time in the agent node).
 """
 
 from __future__ import annotations
@@ -80,6 +85,14 @@ class PerceptionStats:
 
 
 @dataclass
+class SourceClock:
+    """A perception source with a time to live, and when it was last heard (seconds)."""
+
+    ttl: float
+    last: float
+
+
+@dataclass
 class PerceptionTable(Generic[L]):
     """Per-source perception lists, fed from ROS callbacks, read by the agent's perceive().
 
@@ -88,6 +101,8 @@ class PerceptionTable(Generic[L]):
             such as the interpreter's syntax error) for malformed text.
         warn: called once per (source, text) for each malformed perception string.
         mode: ``replace`` (per-source replacement) or ``queue`` (every message is applied).
+        ttl: a source's time to live in seconds (``0`` = its list stands until replaced);
+            asked once per source, when its first message arrives.
     """
 
     parse: Callable[[str], L]
@@ -95,6 +110,7 @@ class PerceptionTable(Generic[L]):
     mode: str = REPLACE
     filter: PerceptionFilter = field(default_factory=PerceptionFilter)
     stats: PerceptionStats = field(default_factory=PerceptionStats)
+    ttl: Callable[[str], float] = lambda _source: 0.0
 
     def __post_init__(self) -> None:
         if self.mode not in (REPLACE, QUEUE):
@@ -106,20 +122,62 @@ class PerceptionTable(Generic[L]):
         self._warned: set[tuple[str, str]] = set()
         self._changed = False
         self._cache: dict[str, L | None] = {}
+        self._heard: dict[str, SourceClock] = {}     # sources with a TTL: when last heard
+        self._ttls: dict[str, float] = {}             # each source's TTL, asked once
+        self._expired: set[str] = set()               # cleared, not yet seen by percepts()
 
-    def update(self, source: str, perceptions: Sequence[str]) -> bool:
-        """Store one message (thread-safe). Returns False if the filter drops the whole source."""
+    def update(self, source: str, perceptions: Sequence[str], now: float | None = None) -> bool:
+        """Store one message (thread-safe) received at time `now` (needed for TTLs).
+
+        Returns False if the filter drops the whole source.
+        """
         self.stats.messages += 1
         if not self.filter.wants_source(source):
             self.stats.filtered_messages += 1
             return False
+        ttl = self._ttl_of(source) if now is not None else 0.0
         with self._lock:
+            if ttl > 0:
+                self._heard[source] = SourceClock(ttl, now)
             if self.mode == REPLACE:
                 self._raw[source] = perceptions
             else:
                 self._queue.append((source, perceptions))
             self._changed = True
         return True
+
+    def _ttl_of(self, source: str) -> float:
+        known = self._ttls.get(source)
+        if known is None:
+            try:
+                known = max(0.0, float(self.ttl(source)))
+            except (TypeError, ValueError) as err:
+                self.warn(f"perception source '{source}': unusable time to live ({err}); "
+                          "its list stands until replaced")
+                known = 0.0
+            self._ttls[source] = known
+        return known
+
+    def expire(self, now: float) -> list[str]:
+        """Clear the lists of sources silent for longer than their TTL; return those sources.
+
+        A cleared source counts as a change, so the next :meth:`percepts` call gives the union
+        without it (the agent gets the usual ``-`` events). A clock that jumped backwards
+        (simulation restarted) restarts the source's silence at `now`.
+        """
+        expired: list[str] = []
+        with self._lock:
+            for source, heard in list(self._heard.items()):
+                if now < heard.last:
+                    heard.last = now
+                elif now - heard.last > heard.ttl:
+                    expired.append(source)
+                    del self._heard[source]
+                    self._raw.pop(source, None)
+                    self._queue = [(s, texts) for s, texts in self._queue if s != source]
+                    self._expired.add(source)
+                    self._changed = True
+        return expired
 
     def changed(self) -> bool:
         """True if a message arrived since the last :meth:`percepts` call."""
@@ -133,6 +191,9 @@ class PerceptionTable(Generic[L]):
             self._changed = False
             raw, self._raw = self._raw, {}
             queue, self._queue = self._queue, []
+            expired, self._expired = self._expired, set()
+        for source in expired:
+            self._parsed.pop(source, None)
         for source, texts in queue:
             self._parsed[source] = self._parse_list(source, texts)
         for source, texts in raw.items():

@@ -239,6 +239,30 @@ class RosHarness:
             self.set_param("/use_sim_time", True)
         return self
 
+    def restart_master(self, down: float = 0.0, timeout: float = 20.0) -> None:
+        """Stop roscore (master and rosout), wait `down` seconds, start it again on the same
+        port; the nodes keep running. Returns when the new master and rosout answer."""
+        if self.roscore is None:
+            raise HarnessError("no roscore to restart: call start() first")
+        self.roscore.stop()
+        if self.roscore.group_alive():
+            raise HarnessError("roscore survived its stop")
+        time.sleep(down)
+        count = self._names.get("roscore", 1)
+        self._names["roscore"] = count + 1
+        self.roscore = Process("roscore", ["roscore", "-p", str(self.port)], self.env,
+                               self.log_dir / f"roscore.{count}.log", echo=False)
+        deadline = time.monotonic() + timeout
+        while not self._master_up():
+            if not self.roscore.alive():
+                raise HarnessError(f"roscore exited:\n{self.roscore.output()}")
+            if time.monotonic() > deadline:
+                raise HarnessError(f"the restarted roscore did not answer within {timeout} s")
+            time.sleep(0.05)
+        self.wait_for_node("/rosout", timeout)
+        if self.sim_time:
+            self.set_param("/use_sim_time", True)
+
     def stop(self) -> None:
         """Stop every node (newest first), then roscore; leaves no process behind."""
         for proc in reversed(self.processes):

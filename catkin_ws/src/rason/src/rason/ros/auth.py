@@ -1,0 +1,161 @@
+"""Who may talk to an agent: signed messages and trusted senders, without rospy.
+
+Anyone on a ROS graph can publish on ``/jason/messages`` with any ``sender``. Two independent
+defences, both off by default (today's open behaviour):
+
+* **Authentication** (:class:`MessageAuth`): agents sharing a secret key sign every message they
+  publish with an HMAC-SHA256 over all its fields, its send time and a random nonce. A keyed
+  agent drops messages that are unsigned, forged (the signature does not match: wrong key or
+  altered fields), stale (sent longer ago than the replay window, or from the future beyond it)
+  or replayed (a nonce already seen within the window).
+* **Acceptance** (:class:`TrustPolicy`, the model is Jason's message acceptance hook): an agent
+  may name the senders allowed to change its plans or give it goals (``tellHow``,
+  ``untellHow``, ``askHow``, ``achieve``, ``unachieve``); the others' such messages are dropped.
+  Without authentication a sender name is only a claim, so use both on an untrusted network.
+"""
+
+from __future__ import annotations
+
+import enum
+import hashlib
+import hmac
+import json
+import secrets
+import stat
+import threading
+from collections import OrderedDict
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from pathlib import Path
+
+#: Performatives that change what an agent does: restricted by a TrustPolicy.
+RESTRICTED_PERFORMATIVES = frozenset({"tellHow", "untellHow", "askHow", "achieve", "unachieve"})
+#: Prefix of a signature: the scheme, so another one can be introduced later.
+SCHEME = "hmac-sha256"
+#: A key shorter than this (bytes) is refused: it would be guessable.
+MIN_KEY_BYTES = 16
+#: At most this many nonces are remembered (a flood cannot eat memory; the oldest go first).
+MAX_NONCES = 100_000
+
+
+class AuthKeyError(ValueError):
+    """The key file is missing, unreadable or too short."""
+
+
+class Verdict(enum.Enum):
+    """What the authentication says about one received message."""
+
+    OK = "ok"
+    UNSIGNED = "unsigned"
+    FORGED = "forged"
+    STALE = "stale"
+    REPLAYED = "replayed"
+
+
+@dataclass(frozen=True)
+class SignedFields:
+    """The fields of an AgentMessage a signature covers (``stamp_ns``: send time, ROS time)."""
+
+    sender: str
+    receiver: str
+    performative: str
+    content: str
+    reply_with: str
+    in_reply_to: str
+    stamp_ns: int
+    nonce: str
+
+    def canonical(self) -> bytes:
+        """An unambiguous byte string of the fields (JSON array: no field can bleed into
+        another, whatever characters it holds)."""
+        return json.dumps([SCHEME, self.sender, self.receiver, self.performative, self.content,
+                           self.reply_with, self.in_reply_to, self.stamp_ns, self.nonce],
+                          ensure_ascii=False, separators=(",", ":")).encode("utf-8")
+
+
+def load_key(path: str | Path, warn: Callable[[str], None] = print) -> bytes:
+    """The shared key in file `path` (surrounding whitespace ignored); warns if others may
+    read the file."""
+    path = Path(path)
+    try:
+        key = path.read_bytes().strip()
+        mode = path.stat().st_mode
+    except OSError as err:
+        raise AuthKeyError(f"cannot read the key file {path}: {err.strerror or err}") from err
+    if len(key) < MIN_KEY_BYTES:
+        raise AuthKeyError(f"the key in {path} is {len(key)} bytes; at least {MIN_KEY_BYTES} "
+                        "are needed (e.g. `head -c 32 /dev/urandom | base64 > FILE`)")
+    if mode & (stat.S_IRWXG | stat.S_IRWXO):
+        warn(f"the key file {path} can be read by other users (chmod 600 {path})")
+    return key
+
+
+def new_nonce() -> str:
+    """A random nonce for one message."""
+    return secrets.token_hex(8)
+
+
+class MessageAuth:
+    """Signs and verifies messages with a shared key; remembers nonces for replay protection.
+
+    Args:
+        key: the shared secret.
+        window: seconds a message stays acceptable after (or before, clocks differ) its stamp.
+    """
+
+    def __init__(self, key: bytes, window: float = 10.0) -> None:
+        if len(key) < MIN_KEY_BYTES:
+            raise AuthKeyError(f"a key needs at least {MIN_KEY_BYTES} bytes")
+        self._key = key
+        self.window = window
+        self._seen: OrderedDict[tuple[str, str], int] = OrderedDict()   # (sender, nonce) -> stamp
+        self._lock = threading.Lock()
+
+    def sign(self, fields: SignedFields) -> str:
+        digest = hmac.new(self._key, fields.canonical(), hashlib.sha256).hexdigest()
+        return f"{SCHEME}:{digest}"
+
+    def verify(self, fields: SignedFields, signature: str, now_ns: int) -> Verdict:
+        """Check one received message at ROS time `now_ns`; a good one's nonce is remembered."""
+        if not signature:
+            return Verdict.UNSIGNED
+        if not hmac.compare_digest(signature.encode("utf-8", "replace"),
+                                   self.sign(fields).encode()):
+            return Verdict.FORGED
+        window_ns = int(self.window * 1e9)
+        if abs(now_ns - fields.stamp_ns) > window_ns:
+            return Verdict.STALE
+        key = (fields.sender, fields.nonce)
+        with self._lock:
+            self._forget_older_than(now_ns - window_ns)
+            if key in self._seen:
+                return Verdict.REPLAYED
+            self._seen[key] = fields.stamp_ns
+            while len(self._seen) > MAX_NONCES:
+                self._seen.popitem(last=False)
+        return Verdict.OK
+
+    def _forget_older_than(self, oldest_ns: int) -> None:
+        # Nonces arrive roughly in stamp order: drop from the old end until a recent one.
+        while self._seen:
+            key, stamp = next(iter(self._seen.items()))
+            if stamp >= oldest_ns:
+                break
+            del self._seen[key]
+
+
+@dataclass(frozen=True)
+class TrustPolicy:
+    """Which senders may use the restricted performatives (empty `senders` = everyone)."""
+
+    senders: frozenset[str] = frozenset()
+
+    @classmethod
+    def of(cls, senders: Iterable[str]) -> TrustPolicy:
+        return cls(frozenset(s.strip() for s in senders if s.strip()))
+
+    def accepts(self, receiver: str, sender: str, performative: str) -> bool:
+        """Jason's acceptance hook: may `sender` send `performative` to `receiver`?"""
+        if not self.senders or performative not in RESTRICTED_PERFORMATIVES:
+            return True
+        return sender == receiver or sender in self.senders

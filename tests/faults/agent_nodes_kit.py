@@ -1,0 +1,44 @@
+"""Helpers of the fault tests: start real ``rosrun rason agent`` nodes, read their minds."""
+
+from __future__ import annotations
+
+import textwrap
+import time
+from pathlib import Path
+
+import yaml
+
+from rason.testing.harness import HarnessError, Process, RosHarness
+
+
+def start_agent(ros: RosHarness, tmp_path: Path, name: str, source: str, ns: str,
+                **params: object) -> Process:
+    """``rosrun rason agent NAME FILE.asl __ns:=ns _param:=value...``, waited for."""
+    path = tmp_path / f"{name}.asl"
+    path.write_text(textwrap.dedent(source))
+    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params)
+    ros.wait_for_service(f"{ns}/jason/{name}/mind", watch=[proc])
+    return proc
+
+
+def mind(ros: RosHarness, ns: str, name: str, timeout: float = 10.0) -> dict[str, list[str]]:
+    """The agent's mind through its service (``rosservice call``, a separate process)."""
+    out = ros.check_output(["rosservice", "call", f"{ns}/jason/{name}/mind"], timeout=timeout)
+    answer = yaml.safe_load(out)
+    return {key: list(answer.get(key) or []) for key in
+            ("beliefs", "desires", "intentions", "pending_actions")}
+
+
+def wait_until(condition, timeout: float, what: str, poll: float = 0.05) -> float:
+    """Poll `condition` until true; return the seconds it took (HarnessError on timeout)."""
+    start = time.monotonic()
+    while not condition():
+        if time.monotonic() - start > timeout:
+            raise HarnessError(f"{what} did not happen within {timeout} s")
+        time.sleep(poll)
+    return time.monotonic() - start
+
+
+def connected_to(publisher, node: str) -> bool:
+    """True once rospy `publisher` has a connection to the subscriber node `node` (full name)."""
+    return any(getattr(c, "endpoint_id", "") == node for c in publisher.impl.connections)

@@ -1,0 +1,57 @@
+"""The graph can restart: a rason node registers again with a restarted roscore (same port),
+keeping the agent's mind, and messages, perceptions and actions flow again."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+from agent_nodes_kit import mind, start_agent, wait_until
+
+pytestmark = pytest.mark.ros
+
+KEEPER = """
+    +note(X)[source(S)] <- +kept(X); .print("kept ", X, " from ", S).
+    +seen(X)[source(percept)] <- .print("seen ", X).
+    +kept(2) <- move(1); .print("moved after the restart").
+    """
+TELLER = """
+    !tell.
+    +!tell : .all_names(L) & .member(keeper, L) <- .send(keeper, tell, note({n})).
+    +!tell <- .wait(200); !tell.
+    """
+
+
+def test_nodes_register_again_with_a_restarted_master_and_keep_the_mind(fresh_ros, tmp_path):
+    ros = fresh_ros
+    ns = "/restart"
+    keeper = start_agent(ros, tmp_path, "keeper", KEEPER, ns=ns, ack_timeout=5.0)
+    decomposer = ros.rosrun("rason", "echo_decomposer", ns=ns)
+    ros.wait_for_subscriber(f"{ns}/jason/action", watch=[decomposer])
+    start_agent(ros, tmp_path, "teller1", TELLER.format(n=1), ns="/restart_teller1")
+    keeper.wait_for_line(r"\[keeper\] kept 1 from teller1", timeout=30)
+    assert "kept(1)[source(self)]" in mind(ros, ns, "keeper")["beliefs"]
+    before = ros.nodes()
+
+    ros.restart_master(down=1.0)
+    back = time.monotonic()
+    took = wait_until(lambda: f"{ns}/jason/keeper/mind" in ros.services(), 15,
+                      "the mind service on the restarted master")
+    wait_until(lambda: before <= ros.nodes(), 15, "every node registered again")
+    every = time.monotonic() - back
+    print(f"mind service back {took:.2f} s after the new master answered; every node "
+          f"({len(before)}) back after {every:.2f} s")
+
+    # The mind survived: the belief added before the restart is still there.
+    assert "kept(1)[source(self)]" in mind(ros, ns, "keeper")["beliefs"]
+    # Nodes started after the restart find the old ones through the new master: a message
+    # from a new agent, a perception from a new publisher, and an action to the old decomposer.
+    start_agent(ros, tmp_path, "teller2", TELLER.format(n=2), ns="/restart_teller2")
+    keeper.wait_for_line(r"\[keeper\] kept 2 from teller2", timeout=30)
+    keeper.wait_for_line(r"\[keeper\] moved after the restart", timeout=15)
+    ros.run(["rostopic", "pub", "-r", "5", f"{ns}/jason/perception", "jason_msgs/Perception",
+             "{source: probe, perception: ['seen(3)']}"], label="rostopic_pub")
+    keeper.wait_for_line(r"\[keeper\] seen 3", timeout=30)
+    beliefs = mind(ros, ns, "keeper")["beliefs"]
+    assert {"kept(1)[source(self)]", "kept(2)[source(self)]"} <= set(beliefs), beliefs
+    assert keeper.alive() and decomposer.alive()

@@ -1,0 +1,120 @@
+"""Stale percepts expire: a perception source silent for longer than its time to live is
+cleared from the agent's beliefs with the usual ``-`` events (real roscore, real nodes)."""
+
+from __future__ import annotations
+
+import threading
+import time
+from pathlib import Path
+
+import pytest
+from agent_nodes_kit import mind, start_agent, wait_until
+
+pytestmark = pytest.mark.ros
+
+CASES_BAG = Path(__file__).resolve().parents[2] / "bags" / "vision_cases.bag"
+
+WATCHER = """
+    +robot(R, A, D, Y)[source(percept)] <- .print("see ", R).
+    -robot(R, A, D, Y)[source(percept)] <- .print("lost ", R).
+    +door(S)[source(percept)] <- .print("door ", S).
+    -door(S)[source(percept)] <- .print("door gone ", S).
+    """
+
+
+def test_a_silent_source_is_cleared_after_its_ttl_and_a_ttl_of_zero_never_expires(ros, tmp_path):
+    """``~perception_ttls`` gives `radar` 0.4 s; `doors` (no TTL: ~perception_ttl 0) stays."""
+    import rospy
+    from jason_msgs.msg import Perception
+
+    ros.init_rospy()
+    pub = rospy.Publisher("/stale1/jason/perception", Perception, queue_size=10)
+    agent = start_agent(ros, tmp_path, "watcher", WATCHER, ns="/stale1",
+                        perception_ttls="{radar: 0.4}")
+    ros.wait_for_subscriber("/stale1/jason/perception")
+    wait_until(lambda: pub.get_num_connections() > 0, 10, "connection to the agent")
+    pub.publish(Perception(source="doors", perception=["door(open)"]))
+    # radar publishes at 10 Hz for 2 s (5 TTLs): it must never be cleared meanwhile.
+    for _ in range(20):
+        pub.publish(Perception(source="radar", perception=["robot(faulty,1,2,3)"]))
+        time.sleep(0.1)
+    assert "lost faulty" not in agent.output()
+    agent.wait_for_line(r"\[watcher\] see faulty", timeout=5)
+    stopped = time.monotonic()
+    agent.wait_for_line(r"\[watcher\] lost faulty", timeout=5)
+    took = time.monotonic() - stopped
+    assert took >= 0.3, f"cleared {took:.2f} s after the last message: before its TTL"
+    agent.wait_for_line(r"perception source 'radar' silent for longer than its time to live",
+                        timeout=5)
+    beliefs = mind(ros, "/stale1", "watcher")["beliefs"]
+    assert not any(b.startswith("robot(") for b in beliefs), beliefs
+    time.sleep(1.0)                     # well past 0.4 s: the source without a TTL stays
+    beliefs = mind(ros, "/stale1", "watcher")["beliefs"]
+    assert "door(open)[source(percept)]" in beliefs, beliefs
+    assert "door gone" not in agent.output()
+    # The source comes back: its percepts are believed again.
+    pub.publish(Perception(source="radar", perception=["robot(faulty,4,5,6)"]))
+    agent.wait_for_line(r"\[watcher\] see faulty", timeout=5,
+                        start=len(agent.lines()) - 5)
+    assert agent.alive()
+
+
+def test_the_robot_synthesizer_declares_a_ttl_and_a_dead_camera_clears_the_robot(ros, tmp_path):
+    """A real synthesizer on a real bag: when the frames stop (camera unplugged), the agent
+    forgets ``robot(faulty, ...)`` within the synthesizer's declared 0.5 s, with a ``-`` event."""
+    import rospy
+    from jason_msgs.msg import Perception
+
+    ros.init_rospy()
+    published: list[Perception] = []
+    lock = threading.Lock()
+
+    def on_perception(msg: Perception) -> None:
+        with lock:
+            published.append((time.monotonic(), msg))
+
+    sub = rospy.Subscriber("/stale2/jason/perception", Perception, on_perception)
+    try:
+        synth = ros.rosrun("rason_vision", "robot_synthesizer", ns="/stale2")
+        ros.wait_for_subscriber("/stale2/camera/depth_registered/points", watch=[synth])
+        assert ros.get_param("/stale2/jason/perception_ttl/robot_synthesizer_robot") == 0.5
+        agent = start_agent(ros, tmp_path, "helper", WATCHER, ns="/stale2")
+        ros.wait_for_topic("/stale2/jason/perception", watch=[synth])
+        time.sleep(0.5)
+        # Frames 0 and 1 of the bag (Faulty in view), then nothing: the camera is gone.
+        play = ros.run(["rosbag", "play", "--quiet", "--keep-alive", "-u", "0.3", str(CASES_BAG),
+                        "/helper/camera/rgb/image_raw:=/stale2/camera/rgb/image_raw",
+                        "/helper/camera/depth_registered/points:="
+                        "/stale2/camera/depth_registered/points"], label="rosbag_play")
+        agent.wait_for_line(r"\[helper\] see faulty", timeout=40)
+        agent.wait_for_line(r"source 'robot_synthesizer_robot' silent for longer than its time "
+                            r"to live \(0.5 s\)", timeout=10)
+        lost_at = time.monotonic()
+
+        def last_robot_event() -> str:
+            return [line for line in agent.lines() if "] see faulty" in line
+                    or "] lost faulty" in line][-1]
+        wait_until(lambda: last_robot_event().endswith("lost faulty"), 5, "the - event")
+        play.stop()
+    finally:
+        sub.unregister()
+    with lock:
+        messages = list(published)
+    assert messages and all(m.perception for _, m in messages), \
+        f"the synthesizer itself published an empty list: {[m for _, m in messages]}"
+    silence = lost_at - messages[-1][0]
+    print(f"robot belief cleared {silence:.2f} s after the last perception (TTL 0.5 s)")
+    assert 0.4 <= silence <= 3.0, silence
+    beliefs = mind(ros, "/stale2", "helper")["beliefs"]
+    assert not any(b.startswith("robot(") for b in beliefs), beliefs
+    assert synth.alive() and agent.alive()
+
+
+@pytest.mark.parametrize("bad", ["-1", "nan", "soon"])
+def test_an_unusable_perception_ttl_is_a_clear_error(ros, tmp_path, bad):
+    path = tmp_path / "a.asl"
+    path.write_text("!g.\n+!g <- .print(hi).\n")
+    proc = ros.rosrun("rason", "agent", "a", str(path), ns="/stale3",
+                      params={"perception_ttl": bad})
+    assert proc.wait(30) == 2
+    assert "~perception_ttl must be a number of seconds >= 0" in proc.output()
