@@ -44,8 +44,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="world, helper and faulty on hosts of their own (network namespaces "
                              "on a private LAN, as two TurtleBots and a workstation; needs root)")
     parser.add_argument("--cut", type=_link_cut, action="append", default=[],
-                        metavar="HOST@Ts+Ds", help="take HOST's link down at T simulated "
-                        "seconds for D seconds, e.g. faulty@8s+5s (implies --hosts; repeatable)")
+                        metavar="HOST@Ts+Ds", help="take HOST's link down T simulated "
+                        "seconds after the agents start, for D seconds, e.g. faulty@8s+5s "
+                        "(implies --hosts; repeatable)")
     args = parser.parse_args(argv)
 
     seed = args.seed if args.seed is not None else int(time.time()) % 100000

@@ -8,12 +8,14 @@ TurtleBots and a workstation"):
 * ``helper``: Helper's fault injector, motion decomposer, vision synthesizer and agent;
 * ``faulty``: Faulty's fault injector, motion decomposer and agent.
 
-Each is a network namespace with its own address (:data:`ADDRESSES`), ``ROS_IP`` set to it and
-``ROS_MASTER_URI`` pointing at the world host. A robot's nodes are those of its ROS namespace
-(``/helper``, ``/faulty``), so ``RosHarness(placement=...)`` starts them on its host.
+Each is a network namespace with its own address (:data:`ADDRESSES`), ``ROS_IP`` set to it,
+``ROS_MASTER_URI`` pointing at the world host, and the README's firewall (TCP in only from the
+LAN, to 11311 on the world host and to the pinned ROS port range 40000-40999). A robot's nodes
+are those of its ROS namespace (``/helper``, ``/faulty``), so ``RosHarness(placement=...)``
+starts them on its host.
 
-``--cut faulty@8s+5s`` takes Faulty's link down at 8 s of simulated time for 5 s
-(``ip link set eth0 down`` on the host, then ``up``).
+``--cut faulty@8s+5s`` takes Faulty's link down 8 simulated seconds after the agents started
+(Faulty waits 4 s, then moves), for 5 s: ``ip link set eth0 down`` on the host, then ``up``.
 """
 
 from __future__ import annotations
@@ -105,7 +107,7 @@ class CaseStudyLan:
     """The world, helper and faulty hosts of one run (made on entry, removed on exit)."""
 
     def __init__(self) -> None:
-        self.lan = netns.Lan(HOSTS, subnet=SUBNET)
+        self.lan = netns.Lan(HOSTS, subnet=SUBNET, firewall=True)
 
     @property
     def world(self) -> netns.Host:
@@ -149,19 +151,24 @@ def _interrupt(signum: int, _frame: object) -> None:
 
 
 class LinkCutter(threading.Thread):
-    """Cuts and restores links at their simulated times while a run goes on."""
+    """Cuts and restores links at their times while a run goes on.
 
-    def __init__(self, lan: netns.Lan, cuts: Sequence[LinkCut], now: Callable[[], float]):
+    A cut's time counts simulated seconds from ``start`` (the moment the agents are up), so the
+    same cut hits the same step of the diagnosis however long the nodes took to start.
+    """
+
+    def __init__(self, lan: netns.Lan, cuts: Sequence[LinkCut], now: Callable[[], float],
+                 start: float = 0.0):
         super().__init__(name="link-cutter", daemon=True)
-        self.lan, self.cuts, self.now = lan, list(cuts), now
+        self.lan, self.cuts, self.now, self.start_t = lan, list(cuts), now, start
         self.events: list[LinkEvent] = []
         self.errors: list[str] = []
-        self._stop = threading.Event()
+        self._done = threading.Event()
 
     def run(self) -> None:
-        todo = sorted([(c.at, c.host, False) for c in self.cuts]
-                      + [(c.at + c.duration, c.host, True) for c in self.cuts])
-        while todo and not self._stop.is_set():
+        todo = sorted([(self.start_t + c.at, c.host, False) for c in self.cuts]
+                      + [(self.start_t + c.at + c.duration, c.host, True) for c in self.cuts])
+        while todo and not self._done.is_set():
             now = self.now()
             while todo and todo[0][0] <= now:
                 _, host, up = todo.pop(0)
@@ -172,13 +179,14 @@ class LinkCutter(threading.Thread):
         try:
             (self.lan.restore if up else self.lan.cut)(host)
             self.events.append(LinkEvent(round(now, 2), host, up))
-            print(f"[hosts] {now:6.2f} s: link of {host} {'up' if up else 'DOWN'}", flush=True)
+            print(f"[hosts] {now:6.2f} s (run +{now - self.start_t:.2f} s): link of {host} "
+                  f"{'up' if up else 'DOWN'}", flush=True)
         except netns.NetnsError as err:
             self.errors.append(str(err))
 
     def finish(self) -> None:
         """Stop cutting; restore every link still down (so teardown can reach every node)."""
-        self._stop.set()
+        self._done.set()
         self.join(2)
         for cut in self.cuts:
             if not self.lan.link_up(cut.host):

@@ -148,7 +148,8 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
 
     ros.wait_for_service("/faulty/jason/faulty/mind", watch=agents.values())
     mind = rospy.ServiceProxy("/faulty/jason/faulty/mind", Mind)
-    cutter = LinkCutter(network.lan, cuts, rospy.get_time) if network and cuts else None
+    cutter = (LinkCutter(network.lan, cuts, rospy.get_time, start=rospy.get_time())
+              if network and cuts else None)
     if cutter:
         cutter.start()
     deadline = rospy.get_time() + sim_timeout
@@ -200,7 +201,7 @@ def _start_inspector(ros: RosHarness, port: int) -> str:
 
 
 DIAGNOSIS = re.compile(r"diagnosis\((\w+)\)")
-UNKNOWN_BECAUSE = re.compile(r"unknownBecause\((.*)\)")
+UNKNOWN_BECAUSE = re.compile(r'unknownBecause\("?(.*?)"?\)(?:\[|$)')
 
 
 def _network_outcome(ros: RosHarness, result: RunResult, agents: dict, mind,

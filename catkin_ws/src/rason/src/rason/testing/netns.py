@@ -33,6 +33,11 @@ PREFIX = "rason"
 DEFAULT_SUBNET = "10.211.0"
 #: The name of a host's interface inside its namespace (as on a robot: its one network card).
 DEVICE = "eth0"
+#: The ROS master's port (roscore's default).
+MASTER_PORT = 11311
+#: The ports ROS 1 nodes listen on: every node's XML-RPC server and TCPROS server take an
+#: ephemeral port (bind to port 0), so the host's ephemeral range is pinned to these.
+ROS_PORTS = (40000, 40999)
 _NAME = re.compile(rf"^{PREFIX}-(\d+)-([\w-]+)$")
 _SWITCH = "lan"
 _CLONE_NEWNET = 0x40000000
@@ -122,15 +127,43 @@ def clean_stale(keep_pid: int | None = None) -> list[str]:
     return removed
 
 
+def ros_firewall(host: Host, subnet: str, master: bool) -> None:
+    """A robot's firewall for ROS 1 (README, "Firewall"): the ephemeral port range pinned to
+    :data:`ROS_PORTS`; TCP in only from the robot LAN, only to those ports (and to
+    :data:`MASTER_PORT` on the master's host); everything else in is dropped."""
+    low, high = ROS_PORTS
+    subprocess.run(host.command(["sysctl", "-q", "-w",
+                                 f"net.ipv4.ip_local_port_range={low} {high}"]),
+                   check=True, timeout=20)
+    ports = f"{MASTER_PORT}, {low}-{high}" if master else f"{low}-{high}"
+    rules = f"""table inet rason_ros {{
+  chain input {{
+    type filter hook input priority filter; policy drop;
+    iif lo accept
+    ct state established,related accept
+    meta l4proto icmp accept
+    ip saddr {subnet}.0/24 tcp dport {{ {ports} }} accept
+  }}
+}}
+"""
+    done = subprocess.run(host.command(["nft", "-f", "-"]), input=rules, text=True,
+                          capture_output=True, timeout=20)
+    if done.returncode != 0:
+        raise NetnsError(f"nft on {host.name}: {done.stderr.strip()}")
+
+
 class Lan:
     """A switch and one namespace per host, made by :meth:`create`, removed by :meth:`remove`.
 
     Args:
         hosts: the host names, in address order (the first gets ``.1``).
         subnet: the first three octets of the private /24.
+        firewall: give every host the ROS firewall of :func:`ros_firewall`, the first host
+            as the master's (needs ``nft``, Debian's nftables).
     """
 
-    def __init__(self, hosts: Iterable[str], subnet: str = DEFAULT_SUBNET):
+    def __init__(self, hosts: Iterable[str], subnet: str = DEFAULT_SUBNET,
+                 firewall: bool = False):
         names = list(hosts)
         if len(set(names)) != len(names) or not names:
             raise ValueError(f"host names must be distinct and not empty: {names}")
@@ -141,6 +174,8 @@ class Lan:
                 raise ValueError(f"host name {name!r}: lowercase letters and digits, at most 10")
         self.owner = os.getpid()
         self.subnet = subnet
+        self.firewall = firewall
+        self.master = names[0]
         self.switch = f"{PREFIX}-{self.owner}-{_SWITCH}"
         self.hosts = {name: Host(name, f"{PREFIX}-{self.owner}-{name}", f"{subnet}.{i}")
                       for i, name in enumerate(names, 1)}
@@ -183,6 +218,8 @@ class Lan:
         ip("-n", host.netns, "addr", "add", f"{host.address}/24", "dev", host.device)
         ip("-n", host.netns, "link", "set", "dev", "lo", "up")
         ip("-n", host.netns, "link", "set", "dev", host.device, "up")
+        if self.firewall:
+            ros_firewall(host, self.subnet, master=host.name == self.master)
 
     def port(self, name: str) -> str:
         """The switch's end of ``name``'s veth pair."""
