@@ -241,6 +241,7 @@ class RasonNode:
                 return
             if msg.content == GOODBYE:
                 self.directory.forget(msg.sender)
+                rospy.loginfo("agent %s said goodbye: forgotten", msg.sender)
                 return
             if self.directory.heard(msg.sender, now):   # new, or back after a lapse
                 rospy.loginfo("agent %s present", msg.sender)
