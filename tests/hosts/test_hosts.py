@@ -102,6 +102,44 @@ def test_link_cut_mid_run_is_noticed_and_never_gives_a_wrong_component(tmp_path)
         assert result["correct"] and done.returncode == 0, out
 
 
+# Runs in a child process: entering a namespace is for good, and this test process keeps the
+# suite's roscore on loopback.
+SUPERVISION = """
+import json, sys, time
+from pathlib import Path
+from rason.testing import netns
+from rason.testing.harness import RosHarness
+asl = Path(sys.argv[1])
+asl.write_text("!go. +!go <- .wait(1000); move(1).")
+with netns.Lan(["master", "brain", "base"], firewall=True) as lan:
+    netns.enter(lan.host("master"))
+    with RosHarness(master_host=lan.host("master")) as ros:
+        base = ros.rosrun("rason", "echo_decomposer", ns="/base", params={"delay": 60},
+                          host=lan.host("base"))
+        ros.wait_for_subscriber("/base/jason/action", timeout=60)
+        ros.rosrun("rason", "agent", "pilot", str(asl), ns="/base", host=lan.host("brain"))
+        base.wait_for_line(r"of pilot .action 1.", timeout=60)
+        lan.cut("brain")
+        cut = time.monotonic()
+        line = base.wait_for_line(r"action 1 of pilot -> (\\w+) \\((.*)\\)", timeout=30)
+        print(json.dumps({"after_s": time.monotonic() - cut, "result": line.group(1),
+                          "why": line.group(2), "log": base.output()[-2000:]}))
+"""
+
+
+def test_decomposer_stops_an_action_when_its_agent_on_another_host_is_cut_off(tmp_path):
+    # The agent ("brain": a workstation) and the decomposer ("base": the robot) on two hosts;
+    # the brain's link goes down while the decomposer runs its 60 s action: the decomposer
+    # notices the agent's presence lapse and ends the action cancelled (the robot stops).
+    done = subprocess.run([sys.executable, "-c", SUPERVISION, str(tmp_path / "pilot.asl")],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-3000:]
+    report = json.loads(done.stdout.strip().splitlines()[-1])
+    assert report["result"] == "cancelled", report["log"]
+    assert "pilot not heard" in report["why"], report["log"]
+    assert report["after_s"] < 10.0, report          # presence timeout 3.5 s (+ a tick)
+
+
 def test_interrupted_run_removes_everything_and_a_killed_one_is_cleaned_next_time(tmp_path):
     def start(name: str) -> subprocess.Popen:
         demo = subprocess.Popen([sys.executable, "-m", "rason_diagnosis", "--hosts", "--quiet",
