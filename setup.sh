@@ -21,6 +21,8 @@ APT_PACKAGES=(
   cmake g++ make python3-venv
   # the mind inspector's browser test (headless, driven by selenium)
   chromium chromium-driver
+  # ./run.sh demo --hosts: a robot host's firewall (nft), as on the robots (README)
+  nftables
 )
 
 step() { printf '\n==> setup: %s\n' "$*"; }

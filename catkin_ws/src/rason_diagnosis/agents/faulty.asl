@@ -3,6 +3,8 @@
 // Added for testability (not a thesis fix): a belief diagnosis(D) recording the outcome,
 // D in both_actuators, odometry, left_actuator, right_actuator, false_positive, unknown,
 // no_fault. Those lines are marked "ADDED:".
+// Added for robots on their own machines (not a thesis fix): handling of a .send to an
+// unreachable Helper and of an answer that never comes (README, "Link faults"). Marked "HOSTS:".
 
 /* Initial beliefs and rules */
 
@@ -55,18 +57,42 @@
 
 -!tryMove[source(R)]
    <- .print(" requesting some feedback from ", R);
-      .send(R, achieve, giveFeedback).                        // FIX(F2): was givemeFeedback
+      !ask(R, achieve, giveFeedback).                         // FIX(F2): was givemeFeedback; HOSTS: !ask
 
 +found(Me)[source(R)]
    : .my_name(Me)
    <- .print(R, " found me, asking to track me");
-      .send(R, achieve, trackMe).
+      !ask(R, achieve, trackMe).                              // HOSTS: was .send, see !ask
 
 // FIX(F6): Helper gives up after a full turn and tells us so; we report unknown.
 +notFound(Me)[source(R)]
    : .my_name(Me)
    <- .print(R, " could not find me: the fault is unknown");
       -+diagnosis(unknown).                                   // ADDED: outcome belief
+
+// HOSTS (robots on their own machines, ./run.sh demo --hosts --cut ...): a .send fails with
+// error(ia_failed) and the reason in error_msg when the receiver's presence has lapsed (its link
+// is down). Without Helper the diagnosis cannot go on: it ends unknown with that reason, never
+// with a guessed component. !ask is a .send whose failure the plan handles.
++!ask(R, Performative, Content) <- .send(R, Performative, Content).
+-!ask(R, Performative, Content)[error(ia_failed), error_msg(Why)]
+   <- .print("cannot reach ", R, ": ", Why);
+      !giveUp(Why).
+
+// HOSTS: Helper's answer may never come (its link, or ours, down while it answered): 90 s
+// after asking for help without a diagnosis, it ends unknown with that reason. (!! : the
+// wait runs beside the plan that added reason(R), which goes on to ask for help.)
++reason(_) <- !!awaitHelp.
++!awaitHelp
+   <- .wait(90000);
+      !giveUp("no answer from a helper within 90 s").
+
++!giveUp(Why)
+   : not diagnosis(_)
+   <- .print("the fault is unknown: ", Why);
+      +unknownBecause(Why);
+      -+diagnosis(unknown).                                   // ADDED: outcome belief
++!giveUp(_).
 
 // FIX(F3) (all feedback plans): the prints used the unbound variable Helper; it is R.
 // FIX(F4) (noise): a real Kinect never reports exactly the same angle and depth twice, so the

@@ -1,5 +1,7 @@
 // Agent helper: thesis (Morais 2015) Appendix A.2, with ONLY the fixes documented in
 // docs/thesis-fixes.md of the rason repository. Every change is marked "FIX(Fn):", Fn its entry.
+// Added for robots on their own machines (not a thesis fix): handling of a .send to an
+// unreachable requester (README, "Link faults"). Marked "HOSTS:".
 
 /* Initial beliefs and rules */
 turnRate(5).
@@ -24,6 +26,10 @@ centerThreshold(7).
    <- .print("Turned ", Turned, " degrees without finding ", Robot, ", giving up");
       .fail(not_found(Robot)).
 
+// HOSTS: R unreachable (see the HOSTS plans below): stop helping it, nothing to tell it.
+-!helpme[source(R), error(ia_failed), error_msg(Why)]
+   <- .print("cannot reach ", R, ": ", Why);
+      -helping(R).
 -!helpme[source(R)]                                           // FIX(F6): see above
    <- .print("could not find ", R);
       -helping(R);
@@ -63,6 +69,18 @@ centerThreshold(7).
    & robot(R, Deg1, Depth1, Yaw1)
    <- .print("reporting to ", R, " -> ", Deg, " ", Depth, " ", Yaw, " / ", Deg1, " ", Depth1, " ", Yaw1);
       .send(R, achieve, feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))).
+
+// HOSTS (robots on their own machines): a .send to R fails with error(ia_failed) and the
+// reason in error_msg while R's presence has lapsed (its link is down). Helper stops helping R
+// and says why; R ends its diagnosis unknown when no answer comes. (-!helpme: above.)
+-!trackMe[source(R), error(ia_failed), error_msg(Why)]
+   <- .print("cannot reach ", R, ": ", Why);
+      -helping(R);
+      -foundRobot(R, _, _, _).
+-!giveFeedback[source(R), error(ia_failed), error_msg(Why)]
+   <- .print("cannot reach ", R, ": ", Why);
+      -helping(R);
+      -foundRobot(R, _, _, _).
 
 +!thanks[source(R)]
    : helping(R)

@@ -15,7 +15,15 @@ import time
 from pathlib import Path
 
 from rason_diagnosis import thesis
+from rason_diagnosis.hosts import LinkCut
 from rason_diagnosis.scenario import FAULTS, default_fault, run_scenario
+
+
+def _link_cut(text: str) -> LinkCut:
+    try:
+        return LinkCut.parse(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -32,6 +40,13 @@ def main(argv: list[str] | None = None) -> int:
                         help="watch the run in the mind inspector (web page; default: on)")
     parser.add_argument("--inspector-port", type=int, default=3272,
                         help="the inspector's port on 127.0.0.1 (0: any free port)")
+    parser.add_argument("--hosts", action="store_true",
+                        help="world, helper and faulty on hosts of their own (network namespaces "
+                             "on a private LAN, as two TurtleBots and a workstation; needs root)")
+    parser.add_argument("--cut", type=_link_cut, action="append", default=[],
+                        metavar="HOST@Ts+Ds", help="take HOST's link down T simulated "
+                        "seconds after the agents start, for D seconds, e.g. faulty@8s+5s "
+                        "(implies --hosts; repeatable)")
     args = parser.parse_args(argv)
 
     seed = args.seed if args.seed is not None else int(time.time()) % 100000
@@ -40,7 +55,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"[demo] fault {fault}, seed {seed}; output in {out}", flush=True)
     result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,
                           sim_timeout=args.timeout,
-                          inspector_port=args.inspector_port if args.inspector else None)
+                          inspector_port=args.inspector_port if args.inspector else None,
+                          hosts=args.hosts, cuts=args.cut)
 
     print("\n[demo] ---------------- result ----------------")
     print(f"[demo] injected fault : {fault}")
@@ -57,12 +73,27 @@ def main(argv: list[str] | None = None) -> int:
     print(f"[demo] wall-clock     : {result.wall_s:.1f} s")
     if result.error:
         print(f"[demo] error          : {result.error}")
+    if result.hosts:
+        _print_network(result)
     print(f"[demo] picture        : {out / 'run.png'}")
     if args.record:
         print(f"[demo] bag            : {out / 'run.bag'}  (rosbag play it against a roscore)")
     if args.json:
         print(result.to_json())
     return 0 if result.correct else 1
+
+
+def _print_network(result) -> None:
+    """--hosts: link events and what each agent noticed of the others' presence."""
+    for event in result.link_events:
+        print(f"[demo] link           : {event['t']:6.2f} s {event['host']} "
+              f"{'up' if event['up'] else 'DOWN'}")
+    for event in result.presence:
+        print(f"[demo] presence       : {event['t']:6.2f} s {event['observer']} sees "
+              f"{event['agent']} {'present' if event['present'] else 'lapsed'}")
+    if result.unknown_reason:
+        print(f"[demo] unknown because: {result.unknown_reason}")
+    print(f"[demo] processes died : {', '.join(result.dead) or 'none'}")
 
 
 if __name__ == "__main__":

@@ -15,6 +15,7 @@ import statistics
 import subprocess
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
@@ -31,18 +32,23 @@ FIELDS = ("fault", "seed", "diagnosis", "expected", "correct", "detection_s", "l
 STEP_FIELDS = ("detection_s", "location_s", "diagnosis_s")
 
 
-def run_one(fault: str, seed: int, out: Path) -> dict:
-    """One demo run in its own process; its result.json as a dict."""
+def run_one(fault: str, seed: int, out: Path, extra: Sequence[str] = ()) -> dict:
+    """One demo run in its own process (``extra``: more demo options, e.g. --hosts); its
+    result.json as a dict."""
     run_dir = out / "runs" / f"{fault}-{seed}"
     cmd = [sys.executable, "-m", "rason_diagnosis", "--fault", fault, "--seed", str(seed), "--quiet",
-           "--out", str(run_dir)]
+           "--out", str(run_dir), *extra]
     with open(out / "runs" / f"{fault}-{seed}.log", "w") as log:
         demo = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT)
         try:
             demo.wait(timeout=900)
         except subprocess.TimeoutExpired:
-            demo.kill()
-            demo.wait()
+            demo.terminate()          # SIGTERM: the demo stops its nodes (and --hosts namespaces)
+            try:
+                demo.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                demo.kill()
+                demo.wait()
     try:
         result = json.loads((run_dir / "result.json").read_text())
     except (OSError, ValueError):
@@ -160,6 +166,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=Path("out") / "campaign")
     parser.add_argument("--faults", nargs="+", choices=FAULTS, default=list(FAULTS))
     parser.add_argument("--first-seed", type=int, default=1)
+    parser.add_argument("--hosts", action="store_true",
+                        help="every run across hosts of its own (./run.sh demo --hosts; root)")
     args = parser.parse_args(argv)
     (args.out / "runs").mkdir(parents=True, exist_ok=True)
 
@@ -167,7 +175,7 @@ def main(argv: list[str] | None = None) -> int:
     results: list[dict] = []
     started = time.monotonic()
     for done, (fault, seed) in enumerate(jobs, 1):
-        results.append(run_one(fault, seed, args.out))
+        results.append(run_one(fault, seed, args.out, ["--hosts"] if args.hosts else []))
         progress(done, len(jobs), started, results[-1])
         with open(args.out / "runs.csv", "w", newline="") as f:
             writer = csv.DictWriter(f, FIELDS, extrasaction="ignore")

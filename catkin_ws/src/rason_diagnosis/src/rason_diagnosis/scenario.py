@@ -7,14 +7,17 @@ injected with the real service (``rosservice call``) before Faulty starts.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import random
 import re
 import time
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from rason.testing.harness import HarnessError, RosHarness
+from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
 from rason_diagnosis.paths import agent_file, world_file
 
 FAULTS = ("both_actuators", "odometry", "left_actuator", "right_actuator", "none")
@@ -50,6 +53,13 @@ class RunResult:
     out_dir: str = ""
     inspector: str = ""        # the mind inspector's address, when it watched the run
     console: list[str] = field(default_factory=list)
+    # --hosts / --cut: the hosts, the link events, what the agents noticed, processes that died
+    hosts: bool = False
+    cuts: list[str] = field(default_factory=list)
+    link_events: list[dict] = field(default_factory=list)
+    presence: list[dict] = field(default_factory=list)
+    dead: list[str] = field(default_factory=list)
+    unknown_reason: str = ""
 
     def to_json(self) -> str:
         return json.dumps(asdict(self), indent=2)
@@ -61,26 +71,35 @@ def _diff(a: float | None, b: float | None) -> float | None:
 
 def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, echo: bool = True,
                  sim_timeout: float = 300.0, real_time_factor: float = 1.0,
-                 inspector_port: int | None = None) -> RunResult:
+                 inspector_port: int | None = None, hosts: bool = False,
+                 cuts: Sequence[LinkCut] = ()) -> RunResult:
     """Run one scenario; returns its result (never raises for a failed diagnosis).
 
     With `inspector_port` (0: any free port) the mind inspector watches the run; its address is
     printed (and kept in ``result.inspector``) as soon as it listens.
+    ``hosts``: world, helper and faulty on their own network namespaces (see hosts.py);
+    ``cuts``: links taken down and up again during the run (implies ``hosts``).
     """
     if fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
     out_dir.mkdir(parents=True, exist_ok=True)
     result = RunResult(fault=fault, seed=seed, expected=expected_diagnosis(fault),
-                       out_dir=str(out_dir))
+                       out_dir=str(out_dir), hosts=hosts or bool(cuts),
+                       cuts=[str(c) for c in cuts])
     started = time.monotonic()
-    ros = RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs")
-    try:
-        with ros:
-            if inspector_port is not None:
-                result.inspector = _start_inspector(ros, inspector_port)
-            _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor)
-    except HarnessError as err:
-        result.error = str(err).splitlines()[0]
+    with contextlib.ExitStack() as stack:
+        network = stack.enter_context(CaseStudyLan()) if result.hosts else None
+        ros = RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs",
+                         master_host=network.world if network else None,
+                         placement=network.placement() if network else None)
+        try:
+            with ros:
+                if inspector_port is not None:
+                    result.inspector = _start_inspector(ros, inspector_port)
+                _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor,
+                     network, cuts)
+        except HarnessError as err:
+            result.error = str(err).splitlines()[0]
     result.wall_s = round(time.monotonic() - started, 1)
     result.correct = result.diagnosis == result.expected and not result.error
     (out_dir / "result.json").write_text(result.to_json())
@@ -88,7 +107,8 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
 
 
 def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: bool,
-         sim_timeout: float, real_time_factor: float) -> None:
+         sim_timeout: float, real_time_factor: float, network: CaseStudyLan | None = None,
+         cuts: Sequence[LinkCut] = ()) -> None:
     import rospy  # the demo process joins the run as an observer
 
     from rason_diagnosis.monitor import RunMonitor
@@ -128,6 +148,10 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
 
     ros.wait_for_service("/faulty/jason/faulty/mind", watch=agents.values())
     mind = rospy.ServiceProxy("/faulty/jason/faulty/mind", Mind)
+    cutter = (LinkCutter(network.lan, cuts, rospy.get_time, start=rospy.get_time())
+              if network and cuts else None)
+    if cutter:
+        cutter.start()
     deadline = rospy.get_time() + sim_timeout
     while rospy.get_time() < deadline:
         watched = {**agents, "sim": sim}
@@ -143,6 +167,8 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         time.sleep(0.25)
     else:
         result.error = f"no diagnosis within {sim_timeout:g} simulated seconds"
+    if result.hosts:
+        _network_outcome(ros, result, agents, mind, cutter)
 
     t = monitor.times
     result.detection_s = _diff(t.move_start, t.help_request)
@@ -175,6 +201,32 @@ def _start_inspector(ros: RosHarness, port: int) -> str:
 
 
 DIAGNOSIS = re.compile(r"diagnosis\((\w+)\)")
+UNKNOWN_BECAUSE = re.compile(r'unknownBecause\("?(.*?)"?\)(?:\[|$)')
+
+
+def _network_outcome(ros: RosHarness, result: RunResult, agents: dict, mind,
+                     cutter: LinkCutter | None) -> None:
+    """--hosts: restore cut links, then record link events, what the agents noticed about each
+    other's presence, the processes that died, and why a diagnosis is unknown."""
+    import rospy
+
+    if cutter:
+        cutter.finish()
+        result.link_events = [asdict(e) for e in cutter.events]
+        if cutter.errors:
+            result.error = result.error or f"link cut failed: {cutter.errors[0]}"
+    result.presence = [e.as_dict() for robot, proc in agents.items()
+                       for e in presence_events(robot, proc.lines())]
+    result.dead = [p.name for p in ros.processes if not p.alive()]
+    if result.dead:
+        result.error = result.error or f"processes died: {', '.join(result.dead)}"
+    if result.diagnosis == "unknown":
+        try:
+            beliefs = mind().beliefs
+        except (rospy.ServiceException, rospy.ROSException):
+            beliefs = []
+        result.unknown_reason = next((m.group(1) for m in map(UNKNOWN_BECAUSE.match, beliefs)
+                                      if m), "")
 
 
 def _diagnosis(mind) -> str | None:

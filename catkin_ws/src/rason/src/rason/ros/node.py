@@ -305,8 +305,10 @@ class RasonNode:
         if msg.performative == PRESENCE:
             if msg.content == GOODBYE:
                 self.directory.forget(msg.sender)
+                rospy.loginfo("agent %s said goodbye: forgotten", msg.sender)
                 return
-            self.directory.heard(msg.sender, now)
+            if self.directory.heard(msg.sender, now):   # new, or back after a lapse
+                rospy.loginfo("agent %s present", msg.sender)
             if msg.content == HELLO:           # a newcomer: let it know us at once
                 for name in self.agents:
                     self._announce(name)

@@ -34,6 +34,8 @@ from typing import Any
 
 import rospy  # local: the harness itself must work without rospy importable
 
+from rason.testing.netns import Host
+
 #: The master this process's rospy node was initialised against (rospy allows only one).
 _ROSPY_MASTER: str | None = None
 
@@ -195,11 +197,20 @@ class RosHarness:
         sim_time: set ``/use_sim_time`` before any node starts (the simulator publishes /clock).
         echo: stream every process's output to stdout, each line prefixed with its name.
         log_dir: where process logs go (default: a fresh temporary folder, kept for reading).
+        master_host: run roscore on this host of a :class:`rason.testing.netns.Lan`, on port
+            11311 as on a real robot network (this process must be on the LAN too:
+            ``netns.enter``); nodes given ``host=`` then run on their own hosts, the others
+            on the master's host.
+        placement: ROS namespace -> host: ``rosrun(..., ns="/faulty")`` runs on the robot's
+            own host, as a robot's nodes run on its own computer.
     """
 
     def __init__(self, sim_time: bool = False, echo: bool = False,
-                 log_dir: str | Path | None = None):
+                 log_dir: str | Path | None = None, master_host: Host | None = None,
+                 placement: dict[str, Host] | None = None):
         self.sim_time = sim_time
+        self.master_host = master_host
+        self.placement = dict(placement or {})
         self.echo = echo
         self._own_tmp = log_dir is None
         self.log_dir = Path(log_dir) if log_dir else Path(tempfile.mkdtemp(prefix="rason-ros-"))
@@ -214,16 +225,20 @@ class RosHarness:
     # -- life cycle -------------------------------------------------------------------------
     def start(self, timeout: float = 20.0) -> RosHarness:
         """Start roscore on a free port and wait until the master answers."""
-        self.port = free_port()
-        self.master_uri = f"http://127.0.0.1:{self.port}"
+        address = self.master_host.address if self.master_host else "127.0.0.1"
+        self.port = 11311 if self.master_host else free_port()
+        self.master_uri = f"http://{address}:{self.port}"
         ros_home = self.log_dir / "ros_home"
         ros_home.mkdir(exist_ok=True)
         self.env = dict(os.environ)
-        self.env.update(ROS_MASTER_URI=self.master_uri, ROS_IP="127.0.0.1",
+        self.env.update(ROS_MASTER_URI=self.master_uri, ROS_IP=address,
                         ROS_HOME=str(ros_home), ROS_LOG_DIR=str(ros_home / "log"),
                         PYTHONUNBUFFERED="1", RASON_HARNESS_PARENT=str(os.getpid()))
         self.env.pop("ROS_HOSTNAME", None)
-        self.roscore = Process("roscore", ["roscore", "-p", str(self.port)], self.env,
+        roscore = ["roscore", "-p", str(self.port)]
+        if self.master_host:
+            roscore = self.master_host.command(roscore)
+        self.roscore = Process("roscore", roscore, self.env,
                                self.log_dir / "roscore.log", echo=False)
         deadline = time.monotonic() + timeout
         while not self._master_up():
@@ -292,8 +307,10 @@ class RosHarness:
     # -- processes ----------------------------------------------------------------------------
     def rosrun(self, package: str, executable: str, *args: str, ns: str | None = None,
                name: str | None = None, params: dict[str, object] | None = None,
-               echo: bool | str | None = None, cwd: str | Path | None = None) -> Process:
-        """Start ``rosrun package executable args...`` (``__ns:=ns``, ``__name:=name``, ``_k:=v``)."""
+               echo: bool | str | None = None, cwd: str | Path | None = None,
+               host: Host | None = None) -> Process:
+        """Start ``rosrun package executable args...`` (``__ns:=ns``, ``__name:=name``, ``_k:=v``)
+        on ``host`` (a namespace of a Lan) or on this machine."""
         argv = ["rosrun", package, executable, *args]
         if ns:
             argv.append(f"__ns:={ns}")
@@ -302,12 +319,20 @@ class RosHarness:
         for key, value in (params or {}).items():
             argv.append(f"_{key}:={_param_text(value)}")
         label = f"{(ns or '').strip('/')}/{name or executable}".strip("/")
-        return self.run(argv, label=label, echo=echo, cwd=cwd)
+        if host is None and ns:
+            host = self.placement.get("/" + ns.strip("/"))
+        return self.run(argv, label=label, echo=echo, cwd=cwd, host=host)
 
     def run(self, argv: Sequence[str], label: str | None = None, echo: bool | str | None = None,
-            cwd: str | Path | None = None, env: dict[str, str] | None = None) -> Process:
-        """Start any command against this master (e.g. ``rosbag play``), managed like a node."""
+            cwd: str | Path | None = None, env: dict[str, str] | None = None,
+            host: Host | None = None) -> Process:
+        """Start any command against this master (e.g. ``rosbag play``), managed like a node;
+        on ``host`` it runs in that host's namespace with the host's ``ROS_IP``."""
         label = label or Path(argv[0]).name
+        host = host or self.master_host
+        if host is not None:
+            argv = host.command(argv)
+            env = {**(env or {}), **host.env(self.master_uri)}
         count = self._names.get(label, 0)
         self._names[label] = count + 1
         log_name = re.sub(r"[^\w.-]+", "_", label) + (f".{count}" if count else "") + ".log"
@@ -316,9 +341,13 @@ class RosHarness:
         self.processes.append(proc)
         return proc
 
-    def check_output(self, argv: Sequence[str], timeout: float = 30.0) -> str:
+    def check_output(self, argv: Sequence[str], timeout: float = 30.0,
+                     host: Host | None = None) -> str:
         """Run a ROS command-line tool (rostopic, rosservice...) to completion; return stdout."""
-        done = subprocess.run(list(argv), env=self.env, capture_output=True, text=True,
+        env, host = self.env, host or self.master_host
+        if host is not None:
+            argv, env = host.command(argv), {**env, **host.env(self.master_uri)}
+        done = subprocess.run(list(argv), env=env, capture_output=True, text=True,
                               timeout=timeout, start_new_session=True)
         if done.returncode != 0:
             raise HarnessError(f"{' '.join(argv)} failed ({done.returncode}):\n"

@@ -1,0 +1,331 @@
+#!/usr/bin/env python3
+"""Fleet scale: N robot hosts on one LAN, every agent broadcasting (needs root: ip netns).
+
+For each N (default 1, 5, 10, 20) a fresh LAN of network namespaces (``rason.testing.netns``,
+the README's firewall on every host): a ``master`` host with ``roscore``, and N robot hosts
+``r1..rN``, each with ``rosrun rason agent rK``, ``rosrun rason echo_decomposer`` and a 20 Hz
+perception stream (``rostopic pub -r 20``), all in the robot's namespace ``/rK``. Every agent
+broadcasts ``ping(Seq, T)`` twice a second (``T``: ``.nano_time``, and all namespaces share one
+kernel clock, so one-way latency is exact) and performs a ``move`` on its decomposer; every agent
+prints the latency of every ping it receives. Measured:
+
+* message latency p50/p99 between hosts (agent broadcast -> another host's agent's plan runs);
+* presence convergence: a host joins (its agent starts: until every other agent logged it
+  ``present``), leaves (SIGINT: it says goodbye; until every agent forgot it) and vanishes (its
+  link cut: until every agent forgot it; bounded below by ``~presence_timeout``, 3.5 s);
+* CPU per agent (% of one core, over the measuring window) and the master's load (rosmaster's
+  CPU over the window and over the fleet's start, and its number of registered nodes).
+
+Prints a table, writes ``docs/fleet/fleet.csv`` and ``docs/fleet/fleet.png`` (each figure
+against N). Aim: p99 under 20 ms at N = 20 on 2 cores; presence converging within two presence
+periods (join and leave; a vanished host is forgotten after the timeout plus at most a period).
+
+    ./run.sh bench fleet [--sizes 1 5 10 20] [--window 30]
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import re
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+from rason.testing import netns
+from rason.testing.harness import Process, RosHarness
+
+ROOT = Path(__file__).resolve().parent.parent
+PRESENCE_PERIOD = 1.0
+PRESENCE_TIMEOUT = 3.5
+PING_PERIOD_MS = 500
+
+AGENT = """
+!start.
++!start <- .wait(__WARMUP__); !loop(0).
++!loop(I) : I < __COUNT__
+   <- .nano_time(T); .broadcast(tell, ping(I, T)); move(I); .wait(__PERIOD__); !loop(I + 1).
++!loop(_) <- .print("done").
++ping(I, T)[source(S)]
+   <- .nano_time(Now); .print("lat ", S, " ", (Now - T) / 1000000); -ping(I, T)[source(S)].
+"""
+LATENCY = re.compile(r"\] lat (\w+) ([\d.eE+-]+)$")
+# rospy log: "[INFO] [WALL]: agent r3 present" ("[WALL, ROS]" under sim time)
+LOG = re.compile(r"\[INFO\] \[([\d.]+)(?:, [\d.]+)?\]: (.*)$")
+
+
+@dataclass
+class FleetResult:
+    """One fleet size's figures (ms, s, % of one core)."""
+
+    n: int
+    messages: int
+    p50_ms: float
+    p99_ms: float
+    max_ms: float
+    join_s: float
+    leave_s: float
+    vanish_s: float
+    cpu_agent_pct: float
+    cpu_master_pct: float
+    master_start_cpu_s: float
+    nodes: int
+
+
+def percentile(values: list[float], q: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, round(q / 100 * (len(ordered) - 1)))] if ordered else 0.0
+
+
+def cpu_seconds(pid: int) -> float:
+    """utime + stime of a process, in seconds."""
+    with open(f"/proc/{pid}/stat") as f:
+        parts = f.read().rsplit(")", 1)[1].split()
+    return (int(parts[11]) + int(parts[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def rosmaster_pid(roscore: Process) -> int:
+    """The rosmaster process roscore started (its child)."""
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit():
+            continue
+        try:
+            with open(f"/proc/{pid}/cmdline", "rb") as f:
+                cmd = f.read().split(b"\0")
+            with open(f"/proc/{pid}/stat") as f:
+                ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+        except OSError:
+            continue
+        if ppid == roscore.pid and any(b"rosmaster" in part for part in cmd):
+            return int(pid)
+    raise RuntimeError("rosmaster not found under roscore")
+
+
+def log_times(proc: Process, text: str) -> list[float]:
+    """Wall times of the log lines of ``proc`` that contain ``text``."""
+    times = []
+    for line in proc.lines():
+        match = LOG.search(line)
+        if match and text in match.group(2):
+            times.append(float(match.group(1)))
+    return times
+
+
+def wait_all(agents: dict[str, Process], text: str, since: float, timeout: float) -> float:
+    """Wall time at which the last of ``agents`` logged ``text`` after ``since``."""
+    deadline = time.monotonic() + timeout
+    while True:
+        last = [max((t for t in log_times(p, text) if t >= since), default=None)
+                for p in agents.values()]
+        if all(t is not None for t in last):
+            return max(last)
+        if time.monotonic() > deadline:
+            missing = [n for n, t in zip(agents, last, strict=True) if t is None]
+            raise RuntimeError(f"{missing} never logged {text!r}")
+        time.sleep(0.1)
+
+
+def wait_known(agents: dict[str, Process], timeout: float) -> None:
+    """Wait until every agent has logged every other one ``present``."""
+    deadline = time.monotonic() + timeout
+    while True:
+        missing = {}
+        for name, proc in agents.items():
+            seen = {m.group(1) for line in proc.lines()
+                    if (m := re.search(r"agent (\w+) present", line))}
+            if set(agents) - {name} - seen:
+                missing[name] = sorted(set(agents) - {name} - seen)
+        if not missing:
+            return
+        if time.monotonic() > deadline:
+            raise RuntimeError(f"presence never converged: {missing}")
+        time.sleep(0.2)
+
+
+def start_robot(ros: RosHarness, host: netns.Host, asl: Path) -> Process:
+    ns = f"/{host.name}"
+    ros.rosrun("rason", "echo_decomposer", ns=ns, host=host)
+    ros.run(["rostopic", "pub", "-r", "20", f"{ns}/jason/perception", "jason_msgs/Perception",
+             "{source: camera, perception: ['battery(90)', 'seen(dock, 1.5)']}"],
+            label=f"{host.name}/perception", host=host)
+    return ros.rosrun("rason", "agent", host.name, str(asl), ns=ns, host=host,
+                      params={"presence_period": PRESENCE_PERIOD,
+                              "presence_timeout": PRESENCE_TIMEOUT})
+
+
+def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
+    """One fleet of ``n`` robot hosts (plus a joining one); its figures."""
+    robots = [f"r{i}" for i in range(1, n + 1)]
+    asl = tmp / "fleet.asl"
+    asl.write_text(AGENT.replace("__WARMUP__", "1000").replace("__COUNT__", "100000")
+                   .replace("__PERIOD__", str(PING_PERIOD_MS)))
+    lan = netns.Lan(["master", *robots], firewall=True)
+    with lan:
+        netns.enter(lan.host("master"))
+        with RosHarness(master_host=lan.host("master"), log_dir=tmp / f"logs-{n}") as ros:
+            master = rosmaster_pid(ros.roscore)
+            master_cpu0 = cpu_seconds(master)
+            agents = {r: start_robot(ros, lan.host(r), asl) for r in robots}
+            for r in robots:
+                ros.wait_for_node(f"/{r}/jason/{r}", timeout=120 + 5 * n,
+                                  watch=agents.values())
+            # every agent knows every other one: the fleet is up
+            wait_known(agents, 60 + 3 * n)
+            master_start_cpu = cpu_seconds(master) - master_cpu0
+            time.sleep(3)
+
+            # -- steady state: latency, CPU ---------------------------------------------------
+            marks = {r: len(p.lines()) for r, p in agents.items()}
+            cpu0 = {r: cpu_seconds(p.pid) for r, p in agents.items()}
+            m0, t0 = cpu_seconds(master), time.monotonic()
+            time.sleep(window)
+            elapsed = time.monotonic() - t0
+            cpu_agent = statistics.fmean((cpu_seconds(p.pid) - cpu0[r]) / elapsed * 100
+                                         for r, p in agents.items())
+            cpu_master = (cpu_seconds(master) - m0) / elapsed * 100
+            latencies = [float(m.group(2)) for r, p in agents.items()
+                         for line in p.lines()[marks[r]:] if (m := LATENCY.search(line))]
+            nodes = len(ros.nodes())
+
+            # -- presence: a host joins, leaves (goodbye), joins again and vanishes --------------
+            newcomer = netns.Host("rnew", f"{netns.PREFIX}-{lan.owner}-rnew",
+                                  f"{lan.subnet}.{n + 2}")
+            lan.add(newcomer)
+            started = time.time()
+            joining = start_robot(ros, newcomer, asl)
+            joining.wait_for_line(r"hosting rnew", timeout=120)
+            hosted = log_times(joining, "hosting rnew")[0]
+            # 0 when the others heard the newcomer before it logged that it is up
+            join = max(0.0, wait_all(agents, "agent rnew present", started, 30) - hosted)
+            mark = len(ros.processes) - 3
+            joining.signal_group(signal.SIGINT)
+            left = time.time()
+            leave = wait_all(agents, "agent rnew said goodbye", left, 30) - left
+            ros.stop_started_since(mark)
+
+            again = start_robot(ros, newcomer, asl)
+            again.wait_for_line(r"hosting rnew", timeout=120)
+            rejoined = log_times(again, "hosting rnew")[0]
+            wait_all(agents, "agent rnew present", rejoined - 0.5, 30)
+            time.sleep(2)
+            lan.cut("rnew")
+            cut = time.time()
+            vanish = wait_all(agents, "agent rnew not heard", cut, 30) - cut
+            lan.restore("rnew")
+    return FleetResult(
+        n=n, messages=len(latencies), p50_ms=round(percentile(latencies, 50), 2),
+        p99_ms=round(percentile(latencies, 99), 2), max_ms=round(max(latencies, default=0), 2),
+        join_s=round(join, 2), leave_s=round(leave, 2), vanish_s=round(vanish, 2),
+        cpu_agent_pct=round(cpu_agent, 1), cpu_master_pct=round(cpu_master, 1),
+        master_start_cpu_s=round(master_start_cpu, 2), nodes=nodes)
+
+
+def table(results: list[FleetResult]) -> str:
+    lines = ["| N robots | messages | latency p50 | p99 | max | join | leave (goodbye) | "
+             "vanish (link cut) | CPU per agent | rosmaster CPU | rosmaster CPU for the start | "
+             "nodes |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in results:
+        lines.append(f"| {r.n} | {r.messages} | {r.p50_ms:.2f} ms | {r.p99_ms:.2f} ms | "
+                     f"{r.max_ms:.1f} ms | {r.join_s:.2f} s | {r.leave_s:.2f} s | "
+                     f"{r.vanish_s:.2f} s | {r.cpu_agent_pct:.1f}% | {r.cpu_master_pct:.1f}% | "
+                     f"{r.master_start_cpu_s:.2f} s | {r.nodes} |")
+    return "\n".join(lines)
+
+
+def plot(results: list[FleetResult], path: Path) -> None:
+    ns = [r.n for r in results]
+    fig, axes = plt.subplots(1, 4, figsize=(17, 4))
+    ax = axes[0]
+    ax.plot(ns, [r.p50_ms for r in results], "o-", label="p50")
+    ax.plot(ns, [r.p99_ms for r in results], "s-", label="p99")
+    ax.axhline(20, ls="--", color="k", label="aim: p99 < 20 ms")
+    ax.set_title("message latency between hosts")
+    ax.set_ylabel("ms")
+    ax = axes[1]
+    ax.plot(ns, [r.join_s for r in results], "o-", label="join")
+    ax.plot(ns, [r.leave_s for r in results], "s-", label="leave (goodbye)")
+    ax.plot(ns, [r.vanish_s for r in results], "^-", label="vanish (link cut)")
+    ax.axhline(2 * PRESENCE_PERIOD, ls="--", color="k", label="two presence periods")
+    ax.axhline(PRESENCE_TIMEOUT, ls=":", color="grey", label="presence timeout")
+    ax.set_title("presence convergence")
+    ax.set_ylabel("s")
+    ax = axes[2]
+    ax.plot(ns, [r.cpu_agent_pct for r in results], "o-")
+    ax.set_title("CPU per agent")
+    ax.set_ylabel("% of one core")
+    ax = axes[3]
+    ax.plot(ns, [r.cpu_master_pct for r in results], "o-", label="steady")
+    ax.set_title("rosmaster CPU (steady state)")
+    ax.set_ylabel("% of one core")
+    for ax in axes:
+        ax.set_xlabel("robot hosts N")
+        ax.grid(alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[1, 5, 10, 20])
+    parser.add_argument("--window", type=float, default=30.0, help="seconds of steady state")
+    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "fleet")
+    args = parser.parse_args()
+    if os.geteuid() != 0:
+        print("fleet needs root (network namespaces)", file=sys.stderr)
+        return 2
+    # Each size runs in a child process: a process can enter a namespace only once usefully,
+    # and each fleet needs a fresh LAN.
+    if os.environ.get("RASON_FLEET_ONE"):
+        with tempfile.TemporaryDirectory() as tmp:
+            result = run_fleet(int(os.environ["RASON_FLEET_ONE"]), args.window, Path(tmp))
+        print("RESULT " + ",".join(str(v) for v in asdict(result).values()), flush=True)
+        return 0
+    args.out.mkdir(parents=True, exist_ok=True)
+    results = []
+    for n in args.sizes:
+        print(f"[fleet] N = {n} ...", flush=True)
+        done = subprocess.run([sys.executable, __file__, "--window", str(args.window)],
+                              env={**os.environ, "RASON_FLEET_ONE": str(n)},
+                              capture_output=True, text=True, timeout=1800)
+        line = next((x for x in done.stdout.splitlines() if x.startswith("RESULT ")), None)
+        if done.returncode != 0 or line is None:
+            print(done.stdout[-3000:], done.stderr[-3000:], file=sys.stderr)
+            return 1
+        values = line[len("RESULT "):].split(",")
+        results.append(FleetResult(*(int(v) if f.type == "int" else float(v)
+                                     for f, v in zip(fields(FleetResult), values, strict=True))))
+        print(table(results[-1:]).splitlines()[-1], flush=True)
+    with open(args.out / "fleet.csv", "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow([f.name for f in fields(FleetResult)])
+        writer.writerows([list(asdict(r).values()) for r in results])
+    plot(results, args.out / "fleet.png")
+    print(f"\nfleet of N robot hosts (this machine: {os.cpu_count()} cores)\n")
+    print(table(results))
+    last = results[-1]
+    print(f"\naim p99 < 20 ms at N = {last.n}: {'PASS' if last.p99_ms < 20 else 'FAIL'} "
+          f"({last.p99_ms:.2f} ms); presence within two periods ({2 * PRESENCE_PERIOD:g} s): "
+          f"join {'PASS' if last.join_s <= 2 * PRESENCE_PERIOD else 'FAIL'}, leave "
+          f"{'PASS' if last.leave_s <= 2 * PRESENCE_PERIOD else 'FAIL'}; vanish "
+          f"{last.vanish_s:.2f} s = timeout {PRESENCE_TIMEOUT:g} s + "
+          f"{last.vanish_s - PRESENCE_TIMEOUT:.2f} s")
+    print(f"wrote {args.out / 'fleet.csv'} and {args.out / 'fleet.png'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
