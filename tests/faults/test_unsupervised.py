@@ -40,7 +40,7 @@ robots:
 #: The bound the issue sets between an agent's cancel and the robot's stop command.
 CANCEL_BOUND = 0.1
 PRESENCE_TIMEOUT = 3.5     # the decomposer's default ~presence_timeout
-ODOM_TIMEOUT = 0.5         # the motion decomposer's default ~odom_timeout
+ODOM_TIMEOUT = 1.0         # the motion decomposer's default ~odom_timeout
 TICK = 0.05                # its watchdog period (20 Hz)
 
 

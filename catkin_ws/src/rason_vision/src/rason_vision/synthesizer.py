@@ -10,14 +10,8 @@ publishes a ``jason_msgs/Perception`` on ``jason/perception`` with source
 ``<node_name>_robot`` and the complete current list: ``["robot(faulty,Angle,Depth,Yaw)"]`` or
 ``[]`` (thesis 5.4). Conventions of Angle/Depth/Yaw: :mod:`rason_vision.geometry`.
 
-Private parameters (defaults in brackets):
-``~robot_name`` [faulty], ``~green_lower``/``~green_upper`` [[40,90,40]/[85,255,255]],
-``~orange_lower``/``~orange_upper`` [[5,130,60]/[22,255,255]] (OpenCV HSV),
-``~spacing`` [0.227], ``~tolerance_low``/``~tolerance_high`` [0.007/0.023] (pairs within
-``[spacing - low, spacing + high]`` = [0.22, 0.25] m), ``~radius`` [0.03],
-``~max_pixels`` [4194304]: larger frames are refused. ``~slop``, ``~queue_size``,
-``~buff_size``, ``~source``, ``~timing``, ``~perception_ttl`` [0.5 s, about 7 frame periods of
-the 15 Hz Kinect]: as every synthesizer (:mod:`rason.execution.synthesizer`).
+Private parameters: :class:`RobotParams` (``rosrun rason_vision robot_synthesizer --help``
+prints them), those of every synthesizer (:mod:`rason.execution.synthesizer`) included.
 
 Bad frames (empty, truncated, huge, image and cloud of different sizes, a cloud with no valid
 depth at all) are rejected with a rate-limited warning and publish nothing; the node carries on.
@@ -26,34 +20,61 @@ depth at all) are rejected with a rate-limited warning and publish nothing; the 
 from __future__ import annotations
 
 import sys
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from sensor_msgs.msg import Image, PointCloud2
 
-from rason.execution.synthesizer import BadFrame, Synthesizer, run
+from rason.execution.synthesizer import BadFrame, Synthesizer, SynthesizerParams, run
+from rason.ros.params import param
 from rason_vision.convert import MAX_PIXELS, cloud_to_xyz, image_to_rgb
 from rason_vision.detector import DetectorConfig, HsvRange, detect
 from rason_vision.geometry import format_literal
 
+_BASE = DetectorConfig()
 
-def config_from_params(get: Any) -> DetectorConfig:
-    """A DetectorConfig from private parameters; ``get(name, default)`` is rospy.get_param."""
-    base = DetectorConfig()
 
-    def hsv(name: str, default: tuple[int, int, int]) -> tuple[int, int, int]:
-        value = get(f"~{name}", list(default))
-        return (int(value[0]), int(value[1]), int(value[2]))
+@dataclass(frozen=True)
+class RobotParams(SynthesizerParams):
+    """The robot synthesizer's private parameters (HSV as OpenCV's: H 0-179, S and V 0-255)."""
 
-    spacing = float(get("~spacing", base.spacing))
-    low = float(get("~tolerance_low", round(base.spacing - base.min_spacing, 6)))
-    high = float(get("~tolerance_high", round(base.max_spacing - base.spacing, 6)))
+    robot_name: str = param("faulty", "the observed robot's name in robot(Name, ...)")
+    green_lower: list[str] = param(list(_BASE.green.lower), "HSV lower bound of green")
+    green_upper: list[str] = param(list(_BASE.green.upper), "HSV upper bound of green")
+    orange_lower: list[str] = param(list(_BASE.orange.lower), "HSV lower bound of orange")
+    orange_upper: list[str] = param(list(_BASE.orange.upper), "HSV upper bound of orange")
+    spacing: float = param(_BASE.spacing, "distance of the cylinders' axes (m)", minimum=0.01)
+    tolerance_low: float = param(round(_BASE.spacing - _BASE.min_spacing, 6),
+                                 "pairs closer than spacing minus this are not Faulty (m)",
+                                 minimum=0.0)
+    tolerance_high: float = param(round(_BASE.max_spacing - _BASE.spacing, 6),
+                                  "pairs farther than spacing plus this are not Faulty (m)",
+                                  minimum=0.0)
+    radius: float = param(_BASE.radius, "cylinder radius (m)", minimum=0.001)
+    max_pixels: int = param(MAX_PIXELS, "larger frames are refused", minimum=1)
+    perception_ttl: float = param(0.5, "s the robot(...) percept stays valid after the last "
+                                  "frame: about 7 periods of the 15 Hz Kinect", minimum=0.0)
+
+
+def _hsv(name: str, value: list[str]) -> tuple[int, int, int]:
+    try:
+        h, s, v = (int(float(x)) for x in value)
+    except ValueError:
+        raise ValueError(f"~{name}: expected three numbers H, S, V, got {value}") from None
+    if not (0 <= h <= 179 and 0 <= s <= 255 and 0 <= v <= 255):
+        raise ValueError(f"~{name}: H must be in 0-179, S and V in 0-255, got {value}")
+    return (h, s, v)
+
+
+def config_from_params(p: RobotParams) -> DetectorConfig:
+    """The detector's configuration from the node's parameters (ValueError if inconsistent)."""
     return DetectorConfig(
-        green=HsvRange(hsv("green_lower", base.green.lower), hsv("green_upper", base.green.upper)),
-        orange=HsvRange(hsv("orange_lower", base.orange.lower),
-                        hsv("orange_upper", base.orange.upper)),
-        spacing=spacing, min_spacing=spacing - low, max_spacing=spacing + high,
-        radius=float(get("~radius", base.radius)))
+        green=HsvRange(_hsv("green_lower", p.green_lower), _hsv("green_upper", p.green_upper)),
+        orange=HsvRange(_hsv("orange_lower", p.orange_lower),
+                        _hsv("orange_upper", p.orange_upper)),
+        spacing=p.spacing, min_spacing=p.spacing - p.tolerance_low,
+        max_spacing=p.spacing + p.tolerance_high, radius=p.radius)
 
 
 class RobotSynthesizer(Synthesizer):
@@ -61,15 +82,12 @@ class RobotSynthesizer(Synthesizer):
 
     inputs = (("camera/rgb/image_raw", Image), ("camera/depth_registered/points", PointCloud2))
     source_suffix = "_robot"
-    #: About 7 frame periods of the 15 Hz Kinect: a camera silent that long is gone.
-    perception_ttl = 0.5
+    Params = RobotParams
 
     def setup(self) -> None:
-        import rospy
-
-        self.config = config_from_params(rospy.get_param)
-        self.robot_name = str(rospy.get_param("~robot_name", "faulty"))
-        self.max_pixels = int(rospy.get_param("~max_pixels", MAX_PIXELS))
+        self.config = config_from_params(self.params)
+        self.robot_name: str = self.params.robot_name
+        self.max_pixels: int = self.params.max_pixels
 
     def perceive(self, image_msg: Any, cloud_msg: Any) -> list[str]:
         """The complete perception list for one frame pair."""
@@ -88,4 +106,5 @@ class RobotSynthesizer(Synthesizer):
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``rosrun rason_vision robot_synthesizer``."""
-    return run(RobotSynthesizer, "robot_synthesizer", argv if argv is not None else sys.argv)
+    return run(RobotSynthesizer, "robot_synthesizer", argv if argv is not None else sys.argv,
+               usage="rosrun rason_vision robot_synthesizer [__ns:=/helper] [_name:=value ...]")

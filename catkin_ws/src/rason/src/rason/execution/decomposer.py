@@ -43,16 +43,18 @@ What the base does (names relative, so ``__ns:=/robot`` puts it under the robot)
 
 Every callback is exception-safe (:mod:`rason.ros.guard`); one re-entrant lock,
 :attr:`Decomposer.lock`, is held around all of them, including the ones registered with
-:meth:`Decomposer.subscribe`. Private parameters: ``~agents`` ([] = all), ``~timeout``
-(class attribute ``timeout``, 0 = none), ``~presence_timeout`` (3.5, 0 = not supervised),
-``~watchdog_rate`` (class attribute ``rate``, 20 Hz).
+:meth:`Decomposer.subscribe`. Private parameters: :class:`DecomposerParams` (``--help`` prints
+them); a decomposer with parameters of its own declares a subclass of it as ``Params`` and
+reads them as ``self.params``.
 """
 
 from __future__ import annotations
 
+import sys
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, ClassVar
 
 import rospy
@@ -70,12 +72,27 @@ from rason.execution.results import (
 from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
 from rason.ros.guard import RateLimitedWarnings, clip, guarded
 from rason.ros.master_watch import watch_master
+from rason.ros.params import exit_on_help, load_or_exit, param
 from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE
 
-__all__ = ["OK", "Decomposer", "Goal", "Verdict", "run"]
+__all__ = ["OK", "Decomposer", "DecomposerParams", "Goal", "Verdict", "run"]
 
 #: Every action of an agent (ActionCancel.action_id).
 ALL_ACTIONS = -1
+
+
+@dataclass(frozen=True)
+class DecomposerParams:
+    """The private parameters every decomposer has."""
+
+    agents: list[str] = param([], "handle only these agents' actions ([] = every agent)")
+    timeout: float = param(0.0, "seconds an action may run before it ends 'timeout' (0 = no "
+                           "limit)", minimum=0.0)
+    presence_timeout: float = param(3.5, "an agent heard before and then silent this long (s) "
+                                    "has its actions stopped, 'cancelled' (0 = never)",
+                                    minimum=0.0)
+    watchdog_rate: float = param(20.0, "Hz (ROS time) of step() and of the checks above",
+                                 minimum=0.1, maximum=1000.0)
 
 
 @dataclass
@@ -109,17 +126,15 @@ class Decomposer:
     exclusive: ClassVar[bool] = True
     #: Acknowledge with ``action_accepted`` (False: a thesis-only decomposer).
     acknowledge: bool = True
-    #: Default of ``~timeout``: seconds an action may run (0 = no limit).
-    timeout: ClassVar[float] = 0.0
-    #: Default of ``~watchdog_rate``: Hz of :meth:`step` and the checks.
-    rate: ClassVar[float] = 20.0
+    #: The private parameters (a subclass of :class:`DecomposerParams`), read as ``params``.
+    Params: ClassVar[type[DecomposerParams]] = DecomposerParams
 
     def __init__(self) -> None:
         self.name = rospy.get_name().rsplit("/", 1)[-1]
-        agents = rospy.get_param("~agents", [])
-        self.agents: set[str] = {agents} if isinstance(agents, str) else set(agents)
-        self.action_timeout = float(rospy.get_param("~timeout", type(self).timeout))
-        self.presence_timeout = float(rospy.get_param("~presence_timeout", 3.5))
+        self.params: Any = load_or_exit(self.Params, self.name)
+        self.agents: set[str] = set(self.params.agents)
+        self.action_timeout: float = self.params.timeout
+        self.presence_timeout: float = self.params.presence_timeout
         self.lock = threading.RLock()
         self.warnings = RateLimitedWarnings()
         self.goals: dict[tuple[str, int], Goal] = {}
@@ -129,8 +144,8 @@ class Decomposer:
         self.subscribe("jason/action", Action, self._on_action, queue_size=100)
         self.subscribe("jason/cancel", ActionCancel, self._on_cancel, queue_size=100)
         self.subscribe(MESSAGES_TOPIC, AgentMessage, self._on_message, queue_size=200)
-        rate = float(rospy.get_param("~watchdog_rate", type(self).rate))
-        rospy.Timer(rospy.Duration(1.0 / rate), self._locked("watchdog", self._on_tick))
+        rospy.Timer(rospy.Duration(1.0 / self.params.watchdog_rate),
+                    self._locked("watchdog", self._on_tick))
         rospy.on_shutdown(self._on_shutdown)
 
     # -- to override ----------------------------------------------------------------------
@@ -280,10 +295,22 @@ class Decomposer:
                     pass
 
 
-def run(decomposer: Callable[[], Decomposer], node_name: str) -> int:
-    """``rospy.init_node(node_name)``, build the decomposer, spin; the exit status."""
-    rospy.init_node(node_name)
-    node = decomposer()
+def run(decomposer: type[Decomposer], node_name: str, argv: list[str] | None = None,
+        usage: str | None = None) -> int:
+    """``--help`` (the parameter table), or ``rospy.init_node(node_name)``, build the
+    decomposer and spin; the exit status (2 for a bad parameter)."""
+    argv = argv if argv is not None else sys.argv
+    summary = (decomposer.__doc__ or "").strip().split("\n")[0]
+    exit_on_help(argv, decomposer.Params,
+                 usage or f"{Path(argv[0]).name} [__ns:=/robot] [_name:=value ...]",
+                 f"{node_name}: {summary} (actions: {', '.join(decomposer.actions) or 'see ~actions'})")
+    rospy.init_node(node_name, argv=argv)
+    try:
+        node = decomposer()
+    except ValueError as err:            # parameters that do not fit together
+        rospy.logfatal(f"{node_name}: {err}")
+        print(f"{node_name}: {err}", file=sys.stderr)
+        return 2
     watch_master()
     rospy.loginfo(f"{node_name}: handling {', '.join(node.actions)} in namespace "
                   f"{rospy.get_namespace()}")

@@ -16,23 +16,10 @@ Topics:
     ``odom`` (nav_msgs/Odometry, in): progress and trajectory checks
         (:mod:`rason.execution.progress`).
 
-Private parameters (speeds in m/s or deg/s, accelerations per second):
-    ``~agents`` (list of str, default []: every agent) handle only these agents' actions;
-    ``~presence_timeout`` 3.5 s, ``~timeout`` 0 (none): see :mod:`rason.execution.decomposer`.
-    ``~max_distance`` 10 m, ``~max_angle`` 720 deg: larger ``|move|`` / ``|turn|`` (and
-    anything not a finite number) end ``bad_parameters`` without moving.
-    ``~linear_speed`` 0.25, ``~min_linear_speed`` 0.02, ``~linear_accel`` 0.5,
-    ``~linear_decel`` 0.3; ``~angular_speed`` 45, ``~min_angular_speed`` 4,
-    ``~angular_accel`` 90, ``~angular_decel`` 60.
-    ``~turn_clockwise`` (true): positive ``turn`` degrees turn right, as the thesis' Helper
-    expects.
-    ``~no_progress_timeout`` 1.0 s, ``~min_alignment`` 0.99, ``~min_travel`` 0.05 m.
-    ``~settle_time`` 0.3 s: after the goal, OK is reported once the odometry has been still
-    this long (at most ``~settle_timeout`` 1.0 s after the goal); 0 reports at the goal, as
-    the thesis did. Without it an agent acts on camera frames taken while the base coasts.
-    ``~odom_timeout`` 0.5 s: odometry silent this long during a motion stops the robot and
-    ends it ``no_progress``.
-    ``~watchdog_rate`` 20 Hz: how often (ROS time) a silent odometry topic is checked.
+Private parameters: :class:`MotionParams` (``rosrun rason motion_decomposer --help`` prints
+them), those of every decomposer included. With ``~settle_time`` > 0, OK is reported once the
+odometry has been still that long after the goal, so that an agent does not act on camera frames
+taken while the base coasts (0 reports at the goal, as the thesis did).
 
 Control runs on every odometry message (so it keeps pace with a simulator at any real-time
 factor); a rospy.Timer in ROS time catches odometry that stops arriving. All times are ROS
@@ -49,7 +36,7 @@ from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action
 from nav_msgs.msg import Odometry
 
-from rason.execution.decomposer import Decomposer, Goal, run
+from rason.execution.decomposer import Decomposer, DecomposerParams, Goal, run
 from rason.execution.progress import (
     MAX_ANGLE,
     MAX_DISTANCE,
@@ -64,7 +51,39 @@ from rason.execution.progress import (
     parse_target,
 )
 from rason.execution.ramp import SpeedLimits, next_speed
+from rason.ros.params import param
 from turtlebot_model.geometry import yaw_from_quaternion
+
+
+@dataclass(frozen=True)
+class MotionParams(DecomposerParams):
+    """The motion decomposer's private parameters (speeds in m/s or deg/s, accelerations per
+    second), besides those of every decomposer."""
+
+    linear_speed: float = param(0.25, "cruise speed of move (m/s)", minimum=0.001)
+    min_linear_speed: float = param(0.02, "creep speed near the goal (m/s)", minimum=0.001)
+    linear_accel: float = param(0.5, "m/s^2", minimum=0.001)
+    linear_decel: float = param(0.3, "braking to the goal (m/s^2)", minimum=0.001)
+    angular_speed: float = param(45.0, "cruise speed of turn (deg/s)", minimum=0.01)
+    min_angular_speed: float = param(4.0, "creep speed near the goal (deg/s)", minimum=0.01)
+    angular_accel: float = param(90.0, "deg/s^2", minimum=0.01)
+    angular_decel: float = param(60.0, "braking to the goal (deg/s^2)", minimum=0.01)
+    turn_clockwise: bool = param(True, "positive turn degrees turn right, as the thesis' Helper "
+                                 "expects")
+    max_distance: float = param(MAX_DISTANCE, "larger |move| (m) ends 'bad_parameters'",
+                                minimum=0.0)
+    max_angle: float = param(MAX_ANGLE, "larger |turn| (deg) ends 'bad_parameters'", minimum=0.0)
+    no_progress_timeout: float = param(1.0, "s of unchanged odometry (or none at the start) "
+                                       "before 'no_progress'", minimum=0.01)
+    min_alignment: float = param(0.99, "dot product of start->goal and start->now below which "
+                                 "a move ends 'bad_move'", minimum=-1.0, maximum=1.0)
+    min_travel: float = param(0.05, "m from the start before bad_move is checked", minimum=0.0)
+    settle_time: float = param(0.3, "s at rest after the goal before OK (0: OK at the goal)",
+                               minimum=0.0)
+    settle_timeout: float = param(1.0, "s after the goal at which OK is reported anyway",
+                                  minimum=0.0)
+    odom_timeout: float = param(1.0, "s of silent odometry during a motion before the robot "
+                                "stops, 'no_progress'", minimum=0.01)
 
 
 @dataclass
@@ -85,30 +104,20 @@ def pose_of(msg: Odometry) -> Pose2D:
 
 
 class MotionDecomposer(Decomposer):
-    """``move``/``turn`` -> ``cmd_vel``, checked against ``odom``."""
+    """move(m) and turn(deg) actions to cmd_vel, checked against odom (thesis 6.3)."""
 
     actions = (MOVE, TURN)
+    Params = MotionParams
 
     def setup(self) -> None:
-        self.linear = SpeedLimits(rospy.get_param("~linear_speed", 0.25),
-                                  rospy.get_param("~min_linear_speed", 0.02),
-                                  rospy.get_param("~linear_accel", 0.5),
-                                  rospy.get_param("~linear_decel", 0.3))
-        self.angular = SpeedLimits(*(math.radians(rospy.get_param(f"~{name}", default))
-                                     for name, default in (("angular_speed", 45.0),
-                                                           ("min_angular_speed", 4.0),
-                                                           ("angular_accel", 90.0),
-                                                           ("angular_decel", 60.0))))
-        self.turn_clockwise: bool = rospy.get_param("~turn_clockwise", True)
-        self.max_distance = float(rospy.get_param("~max_distance", MAX_DISTANCE))
-        self.max_angle = float(rospy.get_param("~max_angle", MAX_ANGLE))
+        p: MotionParams = self.params
+        self.linear = SpeedLimits(p.linear_speed, p.min_linear_speed, p.linear_accel,
+                                  p.linear_decel)
+        self.angular = SpeedLimits(*(math.radians(v) for v in (
+            p.angular_speed, p.min_angular_speed, p.angular_accel, p.angular_decel)))
         self.checks = CheckParams(
-            no_progress_timeout=rospy.get_param("~no_progress_timeout", 1.0),
-            min_alignment=rospy.get_param("~min_alignment", 0.99),
-            min_travel=rospy.get_param("~min_travel", 0.05),
-            settle_time=rospy.get_param("~settle_time", 0.3),
-            settle_timeout=rospy.get_param("~settle_timeout", 1.0))
-        self.odom_timeout = float(rospy.get_param("~odom_timeout", 0.5))
+            no_progress_timeout=p.no_progress_timeout, min_alignment=p.min_alignment,
+            min_travel=p.min_travel, settle_time=p.settle_time, settle_timeout=p.settle_timeout)
         self.pose: Pose2D | None = None
         self.odom_at = 0.0                    # ROS time (s) of the last odometry message
         self.cmd_vel = rospy.Publisher("cmd_vel", Twist, queue_size=10)
@@ -116,8 +125,8 @@ class MotionDecomposer(Decomposer):
 
     # -- the protocol's hooks ----------------------------------------------------------------
     def parse(self, action: str, parameters: list[str]) -> float:
-        return parse_target(action, parameters, self.turn_clockwise,
-                            self.max_distance, self.max_angle)
+        p: MotionParams = self.params
+        return parse_target(action, parameters, p.turn_clockwise, p.max_distance, p.max_angle)
 
     def start(self, goal: Goal) -> Verdict | None:
         goal.state = Motion(last_step=goal.started)
@@ -134,7 +143,7 @@ class MotionDecomposer(Decomposer):
                 return Verdict(NO_PROGRESS, f"no odometry on odom for {waited:.2f} s")
             return None
         silent = now - self.odom_at
-        if silent > self.odom_timeout:
+        if silent > self.params.odom_timeout:
             return Verdict(NO_PROGRESS, f"no odometry on odom for {silent:.2f} s during "
                                         f"{goal.action}")
         return motion.monitor.check(now)
@@ -195,4 +204,5 @@ class MotionDecomposer(Decomposer):
 
 
 def main() -> int:
-    return run(MotionDecomposer, "motion_decomposer")
+    return run(MotionDecomposer, "motion_decomposer",
+               usage="rosrun rason motion_decomposer [__ns:=/robot] [_name:=value ...]")

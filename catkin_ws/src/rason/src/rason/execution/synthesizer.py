@@ -28,28 +28,31 @@ What the base does (names relative, so ``__ns:=/robot`` puts them under the robo
   Percepts must be strings; check sizes before viewing message data as arrays (see
   ``rason_vision.convert``).
 
-Private parameters: ``~source`` (node name + ``source_suffix``), ``~queue_size`` (10) and
-``~buff_size`` (1048576, bytes) of the subscribers, ``~slop`` (0.05 s, several inputs only),
-``~timing`` (false: log per frame the age of its stamp at the callback, the processing time and
-the age when published), ``~perception_ttl`` (class attribute ``perception_ttl``, s; 0 = none):
-how long the source's list stays valid, declared as the parameter
-``jason/perception_ttl/<source>`` (again after a master restart), so that agents clear this
-source's percepts when no frame has been published for that long (camera unplugged, node dead).
+Private parameters: :class:`SynthesizerParams` (``--help`` prints them); a synthesizer with
+parameters of its own declares a subclass of it as ``Params`` and reads them as ``self.params``.
+``~perception_ttl`` (s; 0 = none) is how long the source's list stays valid, declared as the
+parameter ``jason/perception_ttl/<source>`` (again after a master restart), so that agents clear
+this source's percepts when no frame has been published for that long (camera unplugged, node
+dead); a synthesizer sets its own default by overriding the field in its ``Params``.
 """
 
 from __future__ import annotations
 
+import sys
 import time
-from collections.abc import Callable, Sequence
-from typing import Any
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, ClassVar
 
 import rospy
 from jason_msgs.msg import Perception
 
 from rason.ros.guard import RateLimitedWarnings, clip
 from rason.ros.master_watch import watch_master
+from rason.ros.params import exit_on_help, load_or_exit, param
 
-__all__ = ["BadFrame", "Synthesizer", "run"]
+__all__ = ["BadFrame", "Synthesizer", "SynthesizerParams", "run"]
 
 #: Longest percept accepted from perceive() (characters) and most percepts per frame.
 MAX_PERCEPT = 1000
@@ -60,6 +63,21 @@ class BadFrame(ValueError):
     """A sensor message the synthesizer refuses (empty, truncated, inconsistent, non-finite)."""
 
 
+@dataclass(frozen=True)
+class SynthesizerParams:
+    """The private parameters every synthesizer has."""
+
+    source: str | None = param(None, "the perception source (default: the node's name plus the "
+                               "synthesizer's suffix)")
+    queue_size: int = param(10, "queue of the subscribers (and the synchronizer)", minimum=1)
+    buff_size: int = param(1 << 20, "receive buffer of the subscribers (bytes)", minimum=1024)
+    slop: float = param(0.05, "s by which synchronized inputs' stamps may differ", minimum=0.0)
+    timing: bool = param(False, "log per frame: stamp age at the callback, processing time, "
+                         "stamp age when published")
+    perception_ttl: float = param(0.0, "s this source's percepts stay valid in the agents after "
+                                  "its last frame (0 = forever)", minimum=0.0)
+
+
 class Synthesizer:
     """Base class of synthesizers; set :attr:`inputs`, override :meth:`perceive` (and
     :meth:`setup` for parameters of your own)."""
@@ -68,23 +86,24 @@ class Synthesizer:
     inputs: tuple[tuple[str, type], ...] = ()
     #: Appended to the node's name to make the default perception source.
     source_suffix: str = ""
-    #: Default of ``~perception_ttl``: seconds this source's percepts stay valid (0 = forever).
-    perception_ttl: float = 0.0
+    #: The private parameters (a subclass of :class:`SynthesizerParams`), read as ``params``.
+    Params: ClassVar[type[SynthesizerParams]] = SynthesizerParams
 
     def __init__(self) -> None:
         self.name = rospy.get_name().rsplit("/", 1)[-1]
-        self.source = str(rospy.get_param("~source", self.name + self.source_suffix))
-        self.timing = bool(rospy.get_param("~timing", False))
-        self.perception_ttl = float(rospy.get_param("~perception_ttl", type(self).perception_ttl))
+        self.params: Any = load_or_exit(self.Params, self.name)
+        self.source: str = self.params.source or self.name + self.source_suffix
+        self.timing: bool = self.params.timing
+        self.perception_ttl: float = self.params.perception_ttl
         self.warnings = RateLimitedWarnings()
         self.frames = 0           # frames published
         self.rejected = 0         # frames refused
         self.setup()
         self.declare_ttl()        # before the first publication, so agents find it at once
         self.publisher = rospy.Publisher("jason/perception", Perception, queue_size=10)
-        queue = int(rospy.get_param("~queue_size", 10))
+        queue = self.params.queue_size
         # rospy's receive buffer: 1 MB measured faster than 64 kB or 16 MB for 5 MB clouds.
-        buff = int(rospy.get_param("~buff_size", 1 << 20))
+        buff = self.params.buff_size
         if not self.inputs:
             raise ValueError(f"{type(self).__name__} names no inputs")
         if len(self.inputs) == 1:
@@ -98,7 +117,7 @@ class Synthesizer:
                                                buff_size=buff, tcp_nodelay=True)
                     for topic, msg_type in self.inputs]
             self.sync = message_filters.ApproximateTimeSynchronizer(
-                subs, queue_size=queue, slop=float(rospy.get_param("~slop", 0.05)))
+                subs, queue_size=queue, slop=self.params.slop)
             self.sync.registerCallback(self.on_frame)
 
     # -- to override ----------------------------------------------------------------------
@@ -162,11 +181,22 @@ class Synthesizer:
         return (rospy.Time.now() - max(stamps)).to_sec()
 
 
-def run(synthesizer: Callable[[], Synthesizer], node_name: str,
-        argv: list[str] | None = None) -> int:
-    """``rospy.init_node(node_name)``, build the synthesizer, spin; the exit status."""
+def run(synthesizer: type[Synthesizer], node_name: str, argv: list[str] | None = None,
+        usage: str | None = None) -> int:
+    """``--help`` (the parameter table), or ``rospy.init_node(node_name)``, build the
+    synthesizer and spin; the exit status (2 for a bad parameter)."""
+    argv = argv if argv is not None else sys.argv
+    summary = (synthesizer.__doc__ or "").strip().split("\n")[0]
+    exit_on_help(argv, synthesizer.Params,
+                 usage or f"{Path(argv[0]).name} [__ns:=/robot] [_name:=value ...]",
+                 f"{node_name}: {summary}")
     rospy.init_node(node_name, argv=argv)
-    node = synthesizer()
+    try:
+        node = synthesizer()
+    except ValueError as err:            # parameters that do not fit together
+        rospy.logfatal(f"{node_name}: {err}")
+        print(f"{node_name}: {err}", file=sys.stderr)
+        return 2
     watch_master(on_registered=[node.declare_ttl])
     rospy.loginfo(f"{node_name}: publishing {rospy.resolve_name('jason/perception')} "
                   f"as {node.source}")

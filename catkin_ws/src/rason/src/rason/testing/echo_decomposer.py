@@ -12,24 +12,36 @@ Actions run side by side; a cancel (``jason/cancel``) or the agent's absence end
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 
-import rospy
-
-from rason.execution.decomposer import Decomposer, Goal, Verdict, run
+from rason.execution.decomposer import Decomposer, DecomposerParams, Goal, Verdict, run
+from rason.ros.params import param
 
 ATOM = re.compile(r"^[a-z][A-Za-z0-9_]*$")
+
+
+@dataclass(frozen=True)
+class EchoParams(DecomposerParams):
+    """The echo decomposer's private parameters, besides those of every decomposer."""
+
+    actions: list[str] = param(["move"], "the actions answered")
+    result: str = param("OK", "the result, unless the action's last parameter is an atom")
+    delay: float = param(0.0, "seconds (ROS time) before the answer", minimum=0.0)
+    ack: bool = param(True, "acknowledge with action_accepted (false: a thesis-only "
+                      "decomposer)")
 
 
 class EchoDecomposer(Decomposer):
     """Answers handled actions with the result they ask for."""
 
     exclusive = False
+    Params = EchoParams
 
     def setup(self) -> None:
-        self.actions = tuple(rospy.get_param("~actions", ["move"]))
-        self.result = str(rospy.get_param("~result", "OK"))
-        self.delay = float(rospy.get_param("~delay", 0.0))
-        self.acknowledge = bool(rospy.get_param("~ack", True))
+        self.actions = tuple(self.params.actions)
+        self.result = self.params.result
+        self.delay = self.params.delay
+        self.acknowledge = self.params.ack
 
     def start(self, goal: Goal) -> Verdict | None:
         last = goal.parameters[-1] if goal.parameters else ""
@@ -42,4 +54,5 @@ class EchoDecomposer(Decomposer):
 
 
 def main() -> int:
-    return run(EchoDecomposer, "echo_decomposer")
+    return run(EchoDecomposer, "echo_decomposer",
+               usage="rosrun rason echo_decomposer [__ns:=/robot] [_name:=value ...]")
