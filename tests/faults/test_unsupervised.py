@@ -317,3 +317,11 @@ def test_an_agent_sending_move_1e9_gets_bad_parameters(rig: Rig, log: Log):
         "bad_parameters"
     with log.lock:
         assert not [m for _, m in log.cmd if m]
+
+
+def test_act_giving_up_cancels_and_the_robot_stops(rig: Rig, log: Log):
+    act = rig.ros.rosrun("rason", "act", "hand", "turn(700)", "--timeout", "2", ns=NS)
+    log.first_moving()
+    assert act.wait(30) == 2
+    assert "action cancelled" in act.output()
+    assert_stopped_by_cancel(log, "hand", "act: no feedback within 2 s")

@@ -2,7 +2,8 @@
 
 Publishes a ``jason_msgs/Action`` on ``jason/action`` (latched, so ``rostopic echo`` sees it),
 waits for the decomposer's ``action_feedback`` Event on ``jason/event`` and prints it. Exit
-status 0 when the feedback is ``OK``, 1 for any other result, 2 when none came in time.
+status 0 when the feedback is ``OK``, 1 for any other result, 2 when none came in time. Giving
+up (the timeout, or Ctrl-C) cancels the action on ``jason/cancel``, as an agent does.
 Handy to drive a decomposer by hand, and used by the tests of the harness.
 """
 
@@ -12,9 +13,10 @@ import argparse
 import random
 import sys
 import threading
+import time
 
 import rospy
-from jason_msgs.msg import Action, Event
+from jason_msgs.msg import Action, ActionCancel, Event
 
 from rason.ros.feedback import parse_feedback, split_action
 
@@ -46,6 +48,15 @@ def main(argv: list[str] | None = None) -> int:
 
     events = rospy.Subscriber("jason/event", Event, on_event, queue_size=50)
     publisher = rospy.Publisher("jason/action", Action, queue_size=10, latch=True)
+    cancel = rospy.Publisher("jason/cancel", ActionCancel, queue_size=10)
+
+    def give_up(reason: str) -> None:
+        if args.timeout > 0 and not done.is_set():
+            cancel.publish(ActionCancel(agent=args.agent, action_id=action_id, reason=reason))
+            done.set()
+            time.sleep(0.2)             # let the cancel leave before the node goes
+
+    rospy.on_shutdown(lambda: give_up("act interrupted"))
     publisher.publish(Action(agent=args.agent, action_id=action_id, action=name,
                              parameters=parameters))
     print(f"sent {args.action} as {args.agent} (action_id {action_id})", flush=True)
@@ -57,7 +68,8 @@ def main(argv: list[str] | None = None) -> int:
         done.wait(0.05)
     events.unregister()
     if not result:
-        print(f"no feedback within {args.timeout} s", file=sys.stderr)
+        give_up(f"act: no feedback within {args.timeout:g} s")
+        print(f"no feedback within {args.timeout} s: action cancelled", file=sys.stderr)
         return 2
     print(f"feedback: {result[0]}" + (f" ({result[1]})" if result[1] else ""), flush=True)
     return 0 if result[0] == "OK" else 1
