@@ -184,8 +184,8 @@ class CaseStudyLan:
         self._sigterm = None
         if threading.current_thread() is threading.main_thread():
             self._sigterm = signal.signal(signal.SIGTERM, _interrupt)
-        self.lan.create()
         try:
+            self.lan.create()
             if self._relay_wanted is not None:
                 self.relay = LoopbackRelay(self._relay_wanted)   # on this machine's loopback
             netns.enter(self.world)   # this process watches the run from the workstation
