@@ -18,6 +18,7 @@ import pytest
 
 from rason.testing import netns
 from rason.testing.harness import processes_left_by
+from rason_diagnosis.hosts import LinkCut, PresenceEvent, presence_events
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo, pytest.mark.hosts]
 
@@ -40,6 +41,19 @@ def _demo(out, *args: str) -> tuple[subprocess.CompletedProcess, dict]:
     assert not processes_left_by(demo.pid), "the run left processes behind"
     done = subprocess.CompletedProcess(demo.args, demo.returncode, stdout)
     return done, json.loads((out / "result.json").read_text())
+
+
+def test_link_cut_specs_and_presence_lines() -> None:
+    assert LinkCut.parse("faulty@8s+5s") == LinkCut("faulty", 8.0, 5.0)
+    assert LinkCut.parse("helper@2.5+1") == LinkCut("helper", 2.5, 1.0)
+    assert str(LinkCut("faulty", 8.0, 5.0)) == "faulty@8s+5s"
+    for bad in ("faulty@8s", "world@1s+1s", "faulty@1s+0s", "faulty 8 5", ""):
+        with pytest.raises(ValueError):
+            LinkCut.parse(bad)
+    lines = ["[INFO] [1795429976.30, 18.700000]: agent faulty not heard for 3.5 s: forgotten",
+             "[helper] Finding faulty", "[INFO] [1795429979.15, 20.670000]: agent faulty present"]
+    assert presence_events("helper", lines) == [PresenceEvent(18.7, "helper", "faulty", False),
+                                                PresenceEvent(20.67, "helper", "faulty", True)]
 
 
 def test_lan_links_cut_restore_and_removal() -> None:
