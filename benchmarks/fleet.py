@@ -197,6 +197,9 @@ def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
             cpu_master = (cpu_seconds(master) - m0) / elapsed * 100
             latencies = [float(m.group(2)) for r, p in agents.items()
                          for line in p.lines()[marks[r]:] if (m := LATENCY.search(line))]
+            dead = [p.name for p in ros.processes if not p.alive()]
+            if dead:
+                raise RuntimeError(f"processes died during the window: {dead}")
             nodes = len(ros.nodes())
             load = os.getloadavg()[0]
 
