@@ -103,12 +103,13 @@ def test_link_cut_mid_run_is_noticed_and_never_gives_a_wrong_component(tmp_path)
     assert links == [("faulty", False), ("faulty", True)], out
     down, up = (e["t"] for e in result["link_events"])
     assert up - down == pytest.approx(5.0, abs=0.2)
-    helper_saw = [(e["t"], e["present"]) for e in result["presence"]
-                  if (e["observer"], e["agent"]) == ("helper", "faulty")]
-    lapses = [t for t, present in helper_saw if not present and down < t <= up + 1.0]
-    assert lapses, f"helper never noticed faulty's presence lapse: {helper_saw}\n{out}"
-    assert any(present and t > lapses[0] for t, present in helper_saw), \
-        f"helper never noticed faulty's return: {helper_saw}\n{out}"
+    for observer, agent in (("helper", "faulty"), ("faulty", "helper")):   # both sides notice
+        saw = [(e["t"], e["present"]) for e in result["presence"]
+               if (e["observer"], e["agent"]) == (observer, agent)]
+        lapses = [t for t, present in saw if not present and down < t <= up + 1.0]
+        assert lapses, f"{observer} never noticed {agent}'s presence lapse: {saw}\n{out}"
+        assert any(present and t > lapses[0] for t, present in saw), \
+            f"{observer} never noticed {agent}'s return: {saw}\n{out}"
     assert result["diagnosis"] in ("left_actuator", "unknown"), out  # never a wrong component
     if result["diagnosis"] == "unknown":
         assert result["unknown_reason"], out

@@ -34,6 +34,10 @@ from rason.testing import netns
 HOSTS = ("world", "helper", "faulty")
 #: The case study's private /24 (also the README's example of a robot LAN).
 SUBNET = "10.211.0"
+#: The simulation's second network: the simulator plays each robot's Kobuki and Kinect, which
+#: on a real robot hang on its own USB ports; their traffic goes over this /24, which a link cut
+#: leaves alone (a robot out of WiFi range still drives and sees).
+DEVICE_BUS = "10.212.0"
 ADDRESSES = {name: f"{SUBNET}.{i}" for i, name in enumerate(HOSTS, 1)}
 
 _CUT = re.compile(r"^(?P<host>[a-z][a-z0-9]*)@(?P<at>\d+(?:\.\d+)?)s?\+(?P<for>\d+(?:\.\d+)?)s?$")
@@ -162,7 +166,7 @@ class CaseStudyLan:
     """
 
     def __init__(self, relay_port: int | None = None) -> None:
-        self.lan = netns.Lan(HOSTS, subnet=SUBNET, firewall=True)
+        self.lan = netns.Lan(HOSTS, subnet=SUBNET, firewall=True, bus=DEVICE_BUS)
         self._relay_wanted = relay_port
         self.relay: LoopbackRelay | None = None
 
@@ -175,8 +179,14 @@ class CaseStudyLan:
         return self.lan.host("world")
 
     def placement(self) -> dict[str, netns.Host]:
-        """ROS namespace -> host: a robot's nodes run on its own computer."""
-        return {f"/{robot}": self.lan.host(robot) for robot in HOSTS[1:]}
+        """ROS namespace -> host: a robot's nodes run on its own computer. The simulator and
+        the nodes that talk to it in a robot's place (its fault injector: the Kobuki's side)
+        use their host's address on the device bus."""
+        placed = {f"/{robot}": self.lan.host(robot) for robot in HOSTS[1:]}
+        placed["/sim"] = self.lan.bus_host("world")
+        placed.update({f"/{robot}/fault_injector": self.lan.bus_host(robot)
+                       for robot in HOSTS[1:]})
+        return placed
 
     def __enter__(self) -> CaseStudyLan:
         # SIGTERM ends the run as Ctrl-C does (KeyboardInterrupt): every node is stopped and the
