@@ -81,6 +81,7 @@ class FleetResult:
     cpu_master_pct: float
     master_start_cpu_s: float
     nodes: int
+    load: float      # the machine's 1-minute load average at the end of the window
 
 
 def percentile(values: list[float], q: float) -> float:
@@ -196,7 +197,11 @@ def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
             cpu_master = (cpu_seconds(master) - m0) / elapsed * 100
             latencies = [float(m.group(2)) for r, p in agents.items()
                          for line in p.lines()[marks[r]:] if (m := LATENCY.search(line))]
+            dead = [p.name for p in ros.processes if not p.alive()]
+            if dead:
+                raise RuntimeError(f"processes died during the window: {dead}")
             nodes = len(ros.nodes())
+            load = os.getloadavg()[0]
 
             # -- presence: a host joins, leaves (goodbye), joins again and vanishes --------------
             newcomer = netns.Host("rnew", f"{netns.PREFIX}-{lan.owner}-rnew",
@@ -228,18 +233,18 @@ def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
         p99_ms=round(percentile(latencies, 99), 2), max_ms=round(max(latencies, default=0), 2),
         join_s=round(join, 2), leave_s=round(leave, 2), vanish_s=round(vanish, 2),
         cpu_agent_pct=round(cpu_agent, 1), cpu_master_pct=round(cpu_master, 1),
-        master_start_cpu_s=round(master_start_cpu, 2), nodes=nodes)
+        master_start_cpu_s=round(master_start_cpu, 2), nodes=nodes, load=round(load, 1))
 
 
 def table(results: list[FleetResult]) -> str:
     lines = ["| N robots | messages | latency p50 | p99 | max | join | leave (goodbye) | "
              "vanish (link cut) | CPU per agent | rosmaster CPU | rosmaster CPU for the start | "
-             "nodes |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "nodes | load |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         lines.append(f"| {r.n} | {r.messages} | {r.p50_ms:.2f} ms | {r.p99_ms:.2f} ms | "
                      f"{r.max_ms:.1f} ms | {r.join_s:.2f} s | {r.leave_s:.2f} s | "
                      f"{r.vanish_s:.2f} s | {r.cpu_agent_pct:.1f}% | {r.cpu_master_pct:.1f}% | "
-                     f"{r.master_start_cpu_s:.2f} s | {r.nodes} |")
+                     f"{r.master_start_cpu_s:.2f} s | {r.nodes} | {r.load:.1f} |")
     return "\n".join(lines)
 
 

@@ -18,6 +18,7 @@ import pytest
 
 from rason.testing import netns
 from rason.testing.harness import processes_left_by
+from rason_diagnosis.hosts import LinkCut, PresenceEvent, presence_events
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo, pytest.mark.hosts]
 
@@ -40,6 +41,19 @@ def _demo(out, *args: str) -> tuple[subprocess.CompletedProcess, dict]:
     assert not processes_left_by(demo.pid), "the run left processes behind"
     done = subprocess.CompletedProcess(demo.args, demo.returncode, stdout)
     return done, json.loads((out / "result.json").read_text())
+
+
+def test_link_cut_specs_and_presence_lines() -> None:
+    assert LinkCut.parse("faulty@8s+5s") == LinkCut("faulty", 8.0, 5.0)
+    assert LinkCut.parse("helper@2.5+1") == LinkCut("helper", 2.5, 1.0)
+    assert str(LinkCut("faulty", 8.0, 5.0)) == "faulty@8s+5s"
+    for bad in ("faulty@8s", "world@1s+1s", "faulty@1s+0s", "faulty 8 5", ""):
+        with pytest.raises(ValueError):
+            LinkCut.parse(bad)
+    lines = ["[INFO] [1795429976.30, 18.700000]: agent faulty not heard for 3.5 s: forgotten",
+             "[helper] Finding faulty", "[INFO] [1795429979.15, 20.670000]: agent faulty present"]
+    assert presence_events("helper", lines) == [PresenceEvent(18.7, "helper", "faulty", False),
+                                                PresenceEvent(20.67, "helper", "faulty", True)]
 
 
 def test_lan_links_cut_restore_and_removal() -> None:
@@ -89,12 +103,13 @@ def test_link_cut_mid_run_is_noticed_and_never_gives_a_wrong_component(tmp_path)
     assert links == [("faulty", False), ("faulty", True)], out
     down, up = (e["t"] for e in result["link_events"])
     assert up - down == pytest.approx(5.0, abs=0.2)
-    helper_saw = [(e["t"], e["present"]) for e in result["presence"]
-                  if (e["observer"], e["agent"]) == ("helper", "faulty")]
-    lapses = [t for t, present in helper_saw if not present and down < t <= up + 1.0]
-    assert lapses, f"helper never noticed faulty's presence lapse: {helper_saw}\n{out}"
-    assert any(present and t > lapses[0] for t, present in helper_saw), \
-        f"helper never noticed faulty's return: {helper_saw}\n{out}"
+    for observer, agent in (("helper", "faulty"), ("faulty", "helper")):   # both sides notice
+        saw = [(e["t"], e["present"]) for e in result["presence"]
+               if (e["observer"], e["agent"]) == (observer, agent)]
+        lapses = [t for t, present in saw if not present and down < t <= up + 1.0]
+        assert lapses, f"{observer} never noticed {agent}'s presence lapse: {saw}\n{out}"
+        assert any(present and t > lapses[0] for t, present in saw), \
+            f"{observer} never noticed {agent}'s return: {saw}\n{out}"
     assert result["diagnosis"] in ("left_actuator", "unknown"), out  # never a wrong component
     if result["diagnosis"] == "unknown":
         assert result["unknown_reason"], out

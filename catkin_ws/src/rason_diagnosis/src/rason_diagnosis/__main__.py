@@ -10,6 +10,7 @@ simulated seconds; writes a picture of the run. Exit status 0 only when the diag
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -48,6 +49,8 @@ def main(argv: list[str] | None = None) -> int:
                         "seconds after the agents start, for D seconds, e.g. faulty@8s+5s "
                         "(implies --hosts; repeatable)")
     args = parser.parse_args(argv)
+    if (args.hosts or args.cut) and os.geteuid() != 0:
+        parser.error("--hosts and --cut make network namespaces: run as root")
 
     seed = args.seed if args.seed is not None else int(time.time()) % 100000
     fault = args.fault or default_fault(seed)

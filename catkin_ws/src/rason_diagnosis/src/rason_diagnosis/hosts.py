@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import re
 import signal
+import socket
 import threading
 import time
 from collections.abc import Callable, Sequence
@@ -33,6 +34,10 @@ from rason.testing import netns
 HOSTS = ("world", "helper", "faulty")
 #: The case study's private /24 (also the README's example of a robot LAN).
 SUBNET = "10.211.0"
+#: The simulation's second network: the simulator plays each robot's Kobuki and Kinect, which
+#: on a real robot hang on its own USB ports; their traffic goes over this /24, which a link cut
+#: leaves alone (a robot out of WiFi range still drives and sees).
+DEVICE_BUS = "10.212.0"
 ADDRESSES = {name: f"{SUBNET}.{i}" for i, name in enumerate(HOSTS, 1)}
 
 _CUT = re.compile(r"^(?P<host>[a-z][a-z0-9]*)@(?P<at>\d+(?:\.\d+)?)s?\+(?P<for>\d+(?:\.\d+)?)s?$")
@@ -103,19 +108,85 @@ def presence_events(observer: str, lines: Sequence[str]) -> list[PresenceEvent]:
     return events
 
 
-class CaseStudyLan:
-    """The world, helper and faulty hosts of one run (made on entry, removed on exit)."""
+class LoopbackRelay(threading.Thread):
+    """A loopback port of this machine relayed to the same port on the world host's loopback.
 
-    def __init__(self) -> None:
-        self.lan = netns.Lan(HOSTS, subnet=SUBNET, firewall=True)
+    The mind inspector listens on the world host's 127.0.0.1 (it is the workstation's tool); the
+    relay lets a browser on the machine running the demo open the same address. The listening
+    socket is made on construction, before this process moves to the world host; the relay's
+    connections to the inspector are made by its thread, started after the move.
+    """
+
+    def __init__(self, port: int):
+        super().__init__(name="loopback-relay", daemon=True)
+        try:
+            self.listener = socket.create_server(("127.0.0.1", port))
+        except OSError:          # taken here (another run's inspector): any free port
+            self.listener = socket.create_server(("127.0.0.1", 0))
+        self.port: int = self.listener.getsockname()[1]
+
+    def run(self) -> None:
+        while True:
+            try:
+                client, _ = self.listener.accept()
+            except OSError:
+                return  # closed
+            try:
+                server = socket.create_connection(("127.0.0.1", self.port), timeout=5)
+            except OSError:
+                client.close()
+                continue
+            server.settimeout(None)
+            for a, b in ((client, server), (server, client)):
+                threading.Thread(target=_pump, args=(a, b), daemon=True).start()
+
+    def close(self) -> None:
+        self.listener.close()
+
+
+def _pump(source: socket.socket, sink: socket.socket) -> None:
+    try:
+        while data := source.recv(65536):
+            sink.sendall(data)
+    except OSError:
+        pass
+    finally:
+        for sock in (source, sink):
+            try:
+                sock.shutdown(socket.SHUT_RDWR)
+            except OSError:
+                pass
+
+
+class CaseStudyLan:
+    """The world, helper and faulty hosts of one run (made on entry, removed on exit).
+
+    ``relay_port``: a loopback port to relay to the world host (see :class:`LoopbackRelay`;
+    0 = any free port, then :attr:`relay_port` is the one chosen).
+    """
+
+    def __init__(self, relay_port: int | None = None) -> None:
+        self.lan = netns.Lan(HOSTS, subnet=SUBNET, firewall=True, bus=DEVICE_BUS)
+        self._relay_wanted = relay_port
+        self.relay: LoopbackRelay | None = None
+
+    @property
+    def relay_port(self) -> int | None:
+        return self.relay.port if self.relay else None
 
     @property
     def world(self) -> netns.Host:
         return self.lan.host("world")
 
     def placement(self) -> dict[str, netns.Host]:
-        """ROS namespace -> host: a robot's nodes run on its own computer."""
-        return {f"/{robot}": self.lan.host(robot) for robot in HOSTS[1:]}
+        """ROS namespace -> host: a robot's nodes run on its own computer. The simulator and
+        the nodes that talk to it in a robot's place (its fault injector: the Kobuki's side)
+        use their host's address on the device bus."""
+        placed = {f"/{robot}": self.lan.host(robot) for robot in HOSTS[1:]}
+        placed["/sim"] = self.lan.bus_host("world")
+        placed.update({f"/{robot}/fault_injector": self.lan.bus_host(robot)
+                       for robot in HOSTS[1:]})
+        return placed
 
     def __enter__(self) -> CaseStudyLan:
         # SIGTERM ends the run as Ctrl-C does (KeyboardInterrupt): every node is stopped and the
@@ -123,15 +194,21 @@ class CaseStudyLan:
         self._sigterm = None
         if threading.current_thread() is threading.main_thread():
             self._sigterm = signal.signal(signal.SIGTERM, _interrupt)
-        self.lan.create()
         try:
+            self.lan.create()
+            if self._relay_wanted is not None:
+                self.relay = LoopbackRelay(self._relay_wanted)   # on this machine's loopback
             netns.enter(self.world)   # this process watches the run from the workstation
+            if self.relay:
+                self.relay.start()
         except BaseException:
             self.__exit__()
             raise
         return self
 
     def __exit__(self, *exc: object) -> None:
+        if self.relay:
+            self.relay.close()
         if threading.current_thread() is threading.main_thread():
             previous = {sig: signal.signal(sig, signal.SIG_IGN)
                         for sig in (signal.SIGINT, signal.SIGTERM)}   # finish the teardown

@@ -88,7 +88,10 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                        cuts=[str(c) for c in cuts])
     started = time.monotonic()
     with contextlib.ExitStack() as stack:
-        network = stack.enter_context(CaseStudyLan()) if result.hosts else None
+        network = stack.enter_context(CaseStudyLan(relay_port=inspector_port)) \
+            if result.hosts else None
+        if network and inspector_port is not None:   # the inspector on the world host
+            inspector_port = network.relay_port        # at the address relayed to this machine
         ros = RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs",
                          master_host=network.world if network else None,
                          placement=network.placement() if network else None)

@@ -202,7 +202,8 @@ class RosHarness:
             ``netns.enter``); nodes given ``host=`` then run on their own hosts, the others
             on the master's host.
         placement: ROS namespace -> host: ``rosrun(..., ns="/faulty")`` runs on the robot's
-            own host, as a robot's nodes run on its own computer.
+            own host, as a robot's nodes run on its own computer; a key ``NS/EXECUTABLE``
+            (``/faulty/fault_injector``, ``/sim`` without a namespace) places one node.
     """
 
     def __init__(self, sim_time: bool = False, echo: bool = False,
@@ -319,8 +320,10 @@ class RosHarness:
         for key, value in (params or {}).items():
             argv.append(f"_{key}:={_param_text(value)}")
         label = f"{(ns or '').strip('/')}/{name or executable}".strip("/")
-        if host is None and ns:
-            host = self.placement.get("/" + ns.strip("/"))
+        if host is None:
+            node_key = "/" + "/".join(p.strip("/") for p in (ns or "", executable) if p.strip("/"))
+            host = self.placement.get(node_key) or (
+                self.placement.get("/" + ns.strip("/")) if ns else None)
         return self.run(argv, label=label, echo=echo, cwd=cwd, host=host)
 
     def run(self, argv: Sequence[str], label: str | None = None, echo: bool | str | None = None,

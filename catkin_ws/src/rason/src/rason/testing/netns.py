@@ -33,6 +33,8 @@ PREFIX = "rason"
 DEFAULT_SUBNET = "10.211.0"
 #: The name of a host's interface inside its namespace (as on a robot: its one network card).
 DEVICE = "eth0"
+#: The name of a host's interface on the optional second network (see :class:`Lan` ``bus``).
+BUS_DEVICE = "bus0"
 #: The ROS master's port (roscore's default).
 MASTER_PORT = 11311
 #: The ports ROS 1 nodes listen on: every node's XML-RPC server and TCPROS server take an
@@ -127,22 +129,24 @@ def clean_stale(keep_pid: int | None = None) -> list[str]:
     return removed
 
 
-def ros_firewall(host: Host, subnet: str, master: bool) -> None:
+def ros_firewall(host: Host, subnets: Sequence[str], master: bool) -> None:
     """A robot's firewall for ROS 1 (README, "Firewall"): the ephemeral port range pinned to
-    :data:`ROS_PORTS`; TCP in only from the robot LAN, only to those ports (and to
-    :data:`MASTER_PORT` on the master's host); everything else in is dropped."""
+    :data:`ROS_PORTS`; TCP in only from the robot LAN (``subnets``: first three octets of each
+    /24), only to those ports (and to :data:`MASTER_PORT` on the master's host); everything
+    else in is dropped."""
     low, high = ROS_PORTS
     subprocess.run(host.command(["sysctl", "-q", "-w",
                                  f"net.ipv4.ip_local_port_range={low} {high}"]),
                    check=True, timeout=20)
     ports = f"{MASTER_PORT}, {low}-{high}" if master else f"{low}-{high}"
+    sources = ", ".join(f"{subnet}.0/24" for subnet in subnets)
     rules = f"""table inet rason_ros {{
   chain input {{
     type filter hook input priority filter; policy drop;
     iif lo accept
     ct state established,related accept
     meta l4proto icmp accept
-    ip saddr {subnet}.0/24 tcp dport {{ {ports} }} accept
+    ip saddr {{ {sources} }} tcp dport {{ {ports} }} accept
   }}
 }}
 """
@@ -160,10 +164,13 @@ class Lan:
         subnet: the first three octets of the private /24.
         firewall: give every host the ROS firewall of :func:`ros_firewall`, the first host
             as the master's (needs ``nft``, Debian's nftables).
+        bus: the first three octets of a second /24 joining the same hosts through a second
+            interface (``bus0``) and switch, which :meth:`cut` leaves alone (a simulation's
+            stand-in for the cables between a robot and its devices); None: no second network.
     """
 
     def __init__(self, hosts: Iterable[str], subnet: str = DEFAULT_SUBNET,
-                 firewall: bool = False):
+                 firewall: bool = False, bus: str | None = None):
         names = list(hosts)
         if len(set(names)) != len(names) or not names:
             raise ValueError(f"host names must be distinct and not empty: {names}")
@@ -174,6 +181,7 @@ class Lan:
                 raise ValueError(f"host name {name!r}: lowercase letters and digits, at most 10")
         self.owner = os.getpid()
         self.subnet = subnet
+        self.bus = bus
         self.firewall = firewall
         self.master = names[0]
         self.switch = f"{PREFIX}-{self.owner}-{_SWITCH}"
@@ -187,6 +195,14 @@ class Lan:
         except KeyError:
             raise KeyError(f"no host {name!r} on this LAN (hosts: {', '.join(self.hosts)})") from None
 
+    def bus_host(self, name: str) -> Host:
+        """``name`` as seen on the second network (same namespace, its ``bus0`` address)."""
+        if self.bus is None:
+            raise ValueError("this LAN has no bus")
+        host = self.host(name)
+        index = host.address.rsplit(".", 1)[1]
+        return Host(host.name, host.netns, f"{self.bus}.{index}", BUS_DEVICE)
+
     # -- life cycle ------------------------------------------------------------------------------
     def create(self) -> Lan:
         """Clean stale sets, then make the switch and plug every host in."""
@@ -195,6 +211,9 @@ class Lan:
             self._add_netns(self.switch)
             ip("-n", self.switch, "link", "add", "br0", "type", "bridge")
             ip("-n", self.switch, "link", "set", "dev", "br0", "up")
+            if self.bus is not None:
+                ip("-n", self.switch, "link", "add", "br1", "type", "bridge")
+                ip("-n", self.switch, "link", "set", "dev", "br1", "up")
             ip("-n", self.switch, "link", "set", "dev", "lo", "up")
             for host in self.hosts.values():
                 self.add(host)
@@ -218,8 +237,17 @@ class Lan:
         ip("-n", host.netns, "addr", "add", f"{host.address}/24", "dev", host.device)
         ip("-n", host.netns, "link", "set", "dev", "lo", "up")
         ip("-n", host.netns, "link", "set", "dev", host.device, "up")
+        if self.bus is not None:
+            bus = self.bus_host(host.name)
+            ip("link", "add", bus.device, "netns", host.netns, "type", "veth",
+               "peer", "name", f"b-{host.name}", "netns", self.switch)
+            ip("-n", self.switch, "link", "set", "dev", f"b-{host.name}", "master", "br1")
+            ip("-n", self.switch, "link", "set", "dev", f"b-{host.name}", "up")
+            ip("-n", host.netns, "addr", "add", f"{bus.address}/24", "dev", bus.device)
+            ip("-n", host.netns, "link", "set", "dev", bus.device, "up")
         if self.firewall:
-            ros_firewall(host, self.subnet, master=host.name == self.master)
+            subnets = [self.subnet] + ([self.bus] if self.bus is not None else [])
+            ros_firewall(host, subnets, master=host.name == self.master)
 
     def port(self, name: str) -> str:
         """The switch's end of ``name``'s veth pair."""
