@@ -17,7 +17,8 @@ KEEPER = """
     """
 TELLER = """
     !tell.
-    +!tell : .all_names(L) & .member(keeper, L) <- .send(keeper, tell, note({n})).
+    +!tell : .all_names(L) & .member(keeper, L) & .member(mate, L)
+       <- .send(keeper, tell, note({n})); .send(mate, tell, note({n})).
     +!tell <- .wait(200); !tell.
     """
 
@@ -28,18 +29,23 @@ def test_nodes_register_again_with_a_restarted_master_and_keep_the_mind(fresh_ro
     keeper = start_agent(ros, tmp_path, "keeper", KEEPER, ns=ns, ack_timeout=5.0)
     decomposer = ros.rosrun("rason", "echo_decomposer", ns=ns)
     ros.wait_for_subscriber(f"{ns}/jason/action", watch=[decomposer])
+    # A mas node too: the same registration, several agents in one node.
+    (tmp_path / "mate.asl").write_text(KEEPER)
+    (tmp_path / "crew.mas2j").write_text("MAS crew {\n  agents: mate;\n}\n")
+    crew = ros.rosrun("rason", "mas", str(tmp_path / "crew.mas2j"), ns="/restart_crew")
+    ros.wait_for_service("/restart_crew/jason/mate/mind", watch=[crew])
     start_agent(ros, tmp_path, "teller1", TELLER.format(n=1), ns="/restart_teller1")
     keeper.wait_for_line(r"\[keeper\] kept 1 from teller1", timeout=30)
     assert "kept(1)[source(self)]" in mind(ros, ns, "keeper")["beliefs"]
     before = ros.nodes()
 
-    ros.restart_master(down=1.0)
-    back = time.monotonic()
-    took = wait_until(lambda: f"{ns}/jason/keeper/mind" in ros.services(), 15,
-                      "the mind service on the restarted master")
+    back = ros.restart_master(down=1.0)
+    minds = {f"{ns}/jason/keeper/mind", "/restart_crew/jason/mate/mind"}
+    wait_until(lambda: minds <= set(ros.services()), 15, "the minds on the restarted master")
+    took = time.monotonic() - back
     wait_until(lambda: before <= ros.nodes(), 15, "every node registered again")
     every = time.monotonic() - back
-    print(f"mind service back {took:.2f} s after the new master answered; every node "
+    print(f"mind services back {took:.2f} s after the new master answered; every node "
           f"({len(before)}) back after {every:.2f} s")
 
     # The mind survived: the belief added before the restart is still there.
@@ -54,4 +60,5 @@ def test_nodes_register_again_with_a_restarted_master_and_keep_the_mind(fresh_ro
     keeper.wait_for_line(r"\[keeper\] seen 3", timeout=30)
     beliefs = mind(ros, ns, "keeper")["beliefs"]
     assert {"kept(1)[source(self)]", "kept(2)[source(self)]"} <= set(beliefs), beliefs
-    assert keeper.alive() and decomposer.alive()
+    assert "kept(2)[source(self)]" in mind(ros, "/restart_crew", "mate")["beliefs"]
+    assert keeper.alive() and decomposer.alive() and crew.alive()

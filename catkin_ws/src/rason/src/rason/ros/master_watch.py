@@ -64,6 +64,7 @@ class MasterWatch:
         self.registrations: list[Registration] = []
         self._stop = threading.Event()
         self._master_missing = False
+        self._replaced = False
         self._thread = threading.Thread(target=self._run, name="master-watch", daemon=True)
 
     def start(self) -> MasterWatch:
@@ -94,7 +95,11 @@ class MasterWatch:
                 rospy.logwarn("the ROS master at %s does not answer; will register again "
                               "when it is back", rosgraph.get_master_uri())
             return None
-        if code == 1 and uri == rospy.core.get_node_uri():
+        if code == 1:
+            if uri != rospy.core.get_node_uri() and not self._replaced:
+                self._replaced = True      # registering would make the master shut that one down
+                rospy.logwarn("another node (%s) now has the name %s on the ROS master: not "
+                              "registering again", uri, caller_id)
             self._master_missing = False
             return None
         if not _registered_at_start():

@@ -345,13 +345,17 @@ class RasonNode:
         (parameter ``jason/perception_ttl/<source>``, read once), else ``~perception_ttl``."""
         if source in self.perception_ttls:
             return self.perception_ttls[source]
-        if source not in self._declared_ttls:
-            self._declared_ttls[source] = self._declared_ttl(source)
-        declared = self._declared_ttls[source]
+        if source in self._declared_ttls:
+            declared = self._declared_ttls[source]
+        else:
+            declared = self._declared_ttl(source)
         return self.default_perception_ttl if declared is None else declared
 
     def _declared_ttl(self, source: str) -> float | None:
+        """The TTL `source` declared (remembered), or None; not remembered if the master
+        cannot be asked (the perception table asks again with the source's next message)."""
         if not rosgraph.names.is_legal_base_name(source):
+            self._declared_ttls[source] = None
             return None
         key = self.topic(f"jason/perception_ttl/{source}")
         try:
@@ -359,6 +363,11 @@ class RasonNode:
         except (OSError, rospy.ROSException) as err:
             rospy.logwarn("cannot read %s (%s): using ~perception_ttl", key, err)
             return None
+        self._declared_ttls[source] = self._checked_ttl(key, value)
+        return self._declared_ttls[source]
+
+    @staticmethod
+    def _checked_ttl(key: str, value: object) -> float | None:
         if value is None:
             return None
         try:

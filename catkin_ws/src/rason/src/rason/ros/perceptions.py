@@ -17,6 +17,7 @@ caller passes (ROS time in the agent node).
 
 from __future__ import annotations
 
+import math
 import threading
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
@@ -102,7 +103,7 @@ class PerceptionTable(Generic[L]):
         warn: called once per (source, text) for each malformed perception string.
         mode: ``replace`` (per-source replacement) or ``queue`` (every message is applied).
         ttl: a source's time to live in seconds (``0`` = its list stands until replaced);
-            asked once per source, when its first message arrives.
+            asked with each message of the source, so it must be cheap.
     """
 
     parse: Callable[[str], L]
@@ -123,7 +124,7 @@ class PerceptionTable(Generic[L]):
         self._changed = False
         self._cache: dict[str, L | None] = {}
         self._heard: dict[str, SourceClock] = {}     # sources with a TTL: when last heard
-        self._ttls: dict[str, float] = {}             # each source's TTL, asked once
+        self._bad_ttl: set[str] = set()               # sources whose TTL was unusable (warned)
         self._expired: set[str] = set()               # cleared, not yet seen by percepts()
 
     def update(self, source: str, perceptions: Sequence[str], now: float | None = None) -> bool:
@@ -147,16 +148,17 @@ class PerceptionTable(Generic[L]):
         return True
 
     def _ttl_of(self, source: str) -> float:
-        known = self._ttls.get(source)
-        if known is None:
-            try:
-                known = max(0.0, float(self.ttl(source)))
-            except (TypeError, ValueError) as err:
+        try:
+            ttl = float(self.ttl(source))
+            if not math.isfinite(ttl) or ttl < 0:
+                raise ValueError(f"{ttl} is not a number of seconds >= 0")
+        except (TypeError, ValueError) as err:
+            if source not in self._bad_ttl:
+                self._bad_ttl.add(source)
                 self.warn(f"perception source '{source}': unusable time to live ({err}); "
                           "its list stands until replaced")
-                known = 0.0
-            self._ttls[source] = known
-        return known
+            return 0.0
+        return ttl
 
     def expire(self, now: float) -> list[str]:
         """Clear the lists of sources silent for longer than their TTL; return those sources.

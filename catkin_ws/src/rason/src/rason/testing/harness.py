@@ -255,9 +255,10 @@ class RosHarness:
             self.set_param("/use_sim_time", True)
         return self
 
-    def restart_master(self, down: float = 0.0, timeout: float = 20.0) -> None:
+    def restart_master(self, down: float = 0.0, timeout: float = 20.0) -> float:
         """Stop roscore (master and rosout), wait `down` seconds, start it again on the same
-        port; the nodes keep running. Returns when the new master and rosout answer."""
+        port; the nodes keep running. Returns when the new master and rosout answer, with the
+        ``time.monotonic()`` at which the new master first answered."""
         if self.roscore is None:
             raise HarnessError("no roscore to restart: call start() first")
         self.roscore.stop()
@@ -275,9 +276,11 @@ class RosHarness:
             if time.monotonic() > deadline:
                 raise HarnessError(f"the restarted roscore did not answer within {timeout} s")
             time.sleep(0.05)
+        answered = time.monotonic()
         self.wait_for_node("/rosout", timeout)
         if self.sim_time:
             self.set_param("/use_sim_time", True)
+        return answered
 
     def stop(self) -> None:
         """Stop every node (newest first), then roscore; leaves no process behind."""
