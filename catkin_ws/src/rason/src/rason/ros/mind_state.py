@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import threading
 from collections import deque
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING
 
@@ -29,7 +30,7 @@ from rason.asl import Message, term_str
 
 if TYPE_CHECKING:
     from rason.asl import Agent
-    from rason.ros.arch import RosAgArch
+    from rason.ros.arch import PendingAction
 
 MIND_STATE_VERSION = 1
 MESSAGES_KEPT = 10
@@ -51,14 +52,26 @@ class MessageView:
     content: str
 
 
-class MindStatePublisher:
-    """Publishes one agent's mind on change (see the module's docstring)."""
+def latched_publisher(topic: str) -> Callable[[str], None]:
+    """A function publishing a text on `topic` (std_msgs/String, latched)."""
+    publisher = rospy.Publisher(topic, String, queue_size=1, latch=True)
+    return lambda text: publisher.publish(String(data=text))
 
-    def __init__(self, agent: Agent, arch: RosAgArch, topic: str, namespace: str) -> None:
+
+class MindStatePublisher:
+    """Publishes one agent's mind on change (see the module's docstring).
+
+    `pending_actions` gives the agent's actions waiting for feedback (RosAgArch.pending_actions),
+    `publish` sends the JSON text (latched_publisher), `node` names the hosting node.
+    """
+
+    def __init__(self, agent: Agent, pending_actions: Callable[[], list[PendingAction]],
+                 publish: Callable[[str], None], node: str, namespace: str) -> None:
         self.agent = agent
-        self.arch = arch
+        self.pending_actions = pending_actions
+        self.publish = publish
+        self.node = node
         self.namespace = namespace
-        self.publisher = rospy.Publisher(topic, String, queue_size=1, latch=True)
         self.messages_in: deque[MessageView] = deque(maxlen=MESSAGES_KEPT)
         self.messages_out: deque[MessageView] = deque(maxlen=MESSAGES_KEPT)
         self._lock = threading.Lock()
@@ -76,12 +89,12 @@ class MindStatePublisher:
         """The mind as a JSON-ready dict, without stamp and seq (they change every time)."""
         mind = self.agent.mind_state()
         actions = [{"id": p.action_id, "text": p.text, "sent_at": p.sent_at,
-                    "accepted_at": p.accepted_at} for p in self.arch.pending_actions()]
+                    "accepted_at": p.accepted_at} for p in self.pending_actions()]
         with self._lock:
             messages_in = [asdict(m) for m in self.messages_in]
             messages_out = [asdict(m) for m in self.messages_out]
         return {"version": MIND_STATE_VERSION, "agent": self.agent.name,
-                "node": rospy.get_name(), "namespace": self.namespace, "mind": asdict(mind),
+                "node": self.node, "namespace": self.namespace, "mind": asdict(mind),
                 "actions": actions, "messages_in": messages_in, "messages_out": messages_out}
 
     def tick(self, now: float) -> bool:
@@ -92,5 +105,5 @@ class MindStatePublisher:
         self._last = body
         self.seq += 1
         # stamp and seq go first, outside what is compared
-        self.publisher.publish(String(data=f'{{"stamp":{now!r},"seq":{self.seq},{body[1:]}'))
+        self.publish(f'{{"stamp":{now!r},"seq":{self.seq},{body[1:]}')
         return True

@@ -45,7 +45,7 @@ from rason.asl import Agent, AgentOptions, Message, parse_term, term_str
 from rason.ros.arch import RosAgArch
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.guard import guarded
-from rason.ros.mind_state import MindStatePublisher, mind_state_topic
+from rason.ros.mind_state import MindStatePublisher, latched_publisher, mind_state_topic
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
 
@@ -110,7 +110,9 @@ class RasonNode:
         hosted = HostedAgent(agent, arch, thread)
         if self.mind_state_rate > 0:
             hosted.mind_state = MindStatePublisher(
-                agent, arch, mind_state_topic(self.base_ns, name), self.base_ns)
+                agent, arch.pending_actions,
+                latched_publisher(mind_state_topic(self.base_ns, name)),
+                rospy.get_name(), self.base_ns)
         self.agents[name] = hosted
         return hosted
 
