@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import threading
 from dataclasses import asdict
 
 import pytest
@@ -129,3 +130,41 @@ def test_robots_trail_thins_out_small_moves():
     assert 8 <= len(odom["trail"]) <= 11
     assert odom["first"]["x"] == 0.0 and odom["pose"]["x"] == pytest.approx(0.099)
     assert robots.snapshot()["robots"]["r"]["truth"] is None
+
+
+def test_a_busy_agent_publishes_its_mind_from_its_own_cycle():
+    arch = HeldActions()
+    agent = Agent("t", PROGRAM, arch)
+    sent: list[str] = []
+    publisher = MindStatePublisher(agent, lambda: [], sent.append, "/n", "/")
+    held, release = threading.Event(), threading.Event()
+
+    def cycle_in_progress() -> None:
+        with agent._state_lock:           # what a reasoning cycle of the agent's thread holds
+            held.set()
+            release.wait(10)
+
+    busy = threading.Thread(target=cycle_in_progress)
+    busy.start()
+    held.wait(10)
+    assert publisher.tick(5.0) is False and sent == []      # the timer does not wait
+    release.set()
+    busy.join()
+    publisher.at_cycle()                  # the agent's next cycle takes it
+    assert len(sent) == 1 and json.loads(sent[0])["stamp"] == 5.0
+    publisher.at_cycle()                  # nothing left to do
+    assert len(sent) == 1
+
+
+def test_a_failing_publication_never_reaches_the_reasoning_cycle():
+    agent = Agent("t", PROGRAM, HeldActions())
+
+    def broken(_text: str) -> None:
+        raise OSError("link down")
+
+    warnings: list[str] = []
+    publisher = MindStatePublisher(agent, lambda: [], broken, "/n", "/", warnings.append)
+    publisher._due = 1.0
+    publisher.at_cycle()                  # reported, not raised
+    assert publisher._due is None
+    assert warnings == ["[t] mind_state not published: OSError: link down"]

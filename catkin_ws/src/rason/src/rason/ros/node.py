@@ -113,6 +113,7 @@ class RasonNode:
                 agent, arch.pending_actions,
                 latched_publisher(mind_state_topic(self.base_ns, name)),
                 rospy.get_name(), self.base_ns)
+            arch.on_cycle = hosted.mind_state.at_cycle
         self.agents[name] = hosted
         return hosted
 
