@@ -12,11 +12,19 @@ time per loop iteration (µs) for:
   cannot install it);
 * for scale, real Jason on the JVM: about 2.7 µs per iteration (reference figure).
 
+Then the cost of the mind inspector for the reasoning cycle: the same agent while a thread
+publishes its mind exactly as the agent node does (``rason.ros.mind_state``: a timer thread
+ticks, the agent's thread takes the snapshot at its next cycle when it is busy, JSON, compare
+with the last one; the text is dropped instead of sent) at the
+node's default ``~mind_state_rate`` (10 Hz) and at 100 Hz, against no publication, interleaved,
+best of R; also with 200 more beliefs in the mind (a snapshot costs more for a larger mind).
+
 Both interpreters run a 2000-iteration warm-up first, and a garbage collection precedes
 each timed run; the best of ``--repeat`` runs counts (more for small N, the same number for
 both: about 200000 timed iterations).
 
 Usage: python3 benchmarks/reasoning_cycle.py [--counts 3700 100000] [--repeat 3] [--no-agentspeak]
+       [--no-mind-state]
 """
 
 from __future__ import annotations
@@ -28,6 +36,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -100,6 +109,84 @@ def bench_rason(n: int) -> tuple[float, str]:
     return (t1 - t0) / n * 1e6, arch.lines[-1]
 
 
+MIND_STATE_COUNT = 300000            # iterations per run: about 1.5 s, 15 publications at 10 Hz
+MIND_STATE_RATES = (0.0, 10.0, 100.0)
+BIG_MIND = "".join(f'fact({k}, "a belief of the larger mind", [{k}, {k + 1}]).\n' for k in range(200))
+
+
+class PublishingArch(QuietArch):
+    """QuietArch that calls ``on_cycle`` at the start of every reasoning cycle, as RosAgArch."""
+
+    on_cycle = None
+
+    def perceive(self):
+        if self.on_cycle is not None:
+            self.on_cycle()
+        return None
+
+
+def bench_mind_state(n: int, hz: float, extra: str = "") -> tuple[float, int, float]:
+    """µs per iteration while the mind is published at `hz` (0: not at all), the number of
+    publications and the mean µs of one timer tick (a snapshot + JSON + compare when the agent
+    was between cycles; else only leaving the snapshot to the agent's thread)."""
+    from rason.ros.mind_state import MindStatePublisher
+
+    arch = PublishingArch()
+    ag = Agent("bench", extra + LISTING_5_4.format(n=n), arch)
+    sent: list[str] = []
+    publisher = MindStatePublisher(ag, lambda: [], sent.append, "/bench", "/")
+    arch.on_cycle = publisher.at_cycle if hz > 0 else None
+    stop = threading.Event()
+    ticks: list[float] = []
+
+    def publish() -> None:
+        period = 1.0 / hz
+        deadline = time.perf_counter()
+        while not stop.is_set():
+            start = time.perf_counter()
+            publisher.tick(start)
+            ticks.append(time.perf_counter() - start)
+            deadline += period
+            stop.wait(max(0.0, deadline - time.perf_counter()))
+
+    thread = threading.Thread(target=publish, daemon=True) if hz > 0 else None
+    gc.collect()
+    t0 = time.perf_counter()
+    if thread is not None:
+        thread.start()
+    step = ag.step
+    while step():
+        pass
+    t1 = time.perf_counter()
+    stop.set()
+    if thread is not None:
+        thread.join()
+    assert arch.lines and arch.lines[0] == "Done", arch.lines
+    return (t1 - t0) / n * 1e6, len(sent), (sum(ticks) / len(ticks) * 1e6 if ticks else 0.0)
+
+
+def mind_state_table(repeat: int) -> None:
+    print(f"\nCost of publishing the mind (rason.ros.mind_state) for the reasoning cycle: "
+          f"Listing 5.4, count to {MIND_STATE_COUNT}, best of {repeat}, interleaved")
+    print(f"{'mind':>22} | {'publication':>11} | {'µs/it':>6} | {'vs off':>7} | "
+          f"{'publications':>12} | {'µs per tick':>11}")
+    print("-" * 86)
+    for label, extra in (("Listing 5.4", ""), ("+ 200 beliefs", BIG_MIND)):
+        best: dict[float, tuple[float, int, float]] = {}
+        for _ in range(repeat):
+            for hz in MIND_STATE_RATES:
+                run = bench_mind_state(MIND_STATE_COUNT, hz, extra)
+                if hz not in best or run[0] < best[hz][0]:
+                    best[hz] = run
+        off = best[0.0][0]
+        for hz in MIND_STATE_RATES:
+            us, count, tick = best[hz]
+            rate = "off" if hz == 0 else f"{hz:g} Hz"
+            print(f"{label:>22} | {rate:>11} | {us:6.2f} | {100 * (us / off - 1):+6.1f}% | "
+                  f"{count:>12} | {tick:11.0f}")
+    print("target: under 5% at the default rate (10 Hz)")
+
+
 def setup_agentspeak(tmp: str) -> str | None:
     venv = os.path.join(tmp, "venv")
     try:
@@ -135,6 +222,8 @@ def main() -> int:
     ap.add_argument("--repeat", type=int, default=3,
                     help="best of R runs (at least enough for 200000 timed iterations)")
     ap.add_argument("--no-agentspeak", action="store_true")
+    ap.add_argument("--no-mind-state", action="store_true",
+                    help="skip the cost of publishing the mind (mind inspector)")
     args = ap.parse_args()
     sys.setrecursionlimit(max(sys.getrecursionlimit(), 20000))
 
@@ -167,6 +256,8 @@ def main() -> int:
         print(f"{n:>8} | {ours:15.2f} | {own_us:>13} | {theirs_s:>22} | "
               f"{ratio:>7} | {TARGET_SPEEDUP:5.1f}x | {JASON_JVM_US:15.1f} | {ours / JASON_JVM_US:6.1f}x")
     print("target (>= 3x faster than agentspeak per iteration):", "met" if ok else "NOT met")
+    if not args.no_mind_state:
+        mind_state_table(args.repeat)
     return 0
 
 

@@ -113,8 +113,9 @@ def _diagnosis(driver: webdriver.Chrome) -> str | None:
     return next((b for b in _beliefs(driver) if b.startswith("diagnosis(")), None)
 
 
-@pytest.mark.skipif(not os.path.exists(CHROMEDRIVER), reason="chromium-driver not installed")
 def test_page_follows_a_demo_live_and_steps_back(tmp_path):
+    assert os.path.exists(CHROMEDRIVER) and os.path.exists(CHROMIUM), \
+        "Debian's chromium and chromium-driver are needed: ./setup.sh installs them"
     demo = DemoProcess(tmp_path / "run")
     driver = None
     try:

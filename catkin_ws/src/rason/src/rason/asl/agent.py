@@ -261,10 +261,15 @@ class Agent:
         """``.count(Q)``: how many solutions Q has in the current mental state."""
         return sum(1 for _ in solve(self, query, {}))
 
-    def mind_state(self) -> MindState:
-        """Structured snapshot of the mental state, for a mind inspector (read-only)."""
-        with self._state_lock:
+    def mind_state(self, blocking: bool = True) -> MindState | None:
+        """Structured snapshot of the mental state, for a mind inspector (read-only); None when
+        not `blocking` and a reasoning cycle of another thread holds the agent right now."""
+        if not self._state_lock.acquire(blocking=blocking):
+            return None
+        try:
             return mind_state(self)
+        finally:
+            self._state_lock.release()
 
     def request_stop(self) -> None:
         self._stop_requested = True

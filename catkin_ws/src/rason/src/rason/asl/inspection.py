@@ -3,10 +3,13 @@
 :func:`mind_state` reads the belief base, the events and the intentions of an agent and returns
 plain records (dataclasses of strings, numbers and lists) that serialise to JSON as they are.
 It never changes the agent; :meth:`Agent.mind_state` calls it under the agent's state lock.
+The records hold only strings, numbers, lists, dicts and records, so ``json.dumps(state,
+default=vars)`` serialises them (see :func:`to_json`).
 """
 
 from __future__ import annotations
 
+import json
 import os
 from dataclasses import dataclass, field
 from enum import StrEnum
@@ -107,7 +110,27 @@ def mind_state(agent: Agent) -> MindState:
     return state
 
 
+def to_json(value: object) -> str:
+    """Compact JSON of records of this module (and of dicts and lists holding them)."""
+    return json.dumps(value, default=vars, separators=(",", ":"))
+
+
+#: Belief views by belief (a belief is an immutable literal: equal beliefs, equal views), so a
+#: mind snapshot only formats the beliefs that are new since the last one.
+_BELIEF_VIEWS: dict[Literal, BeliefView] = {}
+_BELIEF_VIEWS_MAX = 50000
+
+
 def _belief(b: Literal) -> BeliefView:
+    view = _BELIEF_VIEWS.get(b)
+    if view is None:
+        if len(_BELIEF_VIEWS) >= _BELIEF_VIEWS_MAX:
+            _BELIEF_VIEWS.clear()
+        view = _BELIEF_VIEWS[b] = _new_belief_view(b)
+    return view
+
+
+def _new_belief_view(b: Literal) -> BeliefView:
     sources, annots = [], []
     for a in b.annots:
         if isinstance(a, Literal) and a.functor == "source" and len(a.args) == 1:

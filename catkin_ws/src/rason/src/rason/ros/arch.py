@@ -10,6 +10,7 @@ percepts come from the node's perception table; messages to other agents travel 
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -67,6 +68,8 @@ class RosAgArch(AgentArch):
         self.name = name
         self.trust = trust or TrustPolicy()
         self.agent: Agent | None = None
+        # called by the agent's thread at the start of every reasoning cycle (see mind_state)
+        self.on_cycle: Callable[[], None] | None = None
         self.perceptions: PerceptionTable = PerceptionTable(
             parse=parse_literal, warn=lambda text: rospy.logwarn("[%s] %s", name, text),
             mode=node.perception_mode, filter=perception_filter or PerceptionFilter(),
@@ -76,6 +79,8 @@ class RosAgArch(AgentArch):
 
     # -- AgentArch --------------------------------------------------------------------------------
     def perceive(self):
+        if self.on_cycle is not None:
+            self.on_cycle()
         return self.perceptions.percepts()
 
     def act(self, agent: Agent, action, action_id: int) -> None:

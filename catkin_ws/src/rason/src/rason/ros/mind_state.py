@@ -7,6 +7,11 @@ time they were sent and the last messages in and out, and publishes it as JSON i
 ``std_msgs/String`` only when something changed. The topic is latched, so an inspector started
 later gets the current state at once.
 
+The timer never waits for a busy agent: when a reasoning cycle holds the agent, the snapshot is
+left to the agent's own thread, which takes it at the start of its next cycle
+(:meth:`~MindStatePublisher.at_cycle`, called from ``RosAgArch.perceive``). So the reasoning
+thread and the timer never queue on the agent's lock, and an idle agent costs its cycle nothing.
+
 The JSON document (``MIND_STATE_VERSION``): ``agent``, ``node``, ``namespace``, ``stamp`` (ROS
 seconds of the snapshot), ``seq`` (counts publications), ``mind`` (beliefs, rules, events,
 desires, intentions: see :mod:`rason.asl.inspection`), ``actions`` (id, text, sent_at,
@@ -16,20 +21,23 @@ content), oldest first.
 
 from __future__ import annotations
 
-import json
 import threading
 from collections import deque
-from dataclasses import asdict, dataclass
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import rospy
 from std_msgs.msg import String
 
 from rason.asl import Message, term_str
+from rason.asl.inspection import to_json
+from rason.ros.guard import WARNINGS
 
 if TYPE_CHECKING:
     from rason.asl import Agent
-    from rason.ros.arch import RosAgArch
+    from rason.asl.inspection import MindState
+    from rason.ros.arch import PendingAction
 
 MIND_STATE_VERSION = 1
 MESSAGES_KEPT = 10
@@ -51,18 +59,35 @@ class MessageView:
     content: str
 
 
-class MindStatePublisher:
-    """Publishes one agent's mind on change (see the module's docstring)."""
+def latched_publisher(topic: str) -> Callable[[str], None]:
+    """A function publishing a text on `topic` (std_msgs/String, latched)."""
+    publisher = rospy.Publisher(topic, String, queue_size=1, latch=True)
+    return lambda text: publisher.publish(String(data=text))
 
-    def __init__(self, agent: Agent, arch: RosAgArch, topic: str, namespace: str) -> None:
+
+class MindStatePublisher:
+    """Publishes one agent's mind on change (see the module's docstring).
+
+    `pending_actions` gives the agent's actions waiting for feedback (RosAgArch.pending_actions),
+    `publish` sends the JSON text (latched_publisher), `node` names the hosting node, `warn`
+    reports a publication that failed (default: the node's rate-limited warnings).
+    """
+
+    def __init__(self, agent: Agent, pending_actions: Callable[[], list[PendingAction]],
+                 publish: Callable[[str], None], node: str, namespace: str,
+                 warn: Callable[[str], object] | None = None) -> None:
         self.agent = agent
-        self.arch = arch
+        self.warn = warn or (lambda text: WARNINGS.warn("mind_state", text))
+        self.pending_actions = pending_actions
+        self.publish = publish
+        self.node = node
         self.namespace = namespace
-        self.publisher = rospy.Publisher(topic, String, queue_size=1, latch=True)
         self.messages_in: deque[MessageView] = deque(maxlen=MESSAGES_KEPT)
         self.messages_out: deque[MessageView] = deque(maxlen=MESSAGES_KEPT)
         self._lock = threading.Lock()
+        self._publishing = threading.Lock()
         self._last = ""
+        self._due: float | None = None      # ROS time of a tick left to the agent's thread
         self.seq = 0
 
     def note_message(self, message: Message, outgoing: bool, now: float) -> None:
@@ -72,25 +97,45 @@ class MindStatePublisher:
         with self._lock:
             (self.messages_out if outgoing else self.messages_in).append(view)
 
-    def document(self) -> dict:
-        """The mind as a JSON-ready dict, without stamp and seq (they change every time)."""
-        mind = self.agent.mind_state()
+    def document(self, mind: MindState) -> dict:
+        """The mind as records for :func:`to_json`, without stamp and seq (they always change)."""
         actions = [{"id": p.action_id, "text": p.text, "sent_at": p.sent_at,
-                    "accepted_at": p.accepted_at} for p in self.arch.pending_actions()]
+                    "accepted_at": p.accepted_at} for p in self.pending_actions()]
         with self._lock:
-            messages_in = [asdict(m) for m in self.messages_in]
-            messages_out = [asdict(m) for m in self.messages_out]
+            messages_in, messages_out = list(self.messages_in), list(self.messages_out)
         return {"version": MIND_STATE_VERSION, "agent": self.agent.name,
-                "node": rospy.get_name(), "namespace": self.namespace, "mind": asdict(mind),
+                "node": self.node, "namespace": self.namespace, "mind": mind,
                 "actions": actions, "messages_in": messages_in, "messages_out": messages_out}
 
     def tick(self, now: float) -> bool:
-        """Publish the mind if it changed since the last publication; True if published."""
-        body = json.dumps(self.document(), separators=(",", ":"))
-        if body == self._last:
+        """The timer: publish the mind if it changed; True if published. A busy agent's mind is
+        published by its own thread at its next cycle instead (:meth:`at_cycle`)."""
+        mind = self.agent.mind_state(blocking=False)
+        if mind is None:
+            self._due = now
             return False
-        self._last = body
-        self.seq += 1
-        # stamp and seq go first, outside what is compared
-        self.publisher.publish(String(data=f'{{"stamp":{now!r},"seq":{self.seq},{body[1:]}'))
-        return True
+        return self._publish(mind, now)
+
+    def at_cycle(self) -> None:
+        """The agent's thread, at the start of a reasoning cycle: publish if a tick was left."""
+        due = self._due
+        if due is None:
+            return
+        self._due = None
+        try:
+            mind = self.agent.mind_state()
+            if mind is not None:
+                self._publish(mind, due)
+        except Exception as err:  # never into the reasoning cycle: it would drop an intention
+            self.warn(f"[{self.agent.name}] mind_state not published: {type(err).__name__}: {err}")
+
+    def _publish(self, mind: MindState, now: float) -> bool:
+        body = to_json(self.document(mind))
+        with self._publishing:
+            if body == self._last:
+                return False
+            self._last = body
+            self.seq += 1
+            # stamp and seq go first, outside what is compared
+            self.publish(f'{{"stamp":{now!r},"seq":{self.seq},{body[1:]}')
+            return True

@@ -70,7 +70,7 @@ from rason.ros.auth import (
 )
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.guard import RateLimitedWarnings, clip, guarded
-from rason.ros.mind_state import MindStatePublisher, mind_state_topic
+from rason.ros.mind_state import MindStatePublisher, latched_publisher, mind_state_topic
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
 
@@ -146,7 +146,10 @@ class RasonNode:
         hosted = HostedAgent(agent, arch, thread)
         if self.mind_state_rate > 0:
             hosted.mind_state = MindStatePublisher(
-                agent, arch, mind_state_topic(self.base_ns, name), self.base_ns)
+                agent, arch.pending_actions,
+                latched_publisher(mind_state_topic(self.base_ns, name)),
+                rospy.get_name(), self.base_ns)
+            arch.on_cycle = hosted.mind_state.at_cycle
         self.agents[name] = hosted
         return hosted
 
