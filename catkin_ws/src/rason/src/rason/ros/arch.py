@@ -13,9 +13,9 @@ from typing import TYPE_CHECKING
 
 import rospy
 
-from rason.asl import AgentArch, Clock, Message, UnknownReceiver, parse_literal
+from rason.asl import AgentArch, Clock, Message, UnknownReceiver
 from rason.ros.feedback import Feedback
-from rason.ros.perceptions import PerceptionFilter, PerceptionTable
+from rason.ros.perceptions import PerceptionFilter, PerceptionTable, parse_percept
 
 if TYPE_CHECKING:
     from rason.asl import Agent
@@ -63,8 +63,9 @@ class RosAgArch(AgentArch):
         self.name = name
         self.agent: Agent | None = None
         self.perceptions: PerceptionTable = PerceptionTable(
-            parse=parse_literal, warn=lambda text: rospy.logwarn("[%s] %s", name, text),
-            mode=node.perception_mode, filter=perception_filter or PerceptionFilter())
+            parse=parse_percept, warn=lambda text: rospy.logwarn("[%s] %s", name, text),
+            mode=node.perception_mode, filter=perception_filter or PerceptionFilter(),
+            now=rospy.get_time)
         self.pending: dict[int, PendingAction] = {}
         self._lock = threading.Lock()
 

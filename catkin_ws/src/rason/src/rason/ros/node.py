@@ -29,13 +29,16 @@ from __future__ import annotations
 import threading
 import uuid
 from dataclasses import dataclass
+from typing import Any
 
 import rospy
 from jason_msgs.msg import Action, AgentMessage, Event, Perception
 from jason_msgs.srv import Mind, MindResponse
 
-from rason.asl import Agent, AgentOptions, Message, parse_term, term_str
+from rason.asl import Agent, AgentOptions, Message, parse_term_text, term_str, term_text
+from rason.asl.terms import non_finite_part
 from rason.ros.arch import RosAgArch
+from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.feedback import parse_accepted, parse_feedback
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import Directory
@@ -75,6 +78,7 @@ class RasonNode:
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
+        self.bad_input = BadInputLog(rospy.logwarn, rospy.get_time)
 
         # -- topics (subscriptions start with the agents: see start) -------------------------------
         self.action_pub = rospy.Publisher(self.topic("jason/action"), Action, queue_size=100)
@@ -144,7 +148,7 @@ class RasonNode:
     def publish_message(self, message: Message) -> None:
         self.message_pub.publish(AgentMessage(
             sender=message.sender, receiver=message.receiver or "",
-            performative=message.performative, content=term_str(message.content),
+            performative=message.performative, content=term_text(message.content),
             reply_with=message.msg_id or uuid.uuid4().hex[:12],
             in_reply_to=message.in_reply_to or ""))
 
@@ -212,19 +216,36 @@ class RasonNode:
         self.directory.heard(msg.sender, now)
         receivers = ([msg.receiver] if msg.receiver
                      else [n for n in self.agents if n != msg.sender])
+        content = None
         for name in receivers:
             hosted = self.agents.get(name)
             if hosted is None:
                 continue
-            try:
-                content = parse_term(msg.content)
-            except Exception as err:
-                rospy.logwarn("[%s] dropped message from %s with unreadable content %r: %s",
-                              name, msg.sender, msg.content, err)
-                continue
+            if content is None:
+                content = self._read_content(msg)
+                if content is None:
+                    return
             hosted.agent.receive(Message(
                 sender=msg.sender, receiver=name, performative=msg.performative,
                 content=content, msg_id=msg.reply_with, in_reply_to=msg.in_reply_to or None))
+
+    def _read_content(self, msg: AgentMessage) -> Any:
+        """The message's content as a term, or None (with a rate-limited warning) when it is
+        unreadable or holds a number that is not finite."""
+        try:
+            content = parse_term_text(msg.content)
+        except Exception as err:
+            self.bad_input.warn(msg.sender, msg.content, (
+                f"dropped message from {shorten(msg.sender, 80)} with unreadable content "
+                f"{shorten(repr(msg.content))}: {shorten(str(err))}"))
+            return None
+        bad = non_finite_part(content)
+        if bad is not None:
+            self.bad_input.warn(msg.sender, msg.content, (
+                f"dropped message from {shorten(msg.sender, 80)}: {bad} is not a finite number "
+                f"in {shorten(repr(msg.content))}"))
+            return None
+        return content
 
     def on_check_actions(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()
