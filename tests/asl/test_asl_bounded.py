@@ -8,7 +8,7 @@ from pathlib import Path
 
 from asl_helpers import RecordingArch, subprocess_env
 
-from rason.asl import Agent, AgentOptions
+from rason.asl import Agent, AgentOptions, ListTerm, Literal, Message, Var, parse_term
 
 LOOP = """n(0).
 !loop.
@@ -130,3 +130,48 @@ def test_command_line_flags(tmp_path: Path) -> None:
     assert run("--max-intention-depth", "100") == "[count] done300\n"
     assert run("--no-tro", "--max-intention-depth", "100").endswith("[count] intention_too_deep at 99\n")
     assert run("--no-tro") == "[count] done300\n"
+
+
+def test_a_tell_of_20000_literals_takes_a_few_cycles_and_no_deep_intention() -> None:
+    n = 20_000
+    arch = RecordingArch()
+    ag = Agent("b", f"+v(K)[source(a)] : K == {n - 1} <- .count(v(_), C); .print(got, C).", arch)
+    content = ListTerm(tuple(Literal("v", (float(k),)) for k in range(n)))
+    ag.receive(Message("a", "b", "tell", content))
+    cycles, deepest = 0, 0
+    while ag.step():
+        cycles += 1
+        deepest = max([deepest, *(len(i.ims) for i in ag.all_intentions())])
+    assert arch.out == [f"got{n}"]
+    assert cycles <= 5 and deepest <= 1
+    assert ag.bb.size() == n
+
+
+def test_a_tell_of_a_list_with_user_kqml_plans_still_goes_through_them() -> None:
+    arch = RecordingArch()
+    src = ("+!kqml_received(S, tell, C, _) : .list(C) <- .length(C, N); .print(list, N).\n"
+           "+!kqml_received(S, P, C, M) <- .print(other).")
+    ag = Agent("b", src, arch)
+    ag.receive(Message("a", "b", "tell", ListTerm((Literal("x"), 2.0, Literal("y", (Var("Z"),))))))
+    while ag.step():
+        pass
+    assert arch.out == ["list3"]
+
+
+def test_a_tell_of_a_list_adds_only_its_ground_literals_with_the_senders_source() -> None:
+    arch = RecordingArch()
+    ag = Agent("b", "", arch)
+    ag.receive(Message("a", "b", "tell", parse_term('[x, 2, "s", y(Z), [z], w(1)[k]]')))
+    while ag.step():
+        pass
+    assert sorted(str(b) for b in ag.bb) == ["w(1)[k,source(a)]", "x[source(a)]"]
+
+
+def test_belief_candidates_are_snapshots() -> None:
+    arch = RecordingArch()
+    ag = Agent("b", "v(1). v(2).", arch)
+    snap = ag.bb.candidates(("v", 1, False))
+    ag.bb.add(Literal("v", (3.0,)))
+    ag.bb.remove(Literal("v", (1.0,), (Literal("source", (Literal("self"),)),)))
+    assert [str(b) for b in snap] == ["v(1)[source(self)]", "v(2)[source(self)]"]
+    assert [str(b) for b in ag.bb.candidates(("v", 1, False))] == ["v(3)", "v(2)[source(self)]"]

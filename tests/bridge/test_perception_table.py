@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from rason.ros.perceptions import PerceptionFilter, PerceptionTable
+from rason.asl import Literal
+from rason.ros.badinput import BadInputLog
+from rason.ros.perceptions import PerceptionFilter, PerceptionTable, parse_percept
 
 
 def parse(text: str) -> str:
@@ -114,3 +116,44 @@ def test_a_ttl_that_is_not_a_number_is_warned_about_and_means_never():
     table.update("cam", ["p"], now=1.0)
     assert table.expire(1e9) == []
     assert warnings and "time to live" in warnings[0]
+
+
+@pytest.mark.parametrize("text", ["robot(r, NaN, 1)", "robot(r, Infinity)", "robot(r, -Infinity)",
+                                  "robot(r, 1e999)", "robot(r, [1, NaN])", "robot(r)[at(NaN)]"])
+def test_nan_and_infinity_are_rejected_never_variables(text):
+    warnings: list[str] = []
+    table = PerceptionTable(parse_percept, warn=warnings.append)
+    table.update("cam", [text, "ok(1)"])
+    assert table.percepts() == [Literal("ok", (1.0,))]
+    assert len(warnings) == 1 and "not a finite number" in warnings[0]
+
+
+def test_a_flood_of_distinct_malformed_strings_is_logged_rarely_briefly_with_bounded_memory():
+    warnings: list[str] = []
+    clock = [0.0]
+    table = PerceptionTable(parse_percept, warn=warnings.append, now=lambda: clock[0])
+    for k in range(5000):
+        clock[0] = k * 0.02                       # 50 Hz for 100 s
+        table.update("cam", [f"robot(r, {k}, " + "x" * 3000, "ok(1)"])
+        assert table.percepts() is not None
+    assert 90 <= len(warnings) <= 101             # about one a second
+    assert all(len(w) < 600 for w in warnings)    # shortened, not 3 KB each
+    assert "held back" in warnings[-1]
+    assert len(table.bad_input._seen) <= table.bad_input.remember
+    assert len(table._cache) <= 4097
+
+
+def test_bad_input_log_warns_once_per_input_and_once_per_period_per_group():
+    logged: list[str] = []
+    clock = [0.0]
+    log = BadInputLog(logged.append, lambda: clock[0], period=1.0, remember=3)
+    assert log.warn("a", "x", "x bad")
+    assert not log.warn("a", "x", "x bad")       # same input: never again while remembered
+    assert not log.warn("a", "y", "y bad")       # same group within the period
+    assert log.warn("b", "y", "y bad")           # another group
+    clock[0] = 1.5
+    assert log.warn("a", "z", "z bad")
+    assert logged == ["x bad", "y bad", "z bad (1 similar warnings held back)"]
+    for k in range(10):
+        log.warn("c", str(k), "w")
+    assert len(log._seen) == 3 and len(log._groups) <= 3

@@ -9,15 +9,15 @@ library, circumstance), ``reasoning`` (the transition system), ``stdlib`` (inter
 from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, VirtualClock, WallClock
 from .mas2j import MasProject, load_mas2j, parse_mas2j
-from .parser import AslSyntaxError, parse_literal, parse_source, parse_term
+from .parser import AslSyntaxError, parse_literal, parse_source, parse_term, parse_term_text
 from .runtime import LocalArch, LocalMas, run_file
 from .stdlib import ModuleLoadError, internal_action, load_modules
-from .terms import ListTerm, Literal, Var, format_number, term_str
+from .terms import ListTerm, Literal, Var, format_number, term_str, term_text
 
 __all__ = [
     "Agent", "AgentArch", "AgentOptions", "AslSyntaxError", "Clock", "ListTerm", "Literal",
     "LocalArch", "LocalMas", "MasProject", "Message", "ModuleLoadError", "UnknownReceiver", "Var",
     "VirtualClock", "WallClock", "format_number", "internal_action", "load_agent_source",
     "load_mas2j", "load_modules", "parse_literal", "parse_mas2j", "parse_source", "parse_term",
-    "run_file", "term_str",
+    "parse_term_text", "run_file", "term_str", "term_text",
 ]

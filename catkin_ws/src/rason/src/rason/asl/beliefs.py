@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections import deque
 from typing import Any
 
 from .parser import Rule
@@ -13,21 +14,30 @@ class BeliefBase:
     """Ordered beliefs and rules per (functor, arity, negation) key.
 
     A belief is stored once per ``(functor, args, negation)`` with all its annotations merged
-    (e.g. several ``source(...)``).
+    (e.g. several ``source(...)``). Each key keeps its entries in a deque (adding at either end
+    is O(1)) and its beliefs by arguments (finding one is O(1)), so adding n beliefs is linear.
     """
 
     def __init__(self) -> None:
-        self._index: dict[tuple, list] = {}
+        self._index: dict[tuple, deque] = {}
+        self._by_args: dict[tuple, dict[tuple, Literal]] = {}
+        self._snapshots: dict[tuple, tuple] = {}
         self._percepts: dict[Literal, Literal] = {}
 
     # ------------------------------------------------------------ access
-    def candidates(self, key: tuple) -> list:
-        """Beliefs and rules with this key (a snapshot-safe list; do not mutate)."""
-        return self._index.get(key, ())
+    def candidates(self, key: tuple) -> tuple:
+        """Beliefs and rules with this key, in order: a snapshot, unchanged by later updates."""
+        snap = self._snapshots.get(key)
+        if snap is None:
+            entries = self._index.get(key)
+            if entries is None:
+                return ()
+            snap = self._snapshots[key] = tuple(entries)
+        return snap
 
     def __iter__(self):
-        for lst in self._index.values():
-            yield from lst
+        for key in list(self._index):
+            yield from self.candidates(key)
 
     def beliefs(self) -> list[Literal]:
         return [b for b in self if isinstance(b, Literal)]
@@ -37,15 +47,38 @@ class BeliefBase:
 
     def find(self, lit: Literal) -> Literal | None:
         """The stored belief with the same functor/args/negation as ``lit`` (annotations ignored)."""
-        for b in self._index.get(lit.key, ()):
-            if isinstance(b, Literal) and b.args == lit.args:
-                return b
-        return None
+        return self._by_args.get(lit.key, {}).get(lit.args)
 
     def size(self) -> int:
         return sum(len(v) for v in self._index.values())
 
     # ------------------------------------------------------------ update
+    def _entries(self, key: tuple) -> deque:
+        """The live entries of ``key`` (created if needed), about to change."""
+        self._snapshots.pop(key, None)
+        entries = self._index.get(key)
+        if entries is None:
+            entries = self._index[key] = deque()
+            self._by_args[key] = {}
+        return entries
+
+    def _drop_if_empty(self, key: tuple) -> None:
+        if not self._index[key]:
+            del self._index[key]
+            del self._by_args[key]
+
+    def _replace(self, key: tuple, old: Literal, new: Literal | None) -> None:
+        """Put ``new`` where belief ``old`` is (None: remove it)."""
+        entries = self._entries(key)
+        pos = _position(entries, old)
+        if new is None:
+            del entries[pos]
+            del self._by_args[key][old.args]
+            self._drop_if_empty(key)
+        else:
+            entries[pos] = new
+            self._by_args[key][new.args] = new
+
     def add(self, lit: Literal, front: bool = True) -> Literal | None:
         """Add a ground belief; returns the literal for the ``+b`` event, or None if nothing new.
 
@@ -53,96 +86,92 @@ class BeliefBase:
         just those annotations (Jason's behaviour).
         """
         key = (lit.functor, len(lit.args), lit.neg)
-        lst = self._index.get(key)
-        if lst is None:
-            self._index[key] = [lit]
+        held = self._by_args.get(key)
+        b = held.get(lit.args) if held else None
+        if b is not None:
+            new = [a for a in lit.annots if a not in b.annots]
+            if not new:
+                return None
+            self._replace(key, b, b.add_annots(new))
             return lit
-        args = lit.args
-        for i, b in enumerate(lst):
-            if type(b) is Literal and b.args == args:
-                new = [a for a in lit.annots if a not in b.annots]
-                if not new:
-                    return None
-                lst[i] = b.add_annots(new)
-                return lit
-        lst2 = list(lst)
+        entries = self._entries(key)
         if front:
-            lst2.insert(0, lit)
+            entries.appendleft(lit)
         else:
-            lst2.append(lit)
-        self._index[key] = lst2
+            entries.append(lit)
+        self._by_args[key][lit.args] = lit
         return lit
 
     def add_rule(self, rule: Rule, front: bool = False) -> None:
-        key = rule.head.key
-        lst = list(self._index.get(key, ()))
+        entries = self._entries(rule.head.key)
         if front:
-            lst.insert(0, rule)
+            entries.appendleft(rule)
         else:
-            lst.append(rule)
-        self._index[key] = lst
+            entries.append(rule)
 
     def remove(self, lit: Literal) -> Literal | None:
         """Remove ``lit``'s annotations from the stored belief (whole belief when no source is
         left). Returns the literal for the ``-b`` event or None if nothing was removed."""
         key = (lit.functor, len(lit.args), lit.neg)
-        lst = self._index.get(key)
-        if not lst:
+        held = self._by_args.get(key)
+        b = held.get(lit.args) if held else None
+        if b is None:
             return None
-        args = lit.args
-        for i, b in enumerate(lst):
-            if type(b) is Literal and b.args == args:
-                if b.annots == lit.annots:  # fast path: the whole belief goes
-                    if len(lst) == 1:
-                        del self._index[key]
-                    else:
-                        self._index[key] = lst[:i] + lst[i + 1:]
-                    return b
-                if not lit.annots:
-                    removed_annots: tuple = b.annots
-                    remaining: tuple = ()
-                else:
-                    if not all(a in b.annots for a in lit.annots):
-                        s: dict = {}
-                        if not unify(lit, b, s):
-                            return None
-                    removed_annots = tuple(a for a in b.annots if a in lit.annots)
-                    remaining = tuple(a for a in b.annots if a not in lit.annots)
-                    if not removed_annots:
-                        return None
-                lst2 = list(lst)
-                if remaining and any(isinstance(a, Literal) and a.functor == "source" for a in remaining):
-                    lst2[i] = b.with_annots(remaining)
-                else:
-                    del lst2[i]
-                if lst2:
-                    self._index[key] = lst2
-                else:
-                    del self._index[key]
-                if len(removed_annots) > 1:
-                    removed_annots = tuple(sorted(removed_annots, key=sort_key))
-                return b.with_annots(removed_annots)
-        return None
+        if b.annots == lit.annots:  # fast path: the whole belief goes
+            self._replace(key, b, None)
+            return b
+        if not lit.annots:
+            removed_annots: tuple = b.annots
+            remaining: tuple = ()
+        else:
+            if not all(a in b.annots for a in lit.annots):
+                s: dict = {}
+                if not unify(lit, b, s):
+                    return None
+            removed_annots = tuple(a for a in b.annots if a in lit.annots)
+            remaining = tuple(a for a in b.annots if a not in lit.annots)
+            if not removed_annots:
+                return None
+        if remaining and any(isinstance(a, Literal) and a.functor == "source" for a in remaining):
+            self._replace(key, b, b.with_annots(remaining))
+        else:
+            self._replace(key, b, None)
+        if len(removed_annots) > 1:
+            removed_annots = tuple(sorted(removed_annots, key=sort_key))
+        return b.with_annots(removed_annots)
 
     def abolish(self, pattern: Literal) -> list[Literal]:
         """Remove every belief unifying with ``pattern`` (any annotations)."""
-        lst = self._index.get(pattern.key)
-        if not lst:
+        key = pattern.key
+        if key not in self._index:
             return []
         keep, gone = [], []
-        for b in lst:
-            if isinstance(b, Literal) and unify(pattern.no_annots(), b, {}):
+        plain = pattern.no_annots()
+        for b in self._index[key]:
+            if isinstance(b, Literal) and unify(plain, b, {}):
                 gone.append(b)
             else:
                 keep.append(b)
-        if keep:
-            self._index[pattern.key] = keep
-        else:
-            del self._index[pattern.key]
+        entries = self._entries(key)
+        entries.clear()
+        entries.extend(keep)
+        for b in gone:
+            del self._by_args[key][b.args]
+        self._drop_if_empty(key)
         return gone
 
     def clear(self) -> None:
         self._index.clear()
+        self._by_args.clear()
+        self._snapshots.clear()
+
+
+def _position(entries: deque, b: Literal) -> int:
+    """Where the very object ``b`` is in ``entries``."""
+    for pos, e in enumerate(entries):
+        if e is b:
+            return pos
+    raise ValueError(f"belief {b} not stored")
 
 
 def with_source(lit: Literal, src: Any) -> Literal:

@@ -40,7 +40,7 @@ class IntendedMeans:
     ``stack`` holds the remaining deeds in reverse order (the next deed is ``stack[-1]``).
     """
 
-    __slots__ = ("current", "fail_target", "plan", "result", "stack", "trigger", "u")
+    __slots__ = ("current", "fail_target", "open_call", "plan", "result", "stack", "trigger", "u")
 
     def __init__(self, plan: Plan, trigger: Trigger, u: dict, fail_target: int | None = None) -> None:
         self.plan = plan
@@ -52,6 +52,8 @@ class IntendedMeans:
         # set when tail-recursion optimisation replaced the means below: (answer, call), what
         # the caller gets is ``answer`` once ``call`` is unified with this means' result
         self.result: tuple[Any, Any] | None = None
+        # the event had variables (its caller may get bindings back from this means)
+        self.open_call = False
 
     @property
     def is_goal_add(self) -> bool:

@@ -139,10 +139,11 @@ literal: [NEG] ATOM [args] [annots]
 NEG: "~"
 args: "(" log_expr ("," log_expr)* ")"
 annots: "[" [elems] "]"
+      | "[" "|" log_and "]"       -> annots_tail
 list: "[" [elems] "]"
 elems: log_and ("," log_and)* ["|" log_and]
 
-ATOM: /\.?[a-z][A-Za-z0-9_]*(\.[a-zA-Z][A-Za-z0-9_]*)*/ | /'[^'\n]*'/
+ATOM: /\.?[a-z][A-Za-z0-9_]*(\.[a-zA-Z][A-Za-z0-9_]*)*/ | /'(\\.|[^'\\\n])*'/
 VAR: /[A-Z_][A-Za-z0-9_]*/
 NUMBER: /[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?/
 STRING: /"(\\.|[^"\\])*"/
@@ -165,8 +166,11 @@ def _get_lark() -> Lark:
     return _lark
 
 
-def _unescape(raw: str) -> str:
-    """Jason translates only ``\\n`` and ``\\"``; every other backslash stays."""
+def _unescape(raw: str, exact: bool = False) -> str:
+    """The text of a quoted string (or atom). As Jason, ``\\n`` and the escaped quote (``\\"``
+    or ``\\'``) are translated and every other backslash stays; ``exact`` (text written by
+    :func:`~rason.asl.terms.term_text`) also translates ``\\\\``."""
+    quote = raw[0]
     body = raw[1:-1]
     out = []
     i = 0
@@ -177,8 +181,8 @@ def _unescape(raw: str) -> str:
             nx = body[i + 1]
             if nx == "n":
                 out.append("\n")
-            elif nx == '"':
-                out.append('"')
+            elif nx == quote or (exact and nx == "\\"):
+                out.append(nx)
             else:
                 out.append(c + nx)
             i += 2
@@ -216,17 +220,18 @@ class _Anon:
 
 @v_args(meta=True)
 class _ToAst(Transformer):
-    def __init__(self, filename: str) -> None:
+    def __init__(self, filename: str, exact: bool = False) -> None:
         super().__init__()
         self.filename = filename
         self.src = filename
+        self.exact = exact
 
     # ---------------- terms
     def number(self, meta: Any, c: list) -> float:
         return float(c[0])
 
     def string(self, meta: Any, c: list) -> str:
-        return _unescape(str(c[0]))
+        return _unescape(str(c[0]), self.exact)
 
     def var(self, meta: Any, c: list) -> Any:
         name = str(c[0])
@@ -249,6 +254,10 @@ class _ToAst(Transformer):
             return ((), None)
         return c[0]
 
+    def annots_tail(self, meta: Any, c: list) -> tuple:
+        """``p[|T]``: no annotations but a tail (how such a literal prints)."""
+        return ((), c[0])
+
     def list(self, meta: Any, c: list) -> ListTerm:
         if c[0] is None:
             return ListTerm()
@@ -262,7 +271,10 @@ class _ToAst(Transformer):
         if annots is not None:
             annots_t, tail = annots
             annots_t = merge_annots((), annots_t)
-        lit = Literal(str(atom), args or (), annots_t, tail, neg is not None)
+        name = str(atom)
+        if self.exact and name[0] == "'":   # Jason keeps the quotes in the functor
+            name = _unescape(name, exact=True)
+        lit = Literal(name, args or (), annots_t, tail, neg is not None)
         is_constant(lit)  # cache: resolving a constant literal is free
         return lit
 
@@ -494,10 +506,12 @@ def _parse_tree(text: str, filename: str, start: str = "start") -> Any:
     return tree
 
 
-def parse_source(text: str, filename: str = "<string>", src: str | None = None) -> AgentSource:
-    """Parse a whole ``.asl`` program."""
+def parse_source(text: str, filename: str = "<string>", src: str | None = None,
+                 exact: bool = False) -> AgentSource:
+    """Parse a whole ``.asl`` program (``exact``: text written by ``term_text``, see
+    :func:`parse_term_text`)."""
     tree = _parse_tree(text, filename)
-    tr = _ToAst(filename)
+    tr = _ToAst(filename, exact)
     if src is not None:
         tr.src = src
     try:
@@ -530,15 +544,23 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None) 
     return out
 
 
-def parse_term(text: str) -> Any:
-    """Parse one term (e.g. ``f(X, [1,2])``); raises :class:`AslSyntaxError`."""
+def parse_term(text: str, exact: bool = False) -> Any:
+    """Parse one term (e.g. ``f(X, [1,2])``) as Jason reads source text; raises
+    :class:`AslSyntaxError`. ``exact``: see :func:`parse_term_text`."""
     if not isinstance(text, str):
         raise AslSyntaxError("<term>", 1, 1, "not a string")
-    src = parse_source(f"t__({text}).", "<term>")
+    src = parse_source(f"t__({text}).", "<term>", exact=exact)
     if len(src.beliefs) != 1 or not isinstance(src.beliefs[0], Literal) or len(src.beliefs[0].args) != 1 \
             or src.beliefs[0].functor != "t__" or src.beliefs[0].annots:
         raise AslSyntaxError("<term>", 1, 1, f"not a single term: {text!r}")
     return src.beliefs[0].args[0]
+
+
+def parse_term_text(text: str) -> Any:
+    """The term written by :func:`~rason.asl.terms.term_text` (how terms travel between
+    processes): quoted atoms lose their quotes and ``\\\\`` is one backslash, so every term
+    reads back equal to the one written."""
+    return parse_term(text, exact=True)
 
 
 def parse_literal(text: str) -> Literal:
@@ -557,4 +579,5 @@ __all__ = [
     "parse_literal",
     "parse_source",
     "parse_term",
+    "parse_term_text",
 ]

@@ -183,7 +183,8 @@ def handle_event(ag: Agent, ev: Event) -> bool:
             return True
         return _no_plan(ag, trig, i, "relevant")
     lit = trig.literal
-    if not ((type(lit) is Literal and lit._g) or is_ground(lit)):
+    ground = (type(lit) is Literal and lit._g) or is_ground(lit)
+    if not ground:
         lit = rename_vars(lit, {})
         ev = Event(Trigger(trig.op, trig.type, lit), i, ev.fail_target, ev.reply)
     opt = sel_appl(ag, lit, relevant)
@@ -191,6 +192,7 @@ def handle_event(ag: Agent, ev: Event) -> bool:
         return _no_plan(ag, trig, i, "applicable")
     plan, u = opt
     im = IntendedMeans(plan, ev.trigger, u, ev.fail_target)
+    im.open_call = not ground
     if i is None:
         i = Intention(next(ag.intention_ids))
         i.reply = ev.reply
@@ -224,6 +226,9 @@ def _tail_call(ag: Agent, i: Intention, im: IntendedMeans) -> None:
     call = top.stack[-1]
     if call.kind not in (K_ACHIEVE, K_TEST):
         return
+    i.pop()
+    if top.result is None and not top.open_call and (i.ims or i.reply is None):
+        return   # top's caller asked a ground goal (and no question waits for the answer)
     answer, asked = _renamed_pair(resolve(tl, top.u, ag), resolve(call.term, top.u, ag))
     if top.result is not None:   # compose with what top itself owed its caller
         s: dict = {}
@@ -233,7 +238,6 @@ def _tail_call(ag: Agent, i: Intention, im: IntendedMeans) -> None:
         if unified:
             asked = resolve(asked, s, ag)
     im.result = (answer, asked)
-    i.pop()
 
 
 def _renamed_pair(a: Any, b: Any) -> tuple[Any, Any]:
@@ -666,6 +670,17 @@ def _for_next(stack: list, im: IntendedMeans, d: Deed, base: dict, sols: Any) ->
     return True
 
 
+def means_answer(ag: Agent, im: IntendedMeans) -> Any:
+    """The finished means' goal as its caller gets it: its trigger under its unifier, or, when
+    tail-recursion optimisation made it replace other means, what those owed their caller."""
+    res = resolve(im.trigger.literal, im.u, ag)
+    if im.result is None:
+        return res
+    answer, asked = im.result
+    s: dict = {}
+    return resolve(answer, s, ag) if unify(asked, res, s, ag) else answer
+
+
 def clr_int(ag: Agent, i: Intention) -> None:
     """ClrInt: pop finished intended means, passing results back to the caller's goal."""
     ims = i.ims
@@ -687,11 +702,7 @@ def clr_int(ag: Agent, i: Intention) -> None:
         if caller.stack:
             d = caller.stack.pop()
             if d.kind in (K_ACHIEVE, K_TEST):
-                res = resolve(im.trigger.literal, im.u, ag)
-                if im.result is not None:   # the means tail-recursion optimisation replaced
-                    answer, asked = im.result
-                    s: dict = {}
-                    res = resolve(answer, s, ag) if unify(asked, res, s, ag) else answer
+                res = means_answer(ag, im)
                 goal = resolve(d.term, caller.u, ag)
                 s2 = dict(caller.u)
                 if unify(goal, res, s2, ag):

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 from decimal import Decimal
 from typing import Any, Union
 
@@ -295,6 +296,24 @@ def _annots_str(annots: tuple, tail: Any) -> str:
     return "[" + inner + "]"
 
 
+#: an atom that needs no quotes (the parser's unquoted ATOM), and words the parser reads as keywords
+_PLAIN_ATOM = re.compile(r"\.?[a-z][A-Za-z0-9_]*(\.[a-zA-Z][A-Za-z0-9_]*)*")
+_KEYWORDS = frozenset({"not", "div", "mod"})
+
+
+def atom_text(name: str) -> str:
+    """A functor as exact source text: as is when the parser reads it back as that atom, else
+    quoted (``'Robot'``, ``'a b'``, ``'it\\'s'``)."""
+    if _PLAIN_ATOM.fullmatch(name) and name not in _KEYWORDS:
+        return name
+    return "'" + name.replace("\\", "\\\\").replace("'", "\\'").replace("\n", "\\n") + "'"
+
+
+def string_text(s: str) -> str:
+    """A string as exact source text: quoted, with ``\\``, ``\"`` and ``\\n`` escaped."""
+    return '"' + s.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+
+
 _ARITH_SYM = {"+": "+", "-": "-", "*": "*", "/": "/", "div": " div ", "mod": " mod ", "**": "**"}
 
 
@@ -335,6 +354,59 @@ def term_str(t: Any) -> str:
     if isinstance(t, int):
         return format_number(float(t))
     return str(t)
+
+
+def term_text(t: Any) -> str:
+    """Exact source text of a data term (numbers, strings, atoms, structures, lists, variables):
+    :func:`~rason.asl.parser.parse_term_text` reads it back as an equal term. It differs from
+    Jason's ``toString`` (:func:`term_str`) only where that one cannot be read back: strings
+    with quotes, backslashes or line breaks, functors that need quotes, a lone annotation tail.
+    Non-finite numbers have no such text (they print as ``NaN``/``Infinity``)."""
+    if isinstance(t, float):
+        return format_number(t)
+    if isinstance(t, str):
+        return string_text(t)
+    if isinstance(t, Literal):
+        s = ("~" if t.neg else "") + atom_text(t.functor)
+        if t.args:
+            s += "(" + ",".join(term_text(a) for a in t.args) + ")"
+        if t.annots or t.tail is not None:
+            s += "[" + ",".join(term_text(a) for a in t.annots)
+            s += ("|" + term_text(t.tail) if t.tail is not None else "") + "]"
+        return s
+    if isinstance(t, ListTerm):
+        inner = ",".join(term_text(a) for a in t.items)
+        if t.tail is not None:
+            inner += "|" + term_text(t.tail)
+        return "[" + inner + "]"
+    if isinstance(t, AnnotVar):
+        s = t.name + "[" + ",".join(term_text(a) for a in t.annots)
+        return s + ("|" + term_text(t.tail) if t.tail is not None else "") + "]"
+    return term_str(t)
+
+
+def non_finite_part(t: Any) -> str | None:
+    """The first part of ``t`` that stands for a number that is not finite: a NaN or infinite
+    float, or the variables Jason's text of one reads as (``NaN``, ``Infinity``); else None.
+    Percepts and messages holding one are rejected: a robot must not act on them."""
+    tt = type(t)
+    if tt is float:
+        return None if math.isfinite(t) else format_number(t)
+    if tt is Var or tt is AnnotVar:
+        return t.name if t.name in ("NaN", "Infinity") else None
+    if tt is Literal:
+        parts: Any = itertools.chain(t.args, t.annots, () if t.tail is None else (t.tail,))
+    elif tt is ListTerm:
+        parts = itertools.chain(t.items, () if t.tail is None else (t.tail,))
+    elif tt in (ArithExpr, RelExpr, LogExpr):
+        parts = (t.left,) if t.right is None else (t.left, t.right)
+    else:
+        return None
+    for p in parts:
+        bad = non_finite_part(p)
+        if bad is not None:
+            return bad
+    return None
 
 
 def to_print_str(t: Any) -> str:

@@ -16,10 +16,10 @@ from typing import TYPE_CHECKING
 
 import rospy
 
-from rason.asl import AgentArch, Clock, Message, UnknownReceiver, parse_literal
+from rason.asl import AgentArch, Clock, Message, UnknownReceiver
 from rason.ros.auth import TrustPolicy
 from rason.ros.feedback import CancelReason, Feedback
-from rason.ros.perceptions import PerceptionFilter, PerceptionTable
+from rason.ros.perceptions import PerceptionFilter, PerceptionTable, parse_percept
 
 if TYPE_CHECKING:
     from rason.asl import Agent
@@ -71,9 +71,9 @@ class RosAgArch(AgentArch):
         # called by the agent's thread at the start of every reasoning cycle (see mind_state)
         self.on_cycle: Callable[[], None] | None = None
         self.perceptions: PerceptionTable = PerceptionTable(
-            parse=parse_literal, warn=lambda text: rospy.logwarn("[%s] %s", name, text),
+            parse=parse_percept, warn=lambda text: rospy.logwarn("[%s] %s", name, text),
             mode=node.perception_mode, filter=perception_filter or PerceptionFilter(),
-            ttl=node.perception_ttl)
+            ttl=node.perception_ttl, now=rospy.get_time)
         self.pending: dict[int, PendingAction] = {}
         self._lock = threading.Lock()
 

@@ -50,6 +50,7 @@ import threading
 import time
 import uuid
 from dataclasses import dataclass
+from typing import Any
 
 import rosgraph.names
 import rospy
@@ -57,7 +58,8 @@ import yaml
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from jason_msgs.srv import Mind, MindResponse
 
-from rason.asl import Agent, AgentOptions, Message, parse_term, term_str
+from rason.asl import Agent, AgentOptions, Message, parse_term_text, term_str, term_text
+from rason.asl.terms import non_finite_part
 from rason.ros.arch import RosAgArch
 from rason.ros.auth import (
     AuthKeyError,
@@ -68,6 +70,7 @@ from rason.ros.auth import (
     load_key,
     new_nonce,
 )
+from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.guard import RateLimitedWarnings, clip, guarded
 from rason.ros.mind_state import MindStatePublisher, latched_publisher, mind_state_topic
@@ -117,6 +120,7 @@ class RasonNode:
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
+        self.bad_input = BadInputLog(rospy.logwarn, rospy.get_time)
 
         # -- topics (subscriptions start with the agents: see start) -------------------------------
         self.action_pub = rospy.Publisher(self.topic("jason/action"), Action, queue_size=100)
@@ -219,7 +223,7 @@ class RasonNode:
     def publish_message(self, message: Message) -> None:
         self._publish(AgentMessage(
             sender=message.sender, receiver=message.receiver or "",
-            performative=message.performative, content=term_str(message.content),
+            performative=message.performative, content=term_text(message.content),
             reply_with=message.msg_id or uuid.uuid4().hex[:12],
             in_reply_to=message.in_reply_to or ""))
 
@@ -319,19 +323,36 @@ class RasonNode:
         self.directory.heard(msg.sender, now)
         receivers = ([msg.receiver] if msg.receiver
                      else [n for n in self.agents if n != msg.sender])
+        content = None
         for name in receivers:
             hosted = self.agents.get(name)
             if hosted is None:
                 continue
-            try:
-                content = parse_term(msg.content)
-            except Exception as err:
-                rospy.logwarn("[%s] dropped message from %s with unreadable content %r: %s",
-                              name, msg.sender, msg.content, err)
-                continue
+            if content is None:
+                content = self._read_content(msg)
+                if content is None:
+                    return
             self._receive(hosted, Message(
                 sender=msg.sender, receiver=name, performative=msg.performative,
                 content=content, msg_id=msg.reply_with, in_reply_to=msg.in_reply_to or None))
+
+    def _read_content(self, msg: AgentMessage) -> Any:
+        """The message's content as a term, or None (with a rate-limited warning) when it is
+        unreadable or holds a number that is not finite."""
+        try:
+            content = parse_term_text(msg.content)
+        except Exception as err:
+            self.bad_input.warn(msg.sender, msg.content, (
+                f"dropped message from {shorten(msg.sender, 80)} with unreadable content "
+                f"{shorten(repr(msg.content))}: {shorten(str(err))}"))
+            return None
+        bad = non_finite_part(content)
+        if bad is not None:
+            self.bad_input.warn(msg.sender, msg.content, (
+                f"dropped message from {shorten(msg.sender, 80)}: {bad} is not a finite number "
+                f"in {shorten(repr(msg.content))}"))
+            return None
+        return content
 
     def on_check_actions(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()

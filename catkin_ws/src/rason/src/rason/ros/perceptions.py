@@ -6,8 +6,10 @@ list and the agent's percepts are the union over sources; only the newest messag
 ever parsed. In ``queue`` mode (the thesis' unfiltered baseline, Table 5.1) every message is
 kept until the agent perceives, and each one is parsed and applied in turn.
 
-Malformed perception strings are logged once per source and text, dropped, and the rest of the
-message still counts. An agent may also declare which functors and sources it wants.
+Malformed perception strings (and numbers that are not finite: ``NaN``, ``Infinity``) are dropped
+and the rest of the message still counts; they are logged once per source and text, at most once
+a second per source, shortened, with bounded memory (:class:`~rason.ros.badinput.BadInputLog`).
+An agent may also declare which functors and sources it wants.
 
 A source may have a time to live (TTL): when it has been silent for longer than that, its list
 is cleared as if it had published ``[]`` (:meth:`PerceptionTable.expire`), so a dead camera or
@@ -19,16 +21,34 @@ from __future__ import annotations
 
 import math
 import threading
+import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Generic, TypeVar
 
+from rason.asl import Literal, parse_literal
+from rason.asl.terms import non_finite_part
+from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.feedback import split_top_level
 
 L = TypeVar("L")
 
 REPLACE = "replace"
 QUEUE = "queue"
+
+
+#: perception strings longer than this are parsed every time, never cached
+MAX_CACHED_TEXT = 1024
+
+
+def parse_percept(text: str) -> Literal:
+    """One perception string as a ground-number-safe literal; ValueError (or the parser's
+    syntax error) for malformed text or a number that is not finite."""
+    lit = parse_literal(text)
+    bad = non_finite_part(lit)
+    if bad is not None:
+        raise ValueError(f"{bad} is not a finite number")
+    return lit
 
 
 @dataclass
@@ -100,15 +120,18 @@ class PerceptionTable(Generic[L]):
     Args:
         parse: turns one perception string into a literal; raises ValueError (or a subclass,
             such as the interpreter's syntax error) for malformed text.
-        warn: called once per (source, text) for each malformed perception string.
+        warn: where warnings about malformed perception strings go (rate-limited: see
+            :class:`~rason.ros.badinput.BadInputLog`).
         mode: ``replace`` (per-source replacement) or ``queue`` (every message is applied).
         ttl: a source's time to live in seconds (``0`` = its list stands until replaced);
             asked with each message of the source, so it must be cheap.
+        now: the clock of the warnings' rate limit (ROS time in a node).
     """
 
     parse: Callable[[str], L]
     warn: Callable[[str], None] = print
     mode: str = REPLACE
+    now: Callable[[], float] = time.monotonic
     filter: PerceptionFilter = field(default_factory=PerceptionFilter)
     stats: PerceptionStats = field(default_factory=PerceptionStats)
     ttl: Callable[[str], float] = lambda _source: 0.0
@@ -120,7 +143,7 @@ class PerceptionTable(Generic[L]):
         self._raw: dict[str, Sequence[str]] = {}      # newest unparsed list per source
         self._queue: list[tuple[str, Sequence[str]]] = []
         self._parsed: dict[str, list[L]] = {}         # current parsed list per source
-        self._warned: set[tuple[str, str]] = set()
+        self.bad_input = BadInputLog(self.warn, self.now)
         self._changed = False
         self._cache: dict[str, L | None] = {}
         self._heard: dict[str, SourceClock] = {}     # sources with a TTL: when last heard
@@ -234,18 +257,16 @@ class PerceptionTable(Generic[L]):
             except Exception as err:
                 literal = None
                 self._note_malformed(source, text, err)
-            if len(self._cache) > 4096:
-                self._cache.clear()
-            self._cache[text] = literal
+            if len(text) <= MAX_CACHED_TEXT:
+                if len(self._cache) > 4096:
+                    self._cache.clear()
+                self._cache[text] = literal
         if literal is None:
             self.stats.malformed += 1
-            if (source, text) not in self._warned:
-                self._note_malformed(source, text, None)
+            self._note_malformed(source, text, None)
         return literal
 
     def _note_malformed(self, source: str, text: str, err: Exception | None) -> None:
-        if (source, text) in self._warned:
-            return
-        self._warned.add((source, text))
-        reason = f": {err}" if err else ""
-        self.warn(f"dropped malformed perception from source '{source}': {text!r}{reason}")
+        reason = f": {shorten(str(err))}" if err else ""
+        self.bad_input.warn(source, text, f"dropped malformed perception from source "
+                                          f"'{shorten(source, 80)}': {shorten(repr(text))}{reason}")

@@ -1,0 +1,74 @@
+"""Terms cross processes intact: real agent nodes talking through /jason/messages."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from rason.testing.harness import Process, RosHarness
+
+pytestmark = pytest.mark.ros
+
+# strings with quotes, a backslash and non-ASCII, quoted atoms (one uppercase), negative
+# numbers, annotations, a list with a tail, a nested list
+INFO = ('info("say \\"hi\\" \\\\ été ☃", \'Robot lost\'(-2.5, \'X\'), [1, -0.001, "a,b" | T], '
+        'f(a)[k, source(x)], [[], [~q]])')
+
+
+def start(ros: RosHarness, tmp_path: Path, name: str, source: str, ns: str) -> Process:
+    path = tmp_path / f"{name}.asl"
+    path.write_text(textwrap.dedent(source), encoding="utf-8")
+    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns)
+    ros.wait_for_node(f"{ns}/jason/{name}", watch=[proc])
+    return proc
+
+
+def test_an_askone_reply_with_hard_text_arrives_equal(ros, tmp_path):
+    teller = start(ros, tmp_path, "teller", f"""
+        {INFO}.
+        n(20000).
+        +!kqml_received(S, askOne, big, M) : n(N)
+           <- .findall(v(K, "k\\\\", 'K'), .range(K, 1, N), L); .send(S, tell, L, M).
+        """, ns="/t1")
+    asker = start(ros, tmp_path, "asker", f"""
+        !go.
+        +!go : .all_names(L) & .member(teller, L)
+           <- .send(teller, askOne, info(A, B, C, D, E), R);
+              if (R == {INFO}[source(teller)]) {{ .print("equal") }} else {{ .print("differs: ", R) }};
+              .send(teller, askOne, big, Big);
+              .length(Big, N); .nth(19999, Big, Last);
+              if (Last == v(20000, "k\\\\", 'K')) {{ .print("big ", N) }} else {{ .print("bad ", Last) }}.
+        +!go <- .wait(200); !go.
+        """, ns="/t2")
+    asker.wait_for_line(r"\[asker\] (equal|differs.*)$", timeout=60)
+    assert "[asker] equal" in asker.output(), asker.output()
+    asker.wait_for_line(r"\[asker\] (big|bad) ", timeout=180)
+    assert "[asker] big 20000" in asker.output(), asker.output()
+    assert teller.alive()
+
+
+def test_messages_with_nan_or_infinity_are_dropped_with_one_warning(ros, tmp_path):
+    import rospy
+    from jason_msgs.msg import AgentMessage
+
+    ros.init_rospy()
+    pub = rospy.Publisher("/jason/messages", AgentMessage, queue_size=100)
+    agent = start(ros, tmp_path, "guard", """
+        +v(X)[source(S)] <- .print("got ", X, " from ", S).
+        """, ns="/t3")
+    ros.wait_for_subscriber("/jason/messages")
+    rospy.sleep(0.5)
+    for k, content in enumerate(["v(NaN)", "v(Infinity)", "v(-Infinity)", "v(1e999)", "v(f(NaN))"] * 20):
+        pub.publish(AgentMessage(sender="probe", receiver="guard", performative="tell",
+                                 content=content, reply_with=f"m{k}", in_reply_to=""))
+    pub.publish(AgentMessage(sender="probe", receiver="guard", performative="tell",
+                             content="v(1.5)", reply_with="ok", in_reply_to=""))
+    agent.wait_for_line(r"\[guard\] got 1.5 from probe", timeout=20)
+    out = agent.output()
+    assert "got NaN" not in out and "got Infinity" not in out and "got -Infinity" not in out
+    assert "got f(" not in out and "got X" not in out
+    warnings = [line for line in out.splitlines() if "not a finite number" in line]
+    assert 1 <= len(warnings) <= 2, warnings    # rate-limited: not one per message
+    assert agent.alive()
