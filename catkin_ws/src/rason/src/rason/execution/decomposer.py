@@ -69,8 +69,9 @@ from rason.execution.results import (
     TIMEOUT,
     Verdict,
 )
+from rason.ros.badinput import shorten
 from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
-from rason.ros.guard import RateLimitedWarnings, clip, guarded
+from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.master_watch import watch_master
 from rason.ros.params import exit_on_help, load_or_exit, param
 from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE
@@ -189,7 +190,7 @@ class Decomposer:
                 self.halt(goal)
             except Exception as err:  # the feedback must still go out
                 rospy.logerr(f"{self.name}: halt of {goal} raised {type(err).__name__}: "
-                             f"{clip(str(err))}")
+                             f"{shorten(str(err))}")
             self.feedback(goal.agent, goal.action_id, verdict)
 
     def running(self, agent: str | None = None) -> list[Goal]:
@@ -218,7 +219,7 @@ class Decomposer:
         try:
             target = self.parse(msg.action, parameters)
         except (ValueError, TypeError, IndexError) as err:
-            self.feedback(msg.agent, msg.action_id, Verdict(BAD_PARAMETERS, clip(str(err))))
+            self.feedback(msg.agent, msg.action_id, Verdict(BAD_PARAMETERS, shorten(str(err))))
             return
         if self.exclusive:
             for old in self.running():
@@ -236,7 +237,7 @@ class Decomposer:
         self._settle(goal, self.start, goal)
 
     def _on_cancel(self, msg: ActionCancel) -> None:
-        reason = clip(msg.reason or "no reason given", 100)
+        reason = shorten(msg.reason or "no reason given", 100)
         for goal in self.running(msg.agent):
             if msg.action_id in (goal.action_id, ALL_ACTIONS):
                 self.finish(goal, Verdict(CANCELLED, f"cancelled by {msg.agent}: {reason}"))
@@ -281,7 +282,7 @@ class Decomposer:
         try:
             verdict = hook(*args)
         except Exception as err:  # a bug in a hook fails the action, not the node
-            verdict = Verdict(ACTION_FAILED, f"{type(err).__name__}: {clip(str(err))}")
+            verdict = Verdict(ACTION_FAILED, f"{type(err).__name__}: {shorten(str(err))}")
         if verdict is not None:
             self.finish(goal, verdict)
 

@@ -48,7 +48,8 @@ from typing import Any, ClassVar
 import rospy
 from jason_msgs.msg import Perception
 
-from rason.ros.guard import RateLimitedWarnings, clip
+from rason.ros.badinput import shorten
+from rason.ros.guard import RateLimitedWarnings
 from rason.ros.master_watch import watch_master
 from rason.ros.params import exit_on_help, load_or_exit, param
 
@@ -145,7 +146,7 @@ class Synthesizer:
             self.rejected += 1
             kind = "bad frame" if isinstance(err, BadFrame) else type(err).__name__
             self.warnings.warn(f"frame:{kind}", f"{self.name}: frame rejected ({kind}: "
-                                                f"{clip(str(err))}); {self.rejected} so far")
+                                                f"{shorten(str(err))}); {self.rejected} so far")
             return
         try:
             self.publisher.publish(Perception(source=self.source, perception=percepts))
@@ -169,7 +170,7 @@ class Synthesizer:
         for p in percepts:
             if not isinstance(p, str) or not p or len(p) > MAX_PERCEPT:
                 raise TypeError(f"a percept must be a non-empty string of at most "
-                                f"{MAX_PERCEPT} chars, got {clip(repr(p), 80)}")
+                                f"{MAX_PERCEPT} chars, got {shorten(repr(p), 80)}")
         return list(percepts)
 
     @staticmethod

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 #: how much of an offending text a warning shows
 MAX_SHOWN = 200
+#: the longest warning line logged (a huge malformed input must not flood the log)
+MAX_LINE = 600
 
 
 def shorten(text: str, limit: int = MAX_SHOWN) -> str:
@@ -52,16 +54,21 @@ class BadInputLog:
         self._groups: OrderedDict[str, _Group] = OrderedDict()
         self.logged = 0
 
-    def warn(self, group: str, key: str, text: str) -> bool:
+    def warn(self, group: str, key: str | None, text: str) -> bool:
         """Warn ``text`` about input ``key`` of ``group``, unless that input was already warned
-        about or the group warned less than ``period`` ago. Returns True if it was logged."""
-        seen_key = (group, key)
-        if seen_key in self._seen:
-            self._seen.move_to_end(seen_key)
-            return False
-        self._seen[seen_key] = None
-        if len(self._seen) > self.remember:
-            self._seen.popitem(last=False)
+        about or the group warned less than ``period`` ago. Returns True if it was logged.
+
+        ``key`` None: no input to remember, only the group's rate limit applies (a recurring
+        kind of failure is warned about again every period).
+        """
+        if key is not None:
+            seen_key = (group, key)
+            if seen_key in self._seen:
+                self._seen.move_to_end(seen_key)
+                return False
+            self._seen[seen_key] = None
+            if len(self._seen) > self.remember:
+                self._seen.popitem(last=False)
         now = self.now()
         g = self._groups.get(group)
         if g is None:
@@ -77,5 +84,5 @@ class BadInputLog:
             text += f" ({g.held_back} similar warnings held back)"
             g.held_back = 0
         self.logged += 1
-        self.log(text)
+        self.log(shorten(text, MAX_LINE))
         return True

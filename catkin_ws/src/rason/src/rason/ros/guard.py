@@ -16,44 +16,30 @@ from typing import Any, TypeVar
 
 import rospy
 
-#: Longest exception text logged (a huge malformed message must not flood the log).
-MAX_TEXT = 300
+from rason.ros.badinput import BadInputLog, shorten
+
 #: Most distinct warning kinds remembered (bounded memory under arbitrary input).
 MAX_KINDS = 256
 
 F = TypeVar("F", bound=Callable[..., Any])
 
 
-def clip(text: str, limit: int = MAX_TEXT) -> str:
-    """`text` cut to `limit` characters (with the length of what was cut)."""
-    return text if len(text) <= limit else f"{text[:limit]}... ({len(text) - limit} more chars)"
-
-
 class RateLimitedWarnings:
-    """Warnings keyed by kind, each kind logged at most once per `period` s of ROS time."""
+    """Warnings keyed by kind, each kind logged at most once per `period` s of ROS time.
+
+    A :class:`~rason.ros.badinput.BadInputLog` on ``rospy.logwarn`` and ROS time, with no
+    per-input memory: the same failure is reported again every period while it lasts.
+    """
 
     def __init__(self, period: float = 5.0) -> None:
         self.period = period
-        self._last: dict[str, float] = {}
-        self._held: dict[str, int] = {}
+        self._log = BadInputLog(rospy.logwarn, rospy.get_time, period=period, remember=MAX_KINDS)
         self._lock = threading.Lock()
 
     def warn(self, kind: str, text: str) -> bool:
         """Log ``text`` unless `kind` was logged less than `period` ago; True if logged."""
-        now = rospy.get_time()
         with self._lock:
-            last = self._last.get(kind)
-            if last is not None and 0.0 <= now - last < self.period:
-                self._held[kind] = self._held.get(kind, 0) + 1
-                return False
-            if last is None and len(self._last) >= MAX_KINDS:
-                self._last.clear()
-                self._held.clear()
-            held = self._held.pop(kind, 0)
-            self._last[kind] = now
-        suffix = f" ({held} more like it in the last {self.period:g} s)" if held else ""
-        rospy.logwarn(clip(text) + suffix)
-        return True
+            return self._log.warn(kind, None, text)
 
 
 #: The warnings of callbacks wrapped without a warnings object of their own.
@@ -74,7 +60,7 @@ def guarded(what: str, warnings: RateLimitedWarnings | None = None) -> Callable[
                 return fn(*args, **kwargs)
             except Exception as err:  # the point: nothing escapes a callback
                 sink.warn(f"{what}:{type(err).__name__}",
-                          f"{what}: rejected ({type(err).__name__}: {clip(str(err))})")
+                          f"{what}: rejected ({type(err).__name__}: {shorten(str(err))})")
                 return None
 
         return wrapper  # type: ignore[return-value]

@@ -72,7 +72,7 @@ from rason.ros.auth import (
 )
 from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
-from rason.ros.guard import RateLimitedWarnings, clip, guarded
+from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.mind_state import MindStatePublisher, latched_publisher, mind_state_topic
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
@@ -257,7 +257,7 @@ class RasonNode:
     def _receive(self, hosted: HostedAgent, message: Message) -> None:
         """Give `message` to a hosted agent if its acceptance hook lets it in."""
         if not hosted.arch.accepts(message):
-            self.drops.warn(f"untrusted {clip(message.sender, 64)}",
+            self.drops.warn(f"untrusted {shorten(message.sender, 64)}",
                             f"[{hosted.arch.name}] dropped {message.performative} from "
                             f"'{message.sender}': not a trusted sender")
             return
@@ -305,7 +305,7 @@ class RasonNode:
             verdict = self.auth.verify(_signed_fields(msg), msg.signature,
                                        rospy.get_rostime().to_nsec())
             if verdict is not Verdict.OK:
-                self.drops.warn(f"{verdict.value} {clip(msg.sender, 64)}",
+                self.drops.warn(f"{verdict.value} {shorten(msg.sender, 64)}",
                                 f"dropped a {verdict.value} {msg.performative or '?'} message "
                                 f"claiming to be from '{msg.sender}'")
                 return
