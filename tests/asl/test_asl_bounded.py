@@ -2,19 +2,30 @@
 
 from __future__ import annotations
 
+import io
 import subprocess
 import sys
 from pathlib import Path
 
 from asl_helpers import RecordingArch, subprocess_env
 
-from rason.asl import Agent, AgentOptions, ListTerm, Literal, Message, Var, parse_term
+from rason.asl import Agent, AgentOptions, ListTerm, Literal, LocalMas, Message, Var, VirtualClock, parse_term
 
 LOOP = """n(0).
 !loop.
 +!loop : n(N) & N < 3000 <- -+n(N+1); !loop.
 +!loop : n(N) <- .print("done ", N).
 """
+
+
+def run_source_pair(a_source: str, b_source: str) -> list[str]:
+    """Run agents ``a`` and ``b`` together; ``a``'s console lines."""
+    out = io.StringIO()
+    mas = LocalMas(clock=VirtualClock(), out=out)
+    mas.add_agent("a", a_source)
+    mas.add_agent("b", b_source)
+    mas.run(timeout=30)
+    return [line[4:] for line in out.getvalue().splitlines() if line.startswith("[a] ")]
 
 
 def _run_tracking_depth(source: str, options: AgentOptions) -> tuple[list[str], int]:
@@ -175,3 +186,10 @@ def test_belief_candidates_are_snapshots() -> None:
     ag.bb.remove(Literal("v", (1.0,), (Literal("source", (Literal("self"),)),)))
     assert [str(b) for b in snap] == ["v(1)[source(self)]", "v(2)[source(self)]"]
     assert [str(b) for b in ag.bb.candidates(("v", 1, False))] == ["v(3)", "v(2)[source(self)]"]
+
+
+def test_an_answer_found_by_test_goal_recursion_reaches_the_asker() -> None:
+    out = run_source_pair(
+        "!go.\n+!go <- .send(b, askOne, count(N), A); .print(A).",
+        "c(0).\n+?count(N) : c(C) & C < 40 <- -+c(C+1); ?count(N).\n+?count(N) : c(N).")
+    assert out == ["count(40)[source(b)]"]

@@ -106,7 +106,7 @@ class Agent:
         self.pl = PlanLibrary()
         self.events: deque[Event] = deque()
         self.running = IntentionQueue()
-        self._feedback: deque[ActionResult] = deque()
+        self.action_results: deque[ActionResult] = deque()
         self.current: Intention | None = None
         self.suspended: dict[int, Intention] = {}
         self.pending_actions: dict[int, PendingAction] = {}
@@ -218,7 +218,7 @@ class Agent:
         """No events, no runnable intention, nothing in the inbox."""
         with self._inbox_lock:
             inbox = bool(self._inbox)
-        return not self.events and not self.running and not inbox and not self._feedback
+        return not self.events and not self.running and not inbox and not self.action_results
 
     def has_pending(self) -> bool:
         """Something may still happen later: actions, timers, awaited events or answers."""
@@ -242,14 +242,14 @@ class Agent:
             intentions = []
             for i in self.all_intentions():
                 tops = " / ".join(str(im.trigger) for im in reversed(i.ims))
-                state = f" (suspended: {self._suspension_text(i)})" if i.suspended else ""
+                state = f" (suspended: {self.suspension_text(i)})" if i.suspended else ""
                 intentions.append(f"intention {i.id}: {tops}{state}")
                 desires.extend(str(im.trigger) for im in i.ims if im.trigger.is_goal and im.trigger.op == ADD)
             pending = [f"{aid}: {term_str(p.action)}" for aid, p in self.pending_actions.items()]
             return {"beliefs": beliefs, "desires": desires, "intentions": intentions,
                     "pending_actions": pending}
 
-    def _suspension_text(self, i: Intention) -> str:
+    def suspension_text(self, i: Intention) -> str:
         """What ``i`` waits for, as the mind shows it (``action 3``, ``wait``...)."""
         if i.suspended is Suspension.ACTION:
             for aid, p in self.pending_actions.items():
@@ -321,7 +321,7 @@ class Agent:
                 if type(it) is Message:
                     self.process_message(it)
                 elif type(it) is ActionResult:
-                    self._feedback.append(it)
+                    self.action_results.append(it)
         if self.timers:
             did = self.check_timers() or did
         return did

@@ -30,7 +30,7 @@ class BeliefBase:
         snap = self._snapshots.get(key)
         if snap is None:
             entries = self._index.get(key)
-            if entries is None:
+            if not entries:
                 return ()
             snap = self._snapshots[key] = tuple(entries)
         return snap
@@ -62,19 +62,13 @@ class BeliefBase:
             self._by_args[key] = {}
         return entries
 
-    def _drop_if_empty(self, key: tuple) -> None:
-        if not self._index[key]:
-            del self._index[key]
-            del self._by_args[key]
-
     def _replace(self, key: tuple, old: Literal, new: Literal | None) -> None:
         """Put ``new`` where belief ``old`` is (None: remove it)."""
         entries = self._entries(key)
         pos = _position(entries, old)
         if new is None:
             del entries[pos]
-            del self._by_args[key][old.args]
-            self._drop_if_empty(key)
+            del self._by_args[key][old.args]   # (an emptied key stays: it is likely reused)
         else:
             entries[pos] = new
             self._by_args[key][new.args] = new
@@ -87,19 +81,24 @@ class BeliefBase:
         """
         key = (lit.functor, len(lit.args), lit.neg)
         held = self._by_args.get(key)
-        b = held.get(lit.args) if held else None
+        if held is None:
+            self._index[key] = deque((lit,))
+            self._by_args[key] = {lit.args: lit}
+            return lit
+        b = held.get(lit.args)
         if b is not None:
             new = [a for a in lit.annots if a not in b.annots]
             if not new:
                 return None
             self._replace(key, b, b.add_annots(new))
             return lit
-        entries = self._entries(key)
+        if self._snapshots:
+            self._snapshots.pop(key, None)
         if front:
-            entries.appendleft(lit)
+            self._index[key].appendleft(lit)
         else:
-            entries.append(lit)
-        self._by_args[key][lit.args] = lit
+            self._index[key].append(lit)
+        held[lit.args] = lit
         return lit
 
     def add_rule(self, rule: Rule, front: bool = False) -> None:
@@ -118,7 +117,14 @@ class BeliefBase:
         if b is None:
             return None
         if b.annots == lit.annots:  # fast path: the whole belief goes
-            self._replace(key, b, None)
+            if self._snapshots:
+                self._snapshots.pop(key, None)
+            entries = self._index[key]
+            if entries[0] is b:
+                entries.popleft()
+            else:
+                del entries[_position(entries, b)]
+            del held[lit.args]
             return b
         if not lit.annots:
             removed_annots: tuple = b.annots
@@ -157,7 +163,6 @@ class BeliefBase:
         entries.extend(keep)
         for b in gone:
             del self._by_args[key][b.args]
-        self._drop_if_empty(key)
         return gone
 
     def clear(self) -> None:

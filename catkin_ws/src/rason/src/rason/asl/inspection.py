@@ -103,7 +103,7 @@ def mind_state(agent: Agent) -> MindState:
             state.desires.append(str(ev.trigger))
     for i in agent.all_intentions():
         state.intentions.append(IntentionView(
-            id=i.id, suspended=agent._suspension_text(i) or None,
+            id=i.id, suspended=agent.suspension_text(i) or None,
             means=[_means(im) for im in reversed(i.ims)]))
         state.desires.extend(str(im.trigger) for im in i.ims
                              if im.trigger.is_goal and im.trigger.op == ADD)

@@ -321,8 +321,8 @@ def _external_goal_failed(ag: Agent, trig: Trigger, what: str) -> None:
 def act(ag: Agent) -> bool:
     """ProcAct (one action feedback) + SelInt + ExecInt + ClrInt on one intention."""
     did = False
-    if ag._feedback:
-        ag.process_feedback(ag._feedback.popleft())
+    if ag.action_results:
+        ag.process_feedback(ag.action_results.popleft())
         did = True
     i = sel_int(ag)
     if i is None:
