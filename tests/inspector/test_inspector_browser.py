@@ -34,7 +34,7 @@ CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 CHROMEDRIVER = shutil.which("chromedriver") or "/usr/bin/chromedriver"
 CHROMIUM_FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
                   "--no-first-run", "--disable-background-networking",
-                  "--disable-component-update", "--disable-sync", "--window-size=1600,1000")
+                  "--disable-component-update", "--disable-sync", "--window-size=1600,1250")
 
 
 class DemoProcess:
@@ -138,6 +138,11 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
         wait.until(lambda d: _history(d)[0] == "history" and _history(d)[1] < live_index)
         driver.find_element(By.ID, "history-live").click()
         wait.until(lambda d: _history(d)[0] == "live" and _history(d)[1] >= live_index)
+
+        # mid-run: Faulty's intentions as stacks of plan instances, the current step marked
+        WebDriverWait(driver, 150, poll_frequency=0.2).until(lambda d: d.execute_script(
+            "return document.querySelectorAll('#intentions .means li.current').length > 0;"))
+        driver.save_screenshot(str(tmp_path / "inspector-running.png"))
 
         # Faulty's diagnosis appears without a reload; intentions and the robots are on the page
         WebDriverWait(driver, 150, poll_frequency=0.2).until(_diagnosis)

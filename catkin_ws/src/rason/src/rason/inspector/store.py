@@ -116,6 +116,8 @@ class InspectorStore:
             record.next_index += 1
             record.history.append(entry)
             first = record.history[0].index
+        if entry.index == 0:
+            self._agents_changed()          # its namespace is known from now on
         self.on_change("mind", {"agent": name, "index": entry.index, "first": first})
         return entry
 
