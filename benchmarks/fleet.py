@@ -275,6 +275,8 @@ def plot(results: list[FleetResult], path: Path) -> None:
     ax.set_ylabel("% of one core")
     for ax in axes:
         ax.set_xlabel("robot hosts N")
+        ax.set_xticks(ns)
+        ax.set_ylim(bottom=0)
         ax.grid(alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=8)
