@@ -131,3 +131,19 @@ def test_an_unreadable_or_short_key_is_a_clear_error(ros, tmp_path):
         (tmp_path / "k.asl").write_text("!g.\n+!g <- .print(hi).\n")
         assert proc.wait(30) == 2, proc.output()
         assert reason in proc.output(), proc.output()
+
+
+def test_agents_hosted_together_pass_the_same_acceptance_hook(ros, tmp_path):
+    """A mas node with `~trusted_senders:=[boss4]`: in-process messages are checked too."""
+    (tmp_path / "robot4.asl").write_text(ROBOT)
+    (tmp_path / "boss4.asl").write_text(BOSS.format(target="robot4"))
+    (tmp_path / "mallory4.asl").write_text(BOSS.format(target="robot4").replace(
+        "legit", "rogue"))
+    (tmp_path / "crew.mas2j").write_text("MAS crew {\n  agents: robot4; mallory4; boss4;\n}\n")
+    mas = ros.rosrun("rason", "mas", str(tmp_path / "crew.mas2j"), ns="/trust4",
+                     params={"trusted_senders": ["boss4"]})
+    mas.wait_for_line(r"\[robot4\] legit_plan_ran", timeout=30)
+    mas.wait_for_line(r"dropped tellHow from 'mallory4': not a trusted sender", timeout=15)
+    time.sleep(1.0)
+    assert "rogue_plan_ran" not in mas.output(), mas.output()
+    assert mas.alive()

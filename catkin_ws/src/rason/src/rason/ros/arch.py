@@ -18,6 +18,7 @@ import rospy
 
 from rason.asl import AgentArch, Clock, Message, UnknownReceiver
 from rason.ros.auth import TrustPolicy
+from rason.ros.badinput import shorten
 from rason.ros.feedback import CancelReason, Feedback
 from rason.ros.perceptions import PerceptionFilter, PerceptionTable, parse_percept
 
@@ -132,10 +133,12 @@ class RosAgArch(AgentArch):
     def expire_perceptions(self, now: float) -> None:
         """Clear the sources silent for longer than their TTL (the agent gets ``-`` events)."""
         expired = self.perceptions.expire(now)
-        for source in expired:
-            rospy.logwarn("[%s] perception source '%s' silent for longer than its time to live "
-                          "(%g s): its percepts are cleared", self.name, source,
-                          self.node.perception_ttl(source))
+        for source in expired:   # at most one warning per source and 10 s (a CPU-starved
+            # synthesizer may miss its TTL again and again)
+            self.node.warnings.warn(f"ttl {shorten(source, 64)}",
+                                 f"[{self.name}] perception source '{source}' silent for longer "
+                                 f"than its time to live ({self.node.perception_ttl(source):g} s):"
+                                 " its percepts are cleared")
         if expired and self.agent is not None:
             self.agent.wake()
 

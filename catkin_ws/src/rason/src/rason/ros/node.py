@@ -116,7 +116,8 @@ class RasonNode:
         self.auth = _message_auth(str(rospy.get_param("~auth_key_file", "") or ""),
                                   _seconds("~auth_window", rospy.get_param("~auth_window", 10.0)))
         self.trust = TrustPolicy.of(_as_list(rospy.get_param("~trusted_senders", [])))
-        self.drops = RateLimitedWarnings(period=10.0)
+        # Rejected messages, expired perception sources: one warning per kind and 10 s at most.
+        self.warnings = RateLimitedWarnings(period=10.0)
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
@@ -257,7 +258,7 @@ class RasonNode:
     def _receive(self, hosted: HostedAgent, message: Message) -> None:
         """Give `message` to a hosted agent if its acceptance hook lets it in."""
         if not hosted.arch.accepts(message):
-            self.drops.warn(f"untrusted {shorten(message.sender, 64)}",
+            self.warnings.warn(f"untrusted {shorten(message.sender, 64)}",
                             f"[{hosted.arch.name}] dropped {message.performative} from "
                             f"'{message.sender}': not a trusted sender")
             return
@@ -305,7 +306,7 @@ class RasonNode:
             verdict = self.auth.verify(_signed_fields(msg), msg.signature,
                                        rospy.get_rostime().to_nsec())
             if verdict is not Verdict.OK:
-                self.drops.warn(f"{verdict.value} {shorten(msg.sender, 64)}",
+                self.warnings.warn(f"{verdict.value} {shorten(msg.sender, 64)}",
                                 f"dropped a {verdict.value} {msg.performative or '?'} message "
                                 f"claiming to be from '{msg.sender}'")
                 return
