@@ -28,6 +28,7 @@ def test_defaults_and_conversions():
     assert isinstance(p.speed, float) and isinstance(p.count, int)
     assert parse(Example, {"path": "/x", "names": ["c"]}).names == ["c"]
     assert parse(Example, {"path": "/x"}).names == []
+    assert parse(Example, {"path": "/x", "speed": "1e-1"}).speed == 0.1   # YAML's text "1e-1"
 
 
 @pytest.mark.parametrize("given, message", [
@@ -35,6 +36,7 @@ def test_defaults_and_conversions():
     ({"path": "/x", "speed": 1e9}, "~speed: must be at most 1.0"),
     ({"path": "/x", "speed": -0.1}, "~speed: must be at least 0.0"),
     ({"path": "/x", "speed": math.nan}, "~speed: must be finite"),
+    ({"path": "/x", "speed": "nan"}, "~speed: must be finite"),
     ({"path": "/x", "rate": math.inf}, "~rate: must be finite"),
     ({"path": "/x", "speed": "fast"}, "~speed: expected a number"),
     ({"path": "/x", "count": 2.5}, "~count: expected a whole number"),

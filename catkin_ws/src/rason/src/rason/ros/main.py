@@ -49,11 +49,18 @@ def _run(node_name: str, argv: list[str],
     import rospy
 
     from rason.ros.master_watch import watch_master
-    from rason.ros.node import ParameterError, RasonNode
+    from rason.ros.node import AgentNodeParams, RasonNode
+    from rason.ros.params import ParamError, load
 
     rospy.init_node(node_name)
     try:
-        added = load_modules(_module_names(rospy.get_param("~internal_actions", [])))
+        params = load(AgentNodeParams)
+    except ParamError as err:
+        print(f"rason: bad parameter: {err}", file=sys.stderr)
+        rospy.signal_shutdown("bad parameter")
+        return 2
+    try:
+        added = load_modules(_module_names(params.internal_actions))
     except ModuleLoadError as err:
         print(f"rason: {err}", file=sys.stderr)
         rospy.signal_shutdown("bad ~internal_actions")
@@ -61,8 +68,8 @@ def _run(node_name: str, argv: list[str],
     if added:
         rospy.loginfo("internal actions loaded: %s", ", ".join(added))
     try:
-        node = RasonNode(base_ns=ns)
-    except ParameterError as err:
+        node = RasonNode(params, base_ns=ns)
+    except ParamError as err:
         print(f"rason: bad parameter: {err}", file=sys.stderr)
         rospy.signal_shutdown("bad parameter")
         return 2
@@ -99,11 +106,23 @@ def _user_args(argv: list[str]) -> list[str]:
     return [a for a in argv[1:] if ":=" not in a]
 
 
+def _parser(prog: str, description: str) -> argparse.ArgumentParser:
+    """The command line's parser; its --help ends with the node's parameter table."""
+    epilog = None
+    if "-h" in sys.argv[1:] or "--help" in sys.argv[1:]:
+        # Only printing: rospy (imported with the node module) may now read sys.argv.
+        from rason.ros.node import AgentNodeParams
+        from rason.ros.params import table_text
+
+        epilog = table_text(AgentNodeParams)
+    return argparse.ArgumentParser(prog=prog, description=description, epilog=epilog,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+
+
 def agent_main() -> int:
     """``rosrun rason agent NAME FILE.asl [__ns:=/robot] [_param:=value ...]``."""
     ns, argv = _namespace(sys.argv)
-    args = argparse.ArgumentParser(
-        prog="rosrun rason agent", description="Run one Jason agent as the ROS node jason/NAME.")
+    args = _parser("rosrun rason agent", "Run one Jason agent as the ROS node jason/NAME.")
     args.add_argument("name", help="the agent's name (as the .asl world knows it)")
     args.add_argument("file", type=Path, help="the agent's AgentSpeak source (.asl)")
     opts = args.parse_args(_user_args(argv))
@@ -113,8 +132,7 @@ def agent_main() -> int:
 def mas_main() -> int:
     """``rosrun rason mas FILE.mas2j [__ns:=/robot]``: every agent of the project in one node."""
     ns, argv = _namespace(sys.argv)
-    args = argparse.ArgumentParser(
-        prog="rosrun rason mas", description="Host every agent of a .mas2j project in one node.")
+    args = _parser("rosrun rason mas", "Host every agent of a .mas2j project in one node.")
     args.add_argument("file", type=Path, help="the Jason project file (.mas2j)")
     opts = args.parse_args(_user_args(argv))
     try:

@@ -14,33 +14,7 @@ Services:
 Topic jason/NAME/mind_state (std_msgs/String, latched): the mind as JSON for the mind inspector
   (rason.ros.mind_state), published on change at most ~mind_state_rate times a second.
 
-Private parameters (``_name:=value`` on the rosrun line):
-  ~ack_timeout (2.0)        s of ROS time a decomposer has to acknowledge an action, else the
-                            action fails with ``no_decomposer``; 0 disables (thesis decomposers)
-  ~action_timeout (120.0)   s an accepted action may run before it fails with ``action_timeout``
-  ~perception_mode (replace)  ``replace`` (per-source replacement) or ``queue`` (every message)
-  ~perception_functors ([])   functors the agent wants, e.g. [robot, "robot/4"]; [] = all
-  ~perception_sources ([])    perception sources the agent wants; [] = all
-  ~presence_period (1.0)    s between presence announcements on /jason/messages
-  ~presence_timeout (3.5)   s after which a silent agent is forgotten
-  ~internal_actions ([])    Python modules whose @internal_action functions the agents get
-                            (read by rason.ros.main before the agents load)
-  ~perception_ttl (0.0)     s of ROS time a perception source may stay silent before its list is
-                            cleared (its percepts are removed); 0 = a list stands until replaced.
-                            Applies to sources that declare no TTL of their own (see below)
-  ~perception_ttls ({})     per-source TTLs, e.g. "{robot_synthesizer_robot: 0.3}"; they win
-                            over the source's own declaration and over ~perception_ttl
-  ~auth_key_file ("")       file holding the shared key that signs and checks every message on
-                            /jason/messages; "" = no authentication (anyone may send anything)
-  ~auth_window (10.0)       s of ROS time a signed message stays acceptable (replay protection)
-  ~trusted_senders ([])     senders that may use tellHow, untellHow, askHow, achieve, unachieve
-                            with the agents of this node; [] = everyone (in a .mas2j, per agent:
-                            ``trusted_senders="[boss]"``)
-A perception source declares its own TTL as the parameter ``jason/perception_ttl/<source>`` in
-the robot's namespace (the robot synthesizer does, from its ``~perception_ttl``).
-  ~tro (true)               tail-recursion optimisation (Jason's ``tro`` agent option)
-  ~max_intention_depth (10000)  an intention deeper than this fails with error(intention_too_deep)
-  ~mind_state_rate (10.0)   Hz at most of jason/NAME/mind_state (on change); 0 = not published
+Private parameters: :class:`AgentNodeParams` (``rosrun rason agent --help`` prints them).
 """
 
 from __future__ import annotations
@@ -54,7 +28,6 @@ from typing import Any
 
 import rosgraph.names
 import rospy
-import yaml
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from jason_msgs.srv import Mind, MindResponse
 
@@ -74,8 +47,67 @@ from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.mind_state import MindStatePublisher, latched_publisher, mind_state_topic
+from rason.ros.params import ParamError, param
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
+
+
+@dataclass(frozen=True)
+class AgentNodeParams:
+    """The agent node's private parameters (``rosrun rason agent|mas ... _name:=value``)."""
+
+    ack_timeout: float = param(
+        2.0, "s (ROS time) a decomposer has to acknowledge an action with action_accepted, else "
+        "the action fails with no_decomposer; 0 disables the check (thesis-only decomposers)",
+        minimum=0.0)
+    action_timeout: float = param(
+        120.0, "s an accepted action may run before it fails with action_timeout (and is "
+        "cancelled on jason/cancel); 0 disables", minimum=0.0)
+    perception_mode: str = param(
+        "replace", "replace: per-source replacement (thesis 5.2); queue: every message is "
+        "applied (the thesis' unfiltered baseline)")
+    perception_functors: list = param(
+        [], "only these percepts reach the agent, e.g. \"[robot/4, battery]\"; [] = all")
+    perception_sources: list = param(
+        [], "only these perception sources reach the agent; [] = all")
+    perception_ttl: float = param(
+        0.0, "s (ROS time) a perception source may stay silent before its list is cleared (the "
+        "usual - events); 0 = a list stands until replaced. For sources that declare no TTL of "
+        "their own as the parameter jason/perception_ttl/<source> (every synthesizer built on "
+        "rason.execution.synthesizer declares its ~perception_ttl)", minimum=0.0)
+    perception_ttls: dict = param(
+        {}, "per-source TTLs, e.g. \"{robot_synthesizer_robot: 0.3, sonar: 2}\"; they win over "
+        "a source's own declaration and over ~perception_ttl")
+    presence_period: float = param(1.0, "s between presence announcements on /jason/messages",
+                                   minimum=0.01)
+    presence_timeout: float = param(
+        3.5, "s after which a silent agent is forgotten by .all_names and .broadcast; a .send to "
+        "it then fails with a clear reason", minimum=0.0)
+    internal_actions: list = param(
+        [], "Python modules (importable, or in the current directory) whose "
+        "@internal_action(\"lib.name\") functions every hosted agent gets")
+    auth_key_file: str = param(
+        "", "file holding a shared secret (16 bytes or more) that signs every message this node "
+        "publishes on /jason/messages (HMAC-SHA256 over all fields, stamp and nonce); unsigned, "
+        "forged, stale or replayed ones are dropped (make one: head -c 32 /dev/urandom | base64 > "
+        "fleet.key; chmod 600 fleet.key). Empty = NO authentication: anyone on the ROS graph "
+        "can send anything with any sender, as in the thesis")
+    auth_window: float = param(
+        10.0, "s (ROS time) a signed message stays acceptable after its stamp (hosts' clocks "
+        "must agree within it: chrony/NTP); a nonce seen within it is a replay", minimum=0.0)
+    trusted_senders: list = param(
+        [], "the only senders whose tellHow, untellHow, askHow, achieve and unachieve reach the "
+        "agents of this node (Jason's message acceptance hook); [] = everyone. In a .mas2j, per "
+        "agent: trusted_senders=\"[boss]\"")
+    tro: bool = param(AgentOptions.tro, "tail-recursion optimisation as Jason's tro agent option: "
+                      "+!loop <- ...; !loop. runs in constant memory")
+    max_intention_depth: int = param(
+        AgentOptions.max_intention_depth,
+        "an intention deeper than this fails with error(intention_too_deep) (a -!g plan can "
+        "handle it) and a warning", minimum=1)
+    mind_state_rate: float = param(
+        10.0, "at most this many jason/NAME/mind_state publications a second (only when the mind "
+        "changed; for the mind inspector); 0 = not published", minimum=0.0)
 
 
 @dataclass
@@ -91,31 +123,26 @@ class HostedAgent:
 class RasonNode:
     """The ROS side of a process hosting agents: topics, services, timers, presence."""
 
-    def __init__(self, base_ns: str = "/") -> None:
+    def __init__(self, params: AgentNodeParams, base_ns: str = "/") -> None:
         self.base_ns = base_ns if base_ns.endswith("/") else base_ns + "/"
         # -- parameters ---------------------------------------------------------------------------
-        self.ack_timeout = float(rospy.get_param("~ack_timeout", 2.0))
-        self.action_timeout = float(rospy.get_param("~action_timeout", 120.0))
-        self.perception_mode = str(rospy.get_param("~perception_mode", "replace"))
-        self.default_filter = PerceptionFilter.from_lists(
-            _as_list(rospy.get_param("~perception_functors", [])),
-            _as_list(rospy.get_param("~perception_sources", [])))
-        presence_period = float(rospy.get_param("~presence_period", 1.0))
-        self.directory = Directory(float(rospy.get_param("~presence_timeout", 3.5)))
-        self.agent_options = AgentOptions(
-            tro=bool(rospy.get_param("~tro", AgentOptions.tro)),
-            max_intention_depth=int(rospy.get_param("~max_intention_depth",
-                                                    AgentOptions.max_intention_depth)))
-        self.mind_state_rate = float(rospy.get_param("~mind_state_rate", 10.0))
-        self.default_perception_ttl = _seconds("~perception_ttl", rospy.get_param(
-            "~perception_ttl", 0.0))
-        self.perception_ttls = {str(source): _seconds(f"~perception_ttls/{source}", ttl)
-                                for source, ttl in _as_map(rospy.get_param("~perception_ttls",
-                                                                           {})).items()}
+        self.params = params
+        self.ack_timeout = params.ack_timeout
+        self.action_timeout = params.action_timeout
+        self.perception_mode = params.perception_mode
+        self.default_filter = PerceptionFilter.from_lists(params.perception_functors,
+                                                          params.perception_sources)
+        presence_period = params.presence_period
+        self.directory = Directory(params.presence_timeout)
+        self.agent_options = AgentOptions(tro=params.tro,
+                                          max_intention_depth=params.max_intention_depth)
+        self.mind_state_rate = params.mind_state_rate
+        self.default_perception_ttl = params.perception_ttl
+        self.perception_ttls = {source: _seconds(f"~perception_ttls/{source}", ttl)
+                                for source, ttl in params.perception_ttls.items()}
         self._declared_ttls: dict[str, float | None] = {}
-        self.auth = _message_auth(str(rospy.get_param("~auth_key_file", "") or ""),
-                                  _seconds("~auth_window", rospy.get_param("~auth_window", 10.0)))
-        self.trust = TrustPolicy.of(_as_list(rospy.get_param("~trusted_senders", [])))
+        self.auth = _message_auth(params.auth_key_file, params.auth_window)
+        self.trust = TrustPolicy.of(params.trusted_senders)
         # Rejected messages, expired perception sources: one warning per kind and 10 s at most.
         self.warnings = RateLimitedWarnings(period=10.0)
         self.agents: dict[str, HostedAgent] = {}
@@ -397,7 +424,7 @@ class RasonNode:
             return None
         try:
             return _seconds(key, value)
-        except ParameterError as err:
+        except ParamError as err:
             rospy.logwarn("%s: using ~perception_ttl", err)
             return None
 
@@ -426,10 +453,6 @@ class RasonNode:
                             pending_actions=arch.pending_texts())
 
 
-class ParameterError(ValueError):
-    """A node parameter with an unusable value."""
-
-
 def _message_auth(key_file: str, window: float) -> MessageAuth | None:
     """The node's authentication, or None (open) without a key file."""
     if not key_file:
@@ -437,7 +460,7 @@ def _message_auth(key_file: str, window: float) -> MessageAuth | None:
     try:
         return MessageAuth(load_key(key_file, warn=rospy.logwarn), window)
     except AuthKeyError as err:
-        raise ParameterError(f"~auth_key_file: {err}") from err
+        raise ParamError(f"~auth_key_file: {err}") from err
 
 
 def _agent_trust(options: dict, default: TrustPolicy) -> TrustPolicy:
@@ -464,24 +487,7 @@ def _seconds(name: str, value: object) -> float:
     except (TypeError, ValueError):
         seconds = math.nan
     if not math.isfinite(seconds) or seconds < 0:
-        raise ParameterError(f"{name} must be a number of seconds >= 0, not {value!r}")
+        raise ParamError(f"{name} must be a number of seconds >= 0, not {value!r}")
     return seconds
 
 
-def _as_map(value: object) -> dict[str, object]:
-    """A map parameter given as a YAML map (rosrun's ``_p:="{a: 1}"``) or as a YAML string."""
-    if isinstance(value, str):
-        try:
-            value = yaml.safe_load(value) if value.strip() else {}
-        except yaml.YAMLError as err:
-            raise ParameterError(f"not a map: {value!r} ({err})") from err
-    if not isinstance(value, dict):
-        raise ParameterError(f"not a map: {value!r}")
-    return value
-
-
-def _as_list(value: object) -> list[str]:
-    """A list parameter given as a YAML list or as one comma-separated string."""
-    if isinstance(value, str):
-        return [v for v in value.split(",") if v.strip()]
-    return [str(v) for v in value] if isinstance(value, (list, tuple)) else []

@@ -19,6 +19,7 @@ field's type, and rejects what does not fit (wrong type, non-finite numbers, out
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 import sys
@@ -28,6 +29,7 @@ from collections.abc import Sequence
 from typing import Any, TypeVar
 
 import rospy
+import yaml
 
 T = TypeVar("T")
 
@@ -41,10 +43,9 @@ class ParamError(ValueError):
 def param(default: Any, doc: str, *, minimum: float | None = None,
           maximum: float | None = None) -> Any:
     """A parameter with a default; numbers must be finite and within [minimum, maximum]."""
-    factory = (lambda: list(default)) if isinstance(default, list) else None
     metadata = {"doc": doc, "minimum": minimum, "maximum": maximum}
-    if factory is not None:
-        return dataclasses.field(default_factory=factory, metadata=metadata)
+    if isinstance(default, (list, dict)):       # mutable: a fresh copy per instance
+        return dataclasses.field(default_factory=lambda: copy.copy(default), metadata=metadata)
     return dataclasses.field(default=default, metadata=metadata)
 
 
@@ -74,6 +75,11 @@ def _convert(name: str, value: Any, hint: Any, spec: dataclasses.Field) -> Any:
             return value
         raise ParamError(f"~{name}: expected true or false, got {value!r}")
     if float in kinds or int in kinds:
+        if isinstance(value, str):      # YAML reads 1e9 or nan as text: take them as numbers
+            try:
+                value = float(value)
+            except ValueError:
+                raise ParamError(f"~{name}: expected a number, got {value!r}") from None
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ParamError(f"~{name}: expected a number, got {value!r}")
         if not math.isfinite(value):
@@ -90,6 +96,15 @@ def _convert(name: str, value: Any, hint: Any, spec: dataclasses.Field) -> Any:
         if high is not None and value > high:
             raise ParamError(f"~{name}: must be at most {high}, got {value}")
         return value
+    if dict in kinds:
+        if isinstance(value, str):
+            try:
+                value = yaml.safe_load(value) if value.strip() else {}
+            except yaml.YAMLError as err:
+                raise ParamError(f"~{name}: not a map: {value!r} ({err})") from err
+        if not isinstance(value, dict):
+            raise ParamError(f"~{name}: expected a map, got {value!r}")
+        return {str(k): v for k, v in value.items()}
     if list in kinds:
         if isinstance(value, str):
             value = [v.strip() for v in value.strip("[]").split(",") if v.strip()]
@@ -135,17 +150,22 @@ def rows(cls: type) -> list[tuple[str, str, str]]:
             for spec in dataclasses.fields(cls)]
 
 
-def help_text(cls: type, usage: str, summary: str = "") -> str:
-    """What the node's ``--help`` prints: usage, summary, and the parameter table."""
+def table_text(cls: type) -> str:
+    """The parameter table of ``cls`` as plain text (an argparse epilog, a --help page)."""
     table = rows(cls)
     width = max(len(name) for name, _, _ in table) + 2
     dwidth = max(len(default) for _, default, _ in table) + 2
+    lines = ["private parameters (_name:=value on the rosrun line):"]
+    lines += [f"  {name:<{width}}{default:<{dwidth}}{doc}" for name, default, doc in table]
+    return "\n".join(lines)
+
+
+def help_text(cls: type, usage: str, summary: str = "") -> str:
+    """What the node's ``--help`` prints: usage, summary, and the parameter table."""
     lines = [f"usage: {usage}", ""]
     if summary:
         lines += [summary.strip(), ""]
-    lines.append("private parameters (_name:=value on the rosrun line):")
-    lines += [f"  {name:<{width}}{default:<{dwidth}}{doc}" for name, default, doc in table]
-    return "\n".join(lines)
+    return "\n".join(lines) + table_text(cls)
 
 
 def exit_on_help(argv: Sequence[str], cls: type, usage: str, summary: str = "") -> None:
