@@ -23,38 +23,38 @@ WATCHER = """
 
 
 def test_a_silent_source_is_cleared_after_its_ttl_and_a_ttl_of_zero_never_expires(ros, tmp_path):
-    """``~perception_ttls`` gives `radar` 0.4 s; `doors` (no TTL: ~perception_ttl 0) stays."""
+    """``~perception_ttls`` gives `radar` 1 s; `doors` (no TTL: ~perception_ttl 0) stays."""
     import rospy
     from jason_msgs.msg import Perception
 
     ros.init_rospy()
     pub = rospy.Publisher("/stale1/jason/perception", Perception, queue_size=10)
     agent = start_agent(ros, tmp_path, "watcher", WATCHER, ns="/stale1",
-                        perception_ttls="{radar: 0.4}")
+                        perception_ttls="{radar: 1.0}")
     ros.wait_for_subscriber("/stale1/jason/perception")
     wait_until(lambda: pub.get_num_connections() > 0, 10, "connection to the agent")
     pub.publish(Perception(source="doors", perception=["door(open)"]))
-    # radar publishes at 10 Hz for 2 s (5 TTLs): it must never be cleared meanwhile.
-    for _ in range(20):
+    # radar publishes at 10 Hz for 3 s (3 TTLs): it must never be cleared meanwhile.
+    for _ in range(30):
         pub.publish(Perception(source="radar", perception=["robot(faulty,1,2,3)"]))
         time.sleep(0.1)
     assert "lost faulty" not in agent.output()
-    agent.wait_for_line(r"\[watcher\] see faulty", timeout=5)
+    agent.wait_for_line(r"\[watcher\] see faulty", timeout=15)
     stopped = time.monotonic()
-    agent.wait_for_line(r"\[watcher\] lost faulty", timeout=5)
+    agent.wait_for_line(r"\[watcher\] lost faulty", timeout=15)
     took = time.monotonic() - stopped
-    assert took >= 0.3, f"cleared {took:.2f} s after the last message: before its TTL"
+    assert took >= 0.9, f"cleared {took:.2f} s after the last message: before its TTL"
     agent.wait_for_line(r"perception source 'radar' silent for longer than its time to live",
-                        timeout=5)
+                        timeout=15)
     beliefs = mind(ros, "/stale1", "watcher")["beliefs"]
     assert not any(b.startswith("robot(") for b in beliefs), beliefs
-    time.sleep(1.0)                     # well past 0.4 s: the source without a TTL stays
+    time.sleep(2.0)                     # well past 1 s: the source without a TTL stays
     beliefs = mind(ros, "/stale1", "watcher")["beliefs"]
     assert "door(open)[source(percept)]" in beliefs, beliefs
     assert "door gone" not in agent.output()
     # The source comes back: its percepts are believed again.
     pub.publish(Perception(source="radar", perception=["robot(faulty,4,5,6)"]))
-    agent.wait_for_line(r"\[watcher\] see faulty", timeout=5,
+    agent.wait_for_line(r"\[watcher\] see faulty", timeout=15,
                         start=len(agent.lines()) - 5)
     assert agent.alive()
 
