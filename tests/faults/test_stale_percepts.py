@@ -23,38 +23,38 @@ WATCHER = """
 
 
 def test_a_silent_source_is_cleared_after_its_ttl_and_a_ttl_of_zero_never_expires(ros, tmp_path):
-    """``~perception_ttls`` gives `radar` 0.4 s; `doors` (no TTL: ~perception_ttl 0) stays."""
+    """``~perception_ttls`` gives `radar` 1 s; `doors` (no TTL: ~perception_ttl 0) stays."""
     import rospy
     from jason_msgs.msg import Perception
 
     ros.init_rospy()
     pub = rospy.Publisher("/stale1/jason/perception", Perception, queue_size=10)
     agent = start_agent(ros, tmp_path, "watcher", WATCHER, ns="/stale1",
-                        perception_ttls="{radar: 0.4}")
+                        perception_ttls="{radar: 1.0}")
     ros.wait_for_subscriber("/stale1/jason/perception")
     wait_until(lambda: pub.get_num_connections() > 0, 10, "connection to the agent")
     pub.publish(Perception(source="doors", perception=["door(open)"]))
-    # radar publishes at 10 Hz for 2 s (5 TTLs): it must never be cleared meanwhile.
-    for _ in range(20):
+    # radar publishes at 10 Hz for 3 s (3 TTLs): it must never be cleared meanwhile.
+    for _ in range(30):
         pub.publish(Perception(source="radar", perception=["robot(faulty,1,2,3)"]))
         time.sleep(0.1)
     assert "lost faulty" not in agent.output()
-    agent.wait_for_line(r"\[watcher\] see faulty", timeout=5)
+    agent.wait_for_line(r"\[watcher\] see faulty", timeout=15)
     stopped = time.monotonic()
-    agent.wait_for_line(r"\[watcher\] lost faulty", timeout=5)
+    agent.wait_for_line(r"\[watcher\] lost faulty", timeout=15)
     took = time.monotonic() - stopped
-    assert took >= 0.3, f"cleared {took:.2f} s after the last message: before its TTL"
+    assert took >= 0.9, f"cleared {took:.2f} s after the last message: before its TTL"
     agent.wait_for_line(r"perception source 'radar' silent for longer than its time to live",
-                        timeout=5)
+                        timeout=15)
     beliefs = mind(ros, "/stale1", "watcher")["beliefs"]
     assert not any(b.startswith("robot(") for b in beliefs), beliefs
-    time.sleep(1.0)                     # well past 0.4 s: the source without a TTL stays
+    time.sleep(2.0)                     # well past 1 s: the source without a TTL stays
     beliefs = mind(ros, "/stale1", "watcher")["beliefs"]
     assert "door(open)[source(percept)]" in beliefs, beliefs
     assert "door gone" not in agent.output()
     # The source comes back: its percepts are believed again.
     pub.publish(Perception(source="radar", perception=["robot(faulty,4,5,6)"]))
-    agent.wait_for_line(r"\[watcher\] see faulty", timeout=5,
+    agent.wait_for_line(r"\[watcher\] see faulty", timeout=15,
                         start=len(agent.lines()) - 5)
     assert agent.alive()
 
@@ -86,7 +86,7 @@ def test_the_robot_synthesizer_declares_a_ttl_and_a_dead_camera_clears_the_robot
                         "/helper/camera/rgb/image_raw:=/stale2/camera/rgb/image_raw",
                         "/helper/camera/depth_registered/points:="
                         "/stale2/camera/depth_registered/points"], label="rosbag_play")
-        agent.wait_for_line(r"\[helper\] see faulty", timeout=40)
+        agent.wait_for_line(r"\[helper\] see faulty", timeout=60)
         agent.wait_for_line(r"source 'robot_synthesizer_robot' silent for longer than its time "
                             r"to live \(0.5 s\)", timeout=10)
         lost_at = time.monotonic()
@@ -104,7 +104,8 @@ def test_the_robot_synthesizer_declares_a_ttl_and_a_dead_camera_clears_the_robot
         f"the synthesizer itself published an empty list: {[m for _, m in messages]}"
     silence = lost_at - messages[-1][0]
     print(f"robot belief cleared {silence:.2f} s after the last perception (TTL 0.5 s)")
-    assert 0.4 <= silence <= 3.0, silence
+    # Not before the TTL; the upper bound leaves room for a CPU-starved machine.
+    assert 0.4 <= silence <= 10.0, silence
     beliefs = mind(ros, "/stale2", "helper")["beliefs"]
     assert not any(b.startswith("robot(") for b in beliefs), beliefs
     assert synth.alive() and agent.alive()
