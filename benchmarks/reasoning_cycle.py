@@ -117,13 +117,14 @@ BIG_MIND = "".join(f'fact({k}, "a belief of the larger mind", [{k}, {k + 1}]).\n
 
 
 class PublishingArch(QuietArch):
-    """QuietArch that calls ``on_cycle`` at the start of every reasoning cycle, as RosAgArch."""
+    """QuietArch that runs ``at_next_cycle`` once at the next reasoning cycle, as RosAgArch."""
 
-    on_cycle = None
+    at_next_cycle = None
 
     def perceive(self):
-        if self.on_cycle is not None:
-            self.on_cycle()
+        if self.at_next_cycle is not None:
+            hook, self.at_next_cycle = self.at_next_cycle, None
+            hook()
         return None
 
 
@@ -136,8 +137,8 @@ def bench_mind_state(n: int, hz: float, extra: str = "") -> tuple[float, float, 
     arch = PublishingArch()
     ag = Agent("bench", extra + LISTING_5_4.format(n=n), arch)
     sent: list[str] = []
-    publisher = MindStatePublisher(ag, lambda: [], sent.append, "/bench", "/")
-    arch.on_cycle = publisher.at_cycle if hz > 0 else None
+    publisher = MindStatePublisher(ag, lambda: [], sent.append, "/bench", "/",
+                                   schedule=lambda hook: setattr(arch, "at_next_cycle", hook))
     stop = threading.Event()
     ticks: list[float] = []
 
