@@ -201,6 +201,21 @@ def test_inspector_listens_on_loopback_only_by_default(graph):
     assert listening == ["0100007F"], listening                 # 127.0.0.1 only
 
 
+def test_bad_parameters_and_a_taken_port_stop_the_inspector_with_a_clear_error(ros):
+    for params, text in (({"port": "abc"}, "bad parameter"), ({"port": 70000}, "0-65535"),
+                         ({"history": 0}, "~history >= 1")):
+        inspector = ros.rosrun("rason", "mind_inspector", params=params,
+                               name=f"bad_inspector_{len(ros.processes)}")
+        assert inspector.wait(60) == 2
+        assert text in inspector.output(), inspector.output()
+    with socket.create_server(("127.0.0.1", 0)) as taken:
+        port = taken.getsockname()[1]
+        inspector = ros.rosrun("rason", "mind_inspector", params={"port": port},
+                               name="taken_port_inspector")
+        assert inspector.wait(60) == 1
+        assert f"cannot listen on 127.0.0.1:{port}" in inspector.output()
+
+
 def test_an_agent_that_stops_leaves_the_page(graph):
     url, _inspector, _alice, bob = graph
     bob.stop()                          # SIGINT: the node says goodbye

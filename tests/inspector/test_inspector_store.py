@@ -136,7 +136,9 @@ def test_a_busy_agent_publishes_its_mind_from_its_own_cycle():
     arch = HeldActions()
     agent = Agent("t", PROGRAM, arch)
     sent: list[str] = []
-    publisher = MindStatePublisher(agent, lambda: [], sent.append, "/n", "/")
+    scheduled: list = []
+    publisher = MindStatePublisher(agent, lambda: [], sent.append, "/n", "/",
+                                   schedule=scheduled.append)
     held, release = threading.Event(), threading.Event()
 
     def cycle_in_progress() -> None:
@@ -148,9 +150,10 @@ def test_a_busy_agent_publishes_its_mind_from_its_own_cycle():
     busy.start()
     held.wait(10)
     assert publisher.tick(5.0) is False and sent == []      # the timer does not wait
+    assert scheduled == [publisher.at_cycle]
     release.set()
     busy.join()
-    publisher.at_cycle()                  # the agent's next cycle takes it
+    scheduled[0]()                        # the agent's next cycle takes it
     assert len(sent) == 1 and json.loads(sent[0])["stamp"] == 5.0
     publisher.at_cycle()                  # nothing left to do
     assert len(sent) == 1
@@ -163,7 +166,8 @@ def test_a_failing_publication_never_reaches_the_reasoning_cycle():
         raise OSError("link down")
 
     warnings: list[str] = []
-    publisher = MindStatePublisher(agent, lambda: [], broken, "/n", "/", warnings.append)
+    publisher = MindStatePublisher(agent, lambda: [], broken, "/n", "/",
+                                   warn=warnings.append)
     publisher._due = 1.0
     publisher.at_cycle()                  # reported, not raised
     assert publisher._due is None

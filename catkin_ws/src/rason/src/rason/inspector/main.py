@@ -58,14 +58,19 @@ async def serve(app: web.Application, host: str, port: int) -> int:
 def main() -> int:
     rospy.init_node("mind_inspector", disable_signals=True)
     host = str(rospy.get_param("~host", "127.0.0.1"))
-    port = int(rospy.get_param("~port", DEFAULT_PORT))
-    history = int(rospy.get_param("~history", 300))
-    if not 0 <= port <= 65535 or history < 1:
-        rospy.logerr("mind inspector: ~port must be 0-65535 and ~history >= 1 (got %s, %s)",
-                     port, history)
+    try:
+        port = int(rospy.get_param("~port", DEFAULT_PORT))
+        history = int(rospy.get_param("~history", 300))
+        presence_timeout = float(rospy.get_param("~presence_timeout", 3.5))
+    except (TypeError, ValueError) as err:
+        rospy.logerr("mind inspector: bad parameter: %s", err)
+        return 2
+    if not 0 <= port <= 65535 or history < 1 or presence_timeout <= 0:
+        rospy.logerr("mind inspector: ~port must be 0-65535, ~history >= 1 and "
+                     "~presence_timeout > 0 (got %s, %s, %s)", port, history, presence_timeout)
         return 2
     store = InspectorStore(history)
-    watcher = GraphWatcher(store, float(rospy.get_param("~presence_timeout", 3.5)))
+    watcher = GraphWatcher(store, presence_timeout)
     watcher.start()
     app = make_app(store, rospy.get_time, lambda pages: watcher.want_camera(pages > 0))
     try:

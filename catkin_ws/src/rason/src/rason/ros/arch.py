@@ -69,8 +69,9 @@ class RosAgArch(AgentArch):
         self.name = name
         self.trust = trust or TrustPolicy()
         self.agent: Agent | None = None
-        # called by the agent's thread at the start of every reasoning cycle (see mind_state)
-        self.on_cycle: Callable[[], None] | None = None
+        # a function the agent's thread calls once, at the start of its next reasoning cycle
+        # (see rason.ros.mind_state); None costs the cycle one attribute test
+        self.at_next_cycle: Callable[[], None] | None = None
         self.perceptions: PerceptionTable = PerceptionTable(
             parse=parse_percept, warn=lambda text: rospy.logwarn("[%s] %s", name, text),
             mode=node.perception_mode, filter=perception_filter or PerceptionFilter(),
@@ -80,8 +81,9 @@ class RosAgArch(AgentArch):
 
     # -- AgentArch --------------------------------------------------------------------------------
     def perceive(self):
-        if self.on_cycle is not None:
-            self.on_cycle()
+        if self.at_next_cycle is not None:
+            hook, self.at_next_cycle = self.at_next_cycle, None
+            hook()
         return self.perceptions.percepts()
 
     def act(self, agent: Agent, action, action_id: int) -> None:

@@ -9,8 +9,9 @@ later gets the current state at once.
 
 The timer never waits for a busy agent: when a reasoning cycle holds the agent, the snapshot is
 left to the agent's own thread, which takes it at the start of its next cycle
-(:meth:`~MindStatePublisher.at_cycle`, called from ``RosAgArch.perceive``). So the reasoning
-thread and the timer never queue on the agent's lock, and an idle agent costs its cycle nothing.
+(:meth:`~MindStatePublisher.at_cycle`, scheduled through ``RosAgArch.at_next_cycle``). So the
+reasoning thread and the timer never queue on the agent's lock, and a cycle with no snapshot
+due pays one attribute test.
 
 The JSON document (``MIND_STATE_VERSION``): ``agent``, ``node``, ``namespace``, ``stamp`` (ROS
 seconds of the snapshot), ``seq`` (counts publications), ``mind`` (beliefs, rules, events,
@@ -69,14 +70,18 @@ class MindStatePublisher:
     """Publishes one agent's mind on change (see the module's docstring).
 
     `pending_actions` gives the agent's actions waiting for feedback (RosAgArch.pending_actions),
-    `publish` sends the JSON text (latched_publisher), `node` names the hosting node, `warn`
-    reports a publication that failed (default: the node's rate-limited warnings).
+    `publish` sends the JSON text (latched_publisher), `node` names the hosting node,
+    `schedule` has a function called by the agent's thread at its next cycle (sets
+    ``RosAgArch.at_next_cycle``), `warn` reports a publication that failed (default: the node's
+    rate-limited warnings).
     """
 
     def __init__(self, agent: Agent, pending_actions: Callable[[], list[PendingAction]],
                  publish: Callable[[str], None], node: str, namespace: str,
+                 schedule: Callable[[Callable[[], None]], None] | None = None,
                  warn: Callable[[str], object] | None = None) -> None:
         self.agent = agent
+        self.schedule = schedule or (lambda fn: None)
         self.warn = warn or (lambda text: WARNINGS.warn("mind_state", text))
         self.pending_actions = pending_actions
         self.publish = publish
@@ -113,6 +118,7 @@ class MindStatePublisher:
         mind = self.agent.mind_state(blocking=False)
         if mind is None:
             self._due = now
+            self.schedule(self.at_cycle)
             return False
         return self._publish(mind, now)
 

@@ -180,8 +180,8 @@ class RasonNode:
             hosted.mind_state = MindStatePublisher(
                 agent, arch.pending_actions,
                 latched_publisher(mind_state_topic(self.base_ns, name)),
-                rospy.get_name(), self.base_ns)
-            arch.on_cycle = hosted.mind_state.at_cycle
+                rospy.get_name(), self.base_ns,
+                schedule=lambda hook, a=arch: setattr(a, "at_next_cycle", hook))
         self.agents[name] = hosted
         return hosted
 
