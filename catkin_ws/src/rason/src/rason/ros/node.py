@@ -348,7 +348,8 @@ class RasonNode:
                 for name in self.agents:
                     self._announce(name)
             return
-        self.directory.heard(msg.sender, now)
+        if self.directory.heard(msg.sender, now):   # known from its message before its presence
+            rospy.loginfo("agent %s present", msg.sender)
         receivers = ([msg.receiver] if msg.receiver
                      else [n for n in self.agents if n != msg.sender])
         content = None
