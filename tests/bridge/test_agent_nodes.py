@@ -163,6 +163,15 @@ def test_a_non_utf8_source_is_a_file_error_with_status_2(ros, tmp_path):
     assert "Traceback" not in proc.output()
 
 
+def test_a_non_utf8_project_is_a_file_error_with_status_2(ros, tmp_path):
+    project = tmp_path / "latin1.mas2j"
+    project.write_bytes(b"MAS caf\xe9 {\n  agents: bob;\n}\n")
+    proc = ros.rosrun("rason", "mas", str(project), ns="/b8")
+    assert proc.wait(30) == 2
+    assert f"{project}: not UTF-8 text" in proc.output()
+    assert "Traceback" not in proc.output()
+
+
 def test_mas_hosts_every_agent_of_a_project_in_one_node(ros, tmp_path):
     write_agent(tmp_path, "bob", BOB)
     write_agent(tmp_path, "carol", """

@@ -140,6 +140,9 @@ def mas_main() -> int:
     except (OSError, AslSyntaxError) as err:
         print(f"rason: {err}", file=sys.stderr)
         return 2
+    except UnicodeDecodeError as err:
+        print(f"{opts.file}: not UTF-8 text (byte {err.start}); save the file as UTF-8", file=sys.stderr)
+        return 2
     agents = []
     for spec in project.agents:
         pfilter = None
