@@ -1,12 +1,46 @@
 // Agent faulty: thesis (Morais 2015) Appendix A.1, with ONLY the fixes documented in
-// docs/thesis-fixes.md of the rason repository. Every change is marked "FIX(Fn):", Fn its entry.
+// /work/shared/reference/thesis-notes.md. Every change is marked "FIX:".
 // Added for testability (not a thesis fix): a belief diagnosis(D) recording the outcome,
 // D in both_actuators, odometry, left_actuator, right_actuator, false_positive, unknown,
 // no_fault. Those lines are marked "ADDED:".
-// Added for robots on their own machines (not a thesis fix): handling of a .send to an
-// unreachable Helper and of an answer that never comes (README, "Link faults"). Marked "HOSTS:".
 
 /* Initial beliefs and rules */
+
+// Evidence margins (FIX: see the feedback plans below).
+turnLimit(8).           // deg: the thesis' bad_move threshold
+turnMargin(3).          // deg: a side is named beyond turnLimit + margin, none below - margin
+movedLimit(0.08).       // m: displaced more than this (plus the partial slack): Faulty moved
+stillLimit(0.04).       // m: displaced less than this: Faulty did not move
+partialSlack(0.12).     // m: a single cylinder stands up to 11.35 cm from Faulty's centre
+flankTurn(60).          // deg: turn that shows Helper a flank when the heading is hidden
+
+// FIX: every angle difference is wrapped into (-180, 180]: the thesis' rule
+// Yaw1 - (Yaw + (Deg1 - Deg)) read 178.4 -> -167.9 (a 13.7 degree right turn) as -344.8.
+wrap(A, W) :- W = A - 360 * math.ceil((A - 180) / 360).
+
+// The turn Faulty made between the two sightings (yaw = heading + bearing, so the heading
+// change is the yaw change minus the bearing change), less any turn it made on purpose.
+turnSeen(initPos(D, _, Y), currPos(D1, _, Y1), Turn)
+   :- turned(T0) & wrap(D1 - D, DA) & wrap(Y1 - Y - DA - T0, Turn).
+turned(T) :- turnedBy(T).
+turned(0) :- not turnedBy(_).
+
+// Where a sighting puts Faulty in Helper's camera plane (x right, z forward), and what it is:
+// full (the centre) or the colour of the one cylinder seen.
+place(initPos(D, Dp, _), D, Dp, full) :- true.
+place(initPart(D, Dp, C), D, Dp, C) :- true.
+place(currPos(D, Dp, _), D, Dp, full) :- true.
+place(currPart(D, Dp, C), D, Dp, C) :- true.
+slack(K, K, 0) :- true.
+slack(K0, K1, S) :- K0 \== K1 & partialSlack(S).
+displacement(Init, Curr, Dist, Slack)
+   :- place(Init, D0, Dp0, K0) & place(Curr, D1, Dp1, K1) & slack(K0, K1, Slack)
+    & X0 = Dp0 * math.tan(D0 * 3.14159265 / 180) & X1 = Dp1 * math.tan(D1 * 3.14159265 / 180)
+    & Dist = math.sqrt((X1 - X0) * (X1 - X0) + (Dp1 - Dp0) * (Dp1 - Dp0)).
+
+// A turn away from the occlusion angle (heading - bearing = +90 as Helper sees it).
+awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E >= 0 & flankTurn(T).
+awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E < 0 & flankTurn(F) & T = -F.
 
 /* Initial goals */
 
@@ -23,7 +57,7 @@
       .print("Arriving at destination");
       -+diagnosis(no_fault).                                  // ADDED: outcome belief
 
-// FIX(F1): the heads matched the reason as the first annotation ([R1 | Rest]); in Jason the
+// FIX: the heads matched the reason as the first annotation ([R1 | Rest]); in Jason the
 // failure annotations are sorted (code, code_line, error, error_msg, ...), so the reason is
 // now matched explicitly as error(R).
 -!goToDestination[error(R)]
@@ -32,9 +66,9 @@
       +reason(R);
       .broadcast(achieve, helpme).
 
--!goToDestination[error(R)]                                   // FIX(F1): was [R1 | Rest]
+-!goToDestination[error(R)]                                   // FIX: was [R1 | Rest]
    <- .print("something went wrong...", R);
-      !diagnoseAlone([R]);                                    // FIX(F1): was [R1 | Rest]
+      !diagnoseAlone([R]);                                    // FIX: was [R1 | Rest]
       !goToDestination.
 
 +!diagnoseAlone(Reasons)
@@ -48,6 +82,7 @@
 //Plans to help diagnose
 +!tryMove[source(R)]
    <- .print("Trying to move for ", R);
+      -turnedBy(_);
       move(0.3);
       .print("It was just a false positive.");
       -reason(_);
@@ -57,93 +92,115 @@
 
 -!tryMove[source(R)]
    <- .print(" requesting some feedback from ", R);
-      !ask(R, achieve, giveFeedback).                         // FIX(F2): was givemeFeedback; HOSTS: !ask
+      .send(R, achieve, giveFeedback).                        // FIX: was givemeFeedback
 
 +found(Me)[source(R)]
    : .my_name(Me)
    <- .print(R, " found me, asking to track me");
-      !ask(R, achieve, trackMe).                              // HOSTS: was .send, see !ask
+      .send(R, achieve, trackMe).
 
-// FIX(F6): Helper gives up after a full turn and tells us so; we report unknown.
+// FIX: Helper gives up after a full turn and tells us so; we report unknown.
 +notFound(Me)[source(R)]
    : .my_name(Me)
    <- .print(R, " could not find me: the fault is unknown");
       -+diagnosis(unknown).                                   // ADDED: outcome belief
 
-// HOSTS (robots on their own machines, ./run.sh demo --hosts --cut ...): a .send fails with
-// error(ia_failed) and the reason in error_msg when the receiver's presence has lapsed (its link
-// is down). Without Helper the diagnosis cannot go on: it ends unknown with that reason, never
-// with a guessed component. !ask is a .send whose failure the plan handles.
-+!ask(R, Performative, Content) <- .send(R, Performative, Content).
--!ask(R, Performative, Content)[error(ia_failed), error_msg(Why)]
-   <- .print("cannot reach ", R, ": ", Why);
-      !giveUp(Why).
+// FIX (future work of the thesis: against self-occlusion): Helper cannot see our heading
+// (one cylinder hides the other); we turn to show it a flank, then it looks again.
++!showFlank(T)[source(R)]
+   <- .print("turning ", T, " degrees to show ", R, " my flank");
+      turn(T);
+      .send(R, achieve, trackMe).
 
-// HOSTS: Helper's answer may never come (its link, or ours, down while it answered): 90 s
-// after asking for help without a diagnosis, it ends unknown with that reason. (!! : the
-// wait runs beside the plan that added reason(R), which goes on to ask for help.)
-+reason(_) <- !!awaitHelp.
-+!awaitHelp
-   <- .wait(90000);
-      !giveUp("no answer from a helper within 90 s").
+-!showFlank(_)[source(R)]
+   <- .print("could not turn as ", R, " asked; it looks again anyway");
+      .send(R, achieve, trackMe).
 
-+!giveUp(Why)
-   : not diagnosis(_)
-   <- .print("the fault is unknown: ", Why);
-      +unknownBecause(Why);
-      -+diagnosis(unknown).                                   // ADDED: outcome belief
-+!giveUp(_).
+// FIX (all feedback plans): the prints used the unbound variable Helper; it is R.
+// FIX (never a wrong component): the thesis named a component from one frame per position
+// with no margin, compared a current position that could be a stale memory, and read sensor
+// noise as motion (exact Depth == Depth1, Deg == Deg1). Helper now sends averaged sightings
+// taken after the move (currPart: only one cylinder seen; currLost: not seen), and a component
+// is named only when the evidence clears a margin; otherwise Faulty asks for more evidence
+// (turns to show its flank) or concludes unknown, saying why.
 
-// FIX(F3) (all feedback plans): the prints used the unbound variable Helper; it is R.
-// FIX(F4) (noise): a real Kinect never reports exactly the same angle and depth twice, so the
-// thesis' exact comparisons (Depth == Depth1, Deg == Deg1) read sensor noise as motion. "Moved"
-// means the depth changed by more than 5 cm or the bearing by more than 2 degrees (a 1 s
-// no_progress window at 0.25 m/s moves Faulty about 20 cm: many times these thresholds).
-moved(Deg, Depth, Deg1, Depth1) :- math.abs(Depth1 - Depth) > 0.05 | math.abs(Deg1 - Deg) > 2.
-
-+!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
+// no_progress: did Faulty move? Planar displacement of the two sightings; a single cylinder
+// may stand partialSlack from the centre, so a partial sighting widens the margin.
++!feedback(Init, Curr)[source(R)]
    : reason(no_progress)
-   & moved(Deg, Depth, Deg1, Depth1)
-   <- .print(R, " has reported as initial info( pos ", Deg, " degrees, depth ", Depth, " meters and yaw ", Yaw, " degrees )");
-      .print("and current info( pos ", Deg1, " degrees, depth ", Depth1, " meters and yaw", Yaw1, " degrees )");
+   & displacement(Init, Curr, Dist, Slack) & movedLimit(L) & Dist > L + Slack
+   <- .print(R, " has reported ", Init, " and then ", Curr, ": moved ", Dist, " m");
       .print("fault in odometry system, thanks ", R);
       -+diagnosis(odometry);                                  // ADDED: outcome belief
       .send(R, achieve, thanks).
 
-+!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
++!feedback(Init, Curr)[source(R)]
    : reason(no_progress)
-   & not moved(Deg, Depth, Deg1, Depth1)
-   <- .print(R, " has reported as initial info( pos ", Deg, " degrees, depth ", Depth, " meters and yaw ", Yaw, " degrees )");
-      .print("and current info( pos ", Deg1, " degrees , depth ", Depth1, " meters and yaw", Yaw1, " degrees )");
+   & displacement(Init, Curr, Dist, 0) & stillLimit(L) & Dist < L
+   <- .print(R, " has reported ", Init, " and then ", Curr, ": moved ", Dist, " m");
       .print(" fault in both actuators , thanks ", R);
       -+diagnosis(both_actuators);                            // ADDED: outcome belief
       .send(R, achieve, thanks).
 
-// FIX(F5): the three bad_move contexts used < 8, > 8 and < -8, so a difference of exactly
-// 8 (or -8) had no plan; the false-positive band is now closed: |d| <= 8.
-+!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
-   : reason(bad_move)
-   & math.abs(Yaw1 - (Yaw + (Deg1 - Deg))) <= 8
-   <- .print(R, " has reported as initial info( pos ", Deg, " degrees , depth ", Depth, " meters and yaw ", Yaw, " degrees )");
-      .print("and current info( pos ", Deg1, " degrees , depth ", Depth1, " meters and yaw", Yaw1, " degrees )");
-      .print("it was a false positive for bad_move, thanks ", R);
-      -+diagnosis(false_positive);                            // ADDED: outcome belief
-      .send(R, achieve, thanks).
++!feedback(Init, Curr)[source(R)]
+   : reason(no_progress)
+   <- .print(R, " has reported ", Init, " and then ", Curr);
+      !concludeUnknown(R, "cannot tell whether I moved").
 
-+!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
+// bad_move: which way did Faulty turn? Needs the heading in both sightings.
++!feedback(initPos(D, Dp, Y), currPos(D1, Dp1, Y1))[source(R)]
    : reason(bad_move)
-   & ((Yaw1 - (Yaw + (Deg1 - Deg))) > 8)
-   <- .print(R, " has reported as initial info( pos ", Deg, " degrees , depth ", Depth, " meters and yaw ", Yaw, " degrees )");
-      .print("and current info( pos ", Deg1, " degrees , depth ", Depth1, " meters and yaw", Yaw1, " degrees )");
+   & turnSeen(initPos(D, Dp, Y), currPos(D1, Dp1, Y1), Turn)
+   & turnLimit(L) & turnMargin(M) & Turn > L + M
+   <- .print(R, " has reported ", initPos(D, Dp, Y), " and then ", currPos(D1, Dp1, Y1), ": turned ", Turn);
       .print("right actuator has problems , thanks ", R);
       -+diagnosis(right_actuator);                            // ADDED: outcome belief
       .send(R, achieve, thanks).
 
-+!feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))[source(R)]
++!feedback(initPos(D, Dp, Y), currPos(D1, Dp1, Y1))[source(R)]
    : reason(bad_move)
-   & ((Yaw1 - (Yaw + (Deg1 - Deg))) < -8)
-   <- .print(R, " has reported as initial info( pos ", Deg, " degrees , depth ", Depth, " meters and yaw ", Yaw, " degrees )");
-      .print("and current info( pos ", Deg1, " degrees , depth ", Depth1, " meters and yaw", Yaw1, " degrees )");
+   & turnSeen(initPos(D, Dp, Y), currPos(D1, Dp1, Y1), Turn)
+   & turnLimit(L) & turnMargin(M) & Turn < -(L + M)
+   <- .print(R, " has reported ", initPos(D, Dp, Y), " and then ", currPos(D1, Dp1, Y1), ": turned ", Turn);
       .print("left actuator has problems , thanks ", R);
       -+diagnosis(left_actuator);                             // ADDED: outcome belief
+      .send(R, achieve, thanks).
+
+// FIX: the thesis' false-positive band (|d| < 8, with no plan for exactly 8) is now
+// |d| < turnLimit - turnMargin; between the bands the turn is too close to call.
++!feedback(initPos(D, Dp, Y), currPos(D1, Dp1, Y1))[source(R)]
+   : reason(bad_move)
+   & turnSeen(initPos(D, Dp, Y), currPos(D1, Dp1, Y1), Turn)
+   & turnLimit(L) & turnMargin(M) & math.abs(Turn) < L - M
+   <- .print(R, " has reported ", initPos(D, Dp, Y), " and then ", currPos(D1, Dp1, Y1), ": turned ", Turn);
+      .print("it was a false positive for bad_move, thanks ", R);
+      -+diagnosis(false_positive);                            // ADDED: outcome belief
+      .send(R, achieve, thanks).
+
++!feedback(initPos(D, Dp, Y), currPos(D1, Dp1, Y1))[source(R)]
+   : reason(bad_move)
+   & turnSeen(initPos(D, Dp, Y), currPos(D1, Dp1, Y1), Turn)
+   <- .print(R, " has reported ", initPos(D, Dp, Y), " and then ", currPos(D1, Dp1, Y1), ": turned ", Turn);
+      !concludeUnknown(R, "the turn is too close to the limit").
+
+// The heading is hidden after the move: turn by a known amount to show a flank and ask again;
+// the known turn is taken out of the turn Helper then sees (turnSeen).
++!feedback(initPos(D, Dp, Y), Curr)[source(R)]
+   : reason(bad_move) & not turnedBy(_) & awayTurn(initPos(D, Dp, Y), T)
+   <- .print(R, " cannot see my heading now (", Curr, "): turning ", T, " degrees to show my flank");
+      +turnedBy(T);
+      turn(T);
+      .send(R, achieve, giveFeedback).
+
++!feedback(Init, Curr)[source(R)]
+   : reason(bad_move)
+   <- .print(R, " has reported ", Init, " and then ", Curr);
+      !concludeUnknown(R, "my heading could not be seen").
+
+-!feedback(_, _)[source(R)]
+   <- !concludeUnknown(R, "I could not turn to show my flank").
+
++!concludeUnknown(R, Why)
+   <- .print("the fault is unknown: ", Why, "; thanks ", R);
+      -+diagnosis(unknown);                                   // ADDED: outcome belief
       .send(R, achieve, thanks).
