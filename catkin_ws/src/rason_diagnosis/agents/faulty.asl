@@ -21,7 +21,7 @@ wrap(A, W) :- W = A - 360 * math.ceil((A - 180) / 360).
 // The turn Faulty made between the two sightings (yaw = heading + bearing, so the heading
 // change is the yaw change minus the bearing change), less any turn it made on purpose.
 turnSeen(initPos(D, _, Y), currPos(D1, _, Y1), Turn)
-   :- turned(T0) & wrap(D1 - D, DA) & wrap(Y1 - Y - DA - T0, Turn).
+   :- turned(T0) & wrap(D1 - D, DA) & wrap(Y1 - Y - DA - T0, W) & Turn = math.round(W * 10) / 10.
 turned(T) :- turnedBy(T).
 turned(0) :- not turnedBy(_).
 
@@ -36,7 +36,7 @@ slack(K0, K1, S) :- K0 \== K1 & partialSlack(S).
 displacement(Init, Curr, Dist, Slack)
    :- place(Init, D0, Dp0, K0) & place(Curr, D1, Dp1, K1) & slack(K0, K1, Slack)
     & X0 = Dp0 * math.tan(D0 * 3.14159265 / 180) & X1 = Dp1 * math.tan(D1 * 3.14159265 / 180)
-    & Dist = math.sqrt((X1 - X0) * (X1 - X0) + (Dp1 - Dp0) * (Dp1 - Dp0)).
+    & Dist = math.round(math.sqrt((X1 - X0) * (X1 - X0) + (Dp1 - Dp0) * (Dp1 - Dp0)) * 1000) / 1000.
 
 // A turn away from the occlusion angle (heading - bearing = +90 as Helper sees it).
 awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E >= 0 & flankTurn(T).

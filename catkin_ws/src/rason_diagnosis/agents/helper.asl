@@ -15,8 +15,8 @@ samples(5).             // full sightings averaged into one observation
 sampleTries(16).        // frames tried per observation (one per framePeriod)
 framePeriod(70).        // ms: about one Kinect frame (15 Hz)
 settleTime(300).        // ms after a motion before frames count (newer than its end)
-goodRange(1.0, 3.0).    // m: depths where the yaw is reliable and a 0.3 m move stays in view
-viewDepth(1.6).         // m: the depth Helper moves to when Faulty is outside goodRange
+goodRange(1.0, 3.3).    // m: depths where the yaw is reliable and a 0.3 m move stays in view
+viewDepth(1.8).         // m: the depth Helper moves to when Faulty is outside goodRange
 occlusionMargin(20).    // deg: relative headings this close to +90 (orange hides green) are weak
 flankTurn(60).          // deg: how far Faulty is asked to turn to show its flank
 
@@ -77,6 +77,7 @@ currTerm(lost, currLost) :- true.
       -lastSweep(R, _);
       -fullTurn(R);
       -flankAsked(R);
+      -relooked(R);
       !findRobot(R, 0, 0);
       .print("helper ready.");
       .send(R, tell, found(R)).
@@ -196,8 +197,9 @@ currTerm(lost, currLost) :- true.
 // sight to viewDepth and centres Faulty again.
 +!viewpoint(R)
    : sees(R, _, Depth) & goodRange(Lo, Hi) & (Depth < Lo | Depth > Hi) & viewDepth(V)
-   <- .print("Faulty is ", Depth, " m away: moving ", Depth - V, " m for a better view");
-      move(Depth - V);
+   <- Dist = math.round((Depth - V) * 100) / 100;
+      .print(R, " is ", Depth, " m away: moving ", Dist, " m for a better view");
+      move(Dist);
       !findRobot(R, 0, 0).
 +!viewpoint(_).
 
@@ -217,11 +219,16 @@ currTerm(lost, currLost) :- true.
       .send(R, achieve, showFlank(T)).
 
 +!ready(R)
-   : obs(R, init, lost)
-   <- .print("I lost sight of ", R, ", looking again");
+   : obs(R, init, lost) & not relooked(R)
+   <- +relooked(R);
+      .print("I lost sight of ", R, ", looking again");
       !findRobot(R, 0, 0);
       !observe(R, init);
       !ready(R).
+
++!ready(R)
+   : obs(R, init, lost)
+   <- .fail(lost_sight(R)).
 
 +!ready(R)
    : obs(R, init, O)
