@@ -51,6 +51,7 @@ class World:
                          "exact_minus8": -8.0}
         self.curve = curve if curve is not None else default_curve.get(scenario, 0.0)
         self.advance = advance
+        self.vanish_on_move: int | None = None  # Faulty leaves the view on this move
         self.helper_turns: list[float] = []
         self.faulty_turns: list[float] = []
 
@@ -86,6 +87,8 @@ class World:
     def move(self, dist: float) -> tuple[bool, str | None]:
         """Faulty's move: (ok, failure reason)."""
         self.moves += 1
+        if self.moves == self.vanish_on_move:
+            self.visible = False
         s = self.scenario
         if s == "no_fault":
             return True, None
@@ -233,3 +236,96 @@ def test_helper_gives_up_after_full_turn() -> None:
     _, out = run_scenario("unknown")
     assert "[helper] Turned 360 degrees without finding faulty, giving up" in out
     assert "[faulty] helper could not find me: the fault is unknown" in out
+
+
+# -- layouts other than the thesis' (issue 15) ---------------------------------------------------
+# The first two moves (goToDestination and its retry) curve too, so a layout is given by where
+# Faulty's heading is at the test move: start = test heading - 2 * curve.
+
+def diagnosis_of(world: World) -> tuple[str, str]:
+    diags, out = run_world(world)
+    assert len(diags) == 1, out
+    return diags[0].split("(")[1].split(")")[0], out
+
+
+@pytest.mark.parametrize("scenario,curve", [("right_actuator", 20.0), ("left_actuator", -20.0)])
+def test_turn_across_180_is_wrapped(scenario, curve):
+    """Faulty facing Helper's camera: its yaw crosses +-180 during the test move."""
+    test_heading = 170.0 if curve > 0 else -170.0        # ends at -170 / +170
+    world = World(scenario, bearing=30.0, distance=1.5, relative_heading=test_heading - 2 * curve,
+                  curve=curve)
+    diagnosis, out = diagnosis_of(world)
+    assert diagnosis == scenario, out
+
+
+@pytest.mark.parametrize("scenario", ["right_actuator", "left_actuator", "both_actuators",
+                                      "odometry"])
+def test_self_occlusion_at_the_start_is_cleared(scenario):
+    """One cylinder hides the other when Helper first looks: Faulty is asked to show its flank
+    (both_actuators cannot turn: its diagnosis needs no heading) and the result is right."""
+    curve = {"right_actuator": 20.0, "left_actuator": -20.0}.get(scenario, 0.0)
+    world = World(scenario, bearing=60.0, relative_heading=90.0 - 2 * curve, curve=curve)
+    diagnosis, out = diagnosis_of(world)
+    assert "robot_partial" not in out  # (percepts are not printed; the agents speak of part)
+    assert "asking it to turn" in out, out
+    assert world.faulty_turns, out
+    assert diagnosis == scenario, out
+
+
+@pytest.mark.parametrize("scenario,curve", [("right_actuator", 25.0), ("left_actuator", -25.0)])
+def test_heading_hidden_after_the_move(scenario, curve):
+    """The test move turns Faulty's flank into self-occlusion: Helper says so (currPart), Faulty
+    turns by a known angle to show its flank and takes that turn out of what Helper sees."""
+    start = 68.0 if curve > 0 else 124.0                  # ends within 5 degrees of +90
+    world = World(scenario, bearing=-40.0, relative_heading=start - 2 * curve, curve=curve)
+    diagnosis, out = diagnosis_of(world)
+    assert "currPart(" in out, out
+    assert "to show my flank" in out, out
+    assert diagnosis == scenario, out
+
+
+@pytest.mark.parametrize("scenario", ["right_actuator", "left_actuator", "both_actuators",
+                                      "odometry"])
+def test_sight_lost_after_the_move_is_never_reported_as_current(scenario):
+    """The thesis reported the last kept position as current: a real fault became
+    false_positive. Now the feedback says sight was lost and no component is named."""
+    world = World(scenario, bearing=45.0)
+    world.vanish_on_move = 3                              # the test move
+    diagnosis, out = diagnosis_of(world)
+    assert "currLost" in out, out
+    assert diagnosis == "unknown", out
+
+
+def test_turn_close_to_the_limit_names_no_component():
+    for curve in (6.0, 10.0, -6.0, -10.0):
+        diagnosis, out = diagnosis_of(World("right_actuator", curve=curve))
+        assert diagnosis == "unknown", out
+        assert "too close to the limit" in out
+
+
+@pytest.mark.parametrize("bearing", [-150.0, -100.0, -30.0, 0.0, 120.0, 179.0])
+def test_found_from_any_bearing_within_one_turn(bearing):
+    world = World("right_actuator", bearing=bearing, relative_heading=-90.0 - 40.0)
+    diagnosis, out = diagnosis_of(world)
+    assert diagnosis == "right_actuator", out
+    sweeps = [t for t in world.helper_turns if abs(t) == 360]
+    centring = [t for t in world.helper_turns if abs(t) < 360]
+    # at most one sweep, cut short at the first sighting, then a few small centring turns
+    assert len(sweeps) <= 1 and sum(abs(t) for t in centring) < 60.0, (world.helper_turns, out)
+    assert (len(sweeps) == 0) == (abs(bearing) < FOV_HALF), world.helper_turns
+
+
+def test_far_away_helper_moves_closer_first():
+    world = World("left_actuator", bearing=10.0, distance=3.9, relative_heading=-50.0,
+                  curve=-20.0)
+    diagnosis, out = diagnosis_of(world)
+    assert "m for a better view" in out, out
+    assert 1.5 < world.distance < 2.2
+    assert diagnosis == "left_actuator", out
+
+
+def test_out_of_range_is_not_found():
+    world = World("right_actuator", bearing=90.0, distance=4.8)
+    diagnosis, out = diagnosis_of(world)
+    assert "Turned 360 degrees without finding faulty" in out
+    assert diagnosis == "unknown", out
