@@ -1,12 +1,12 @@
 // Agent faulty: thesis (Morais 2015) Appendix A.1, with ONLY the fixes documented in
-// /work/shared/reference/thesis-notes.md. Every change is marked "FIX:".
+// docs/thesis-fixes.md of the rason repository. Every change is marked "FIX(Fn):", Fn its entry.
 // Added for testability (not a thesis fix): a belief diagnosis(D) recording the outcome,
 // D in both_actuators, odometry, left_actuator, right_actuator, false_positive, unknown,
 // no_fault. Those lines are marked "ADDED:".
 
 /* Initial beliefs and rules */
 
-// Evidence margins (FIX: see the feedback plans below).
+// Evidence margins (FIX(F4), FIX(F5): see the feedback plans below).
 turnLimit(8).           // deg: the thesis' bad_move threshold
 turnMargin(3).          // deg: a side is named beyond turnLimit + margin, none below - margin
 movedLimit(0.08).       // m: displaced more than this (plus the partial slack): Faulty moved
@@ -14,7 +14,7 @@ stillLimit(0.04).       // m: displaced less than this: Faulty did not move
 partialSlack(0.12).     // m: a single cylinder stands up to 11.35 cm from Faulty's centre
 flankTurn(60).          // deg: turn that shows Helper a flank when the heading is hidden
 
-// FIX: every angle difference is wrapped into (-180, 180]: the thesis' rule
+// FIX(F8): every angle difference is wrapped into (-180, 180]: the thesis' rule
 // Yaw1 - (Yaw + (Deg1 - Deg)) read 178.4 -> -167.9 (a 13.7 degree right turn) as -344.8.
 wrap(A, W) :- W = A - 360 * math.ceil((A - 180) / 360).
 
@@ -57,7 +57,7 @@ awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E < 0 & flankTurn(F) 
       .print("Arriving at destination");
       -+diagnosis(no_fault).                                  // ADDED: outcome belief
 
-// FIX: the heads matched the reason as the first annotation ([R1 | Rest]); in Jason the
+// FIX(F1): the heads matched the reason as the first annotation ([R1 | Rest]); in Jason the
 // failure annotations are sorted (code, code_line, error, error_msg, ...), so the reason is
 // now matched explicitly as error(R).
 -!goToDestination[error(R)]
@@ -66,9 +66,9 @@ awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E < 0 & flankTurn(F) 
       +reason(R);
       .broadcast(achieve, helpme).
 
--!goToDestination[error(R)]                                   // FIX: was [R1 | Rest]
+-!goToDestination[error(R)]                                   // FIX(F1): was [R1 | Rest]
    <- .print("something went wrong...", R);
-      !diagnoseAlone([R]);                                    // FIX: was [R1 | Rest]
+      !diagnoseAlone([R]);                                    // FIX(F1): was [R1 | Rest]
       !goToDestination.
 
 +!diagnoseAlone(Reasons)
@@ -92,20 +92,20 @@ awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E < 0 & flankTurn(F) 
 
 -!tryMove[source(R)]
    <- .print(" requesting some feedback from ", R);
-      .send(R, achieve, giveFeedback).                        // FIX: was givemeFeedback
+      .send(R, achieve, giveFeedback).                        // FIX(F2): was givemeFeedback
 
 +found(Me)[source(R)]
    : .my_name(Me)
    <- .print(R, " found me, asking to track me");
       .send(R, achieve, trackMe).
 
-// FIX: Helper gives up after a full turn and tells us so; we report unknown.
+// FIX(F6): Helper gives up after a full turn and tells us so; we report unknown.
 +notFound(Me)[source(R)]
    : .my_name(Me)
    <- .print(R, " could not find me: the fault is unknown");
       -+diagnosis(unknown).                                   // ADDED: outcome belief
 
-// FIX (future work of the thesis: against self-occlusion): Helper cannot see our heading
+// FIX(F11) (future work of the thesis: against self-occlusion): Helper cannot see our heading
 // (one cylinder hides the other); we turn to show it a flank, then it looks again.
 +!showFlank(T)[source(R)]
    <- .print("turning ", T, " degrees to show ", R, " my flank");
@@ -116,8 +116,9 @@ awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E < 0 & flankTurn(F) 
    <- .print("could not turn as ", R, " asked; it looks again anyway");
       .send(R, achieve, trackMe).
 
-// FIX (all feedback plans): the prints used the unbound variable Helper; it is R.
-// FIX (never a wrong component): the thesis named a component from one frame per position
+// FIX(F3) (all feedback plans): the prints used the unbound variable Helper; it is R.
+// FIX(F4), FIX(F5), FIX(F10) (never a wrong component): the thesis named a component from one
+// frame per position
 // with no margin, compared a current position that could be a stale memory, and read sensor
 // noise as motion (exact Depth == Depth1, Deg == Deg1). Helper now sends averaged sightings
 // taken after the move (currPart: only one cylinder seen; currLost: not seen), and a component
@@ -166,7 +167,7 @@ awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E < 0 & flankTurn(F) 
       -+diagnosis(left_actuator);                             // ADDED: outcome belief
       .send(R, achieve, thanks).
 
-// FIX: the thesis' false-positive band (|d| < 8, with no plan for exactly 8) is now
+// FIX(F5): the thesis' false-positive band (|d| < 8, with no plan for exactly 8) is now
 // |d| < turnLimit - turnMargin; between the bands the turn is too close to call.
 +!feedback(initPos(D, Dp, Y), currPos(D1, Dp1, Y1))[source(R)]
    : reason(bad_move)

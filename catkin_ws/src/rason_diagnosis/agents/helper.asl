@@ -1,5 +1,5 @@
-// Agent helper: thesis (Morais 2015) Appendix A.2, with the fixes documented in the project's
-// thesis notes and docs/thesis-fixes.md. Every change is marked "FIX:".
+// Agent helper: thesis (Morais 2015) Appendix A.2, with ONLY the fixes documented in
+// docs/thesis-fixes.md of the rason repository. Every change is marked "FIX(Fn):", Fn its entry.
 //
 // Percepts (rason_vision's robot synthesizer, conventions in its README):
 //   robot(Name, Angle, Depth, Yaw)            both cylinders seen: bearing, depth, yaw
@@ -20,7 +20,7 @@ viewDepth(1.8).         // m: the depth Helper moves to when Faulty is outside g
 occlusionMargin(20).    // deg: relative headings this close to +90 (orange hides green) are weak
 flankTurn(60).          // deg: how far Faulty is asked to turn to show its flank
 
-// FIX: every angle difference is wrapped into (-180, 180] (the thesis' arithmetic read a
+// FIX(F8): every angle difference is wrapped into (-180, 180] (the thesis' arithmetic read a
 // turn across +-180 as a turn of ~340 degrees the other way).
 wrap(A, W) :- W = A - 360 * math.ceil((A - 180) / 360).
 
@@ -68,7 +68,7 @@ currTerm(lost, currLost) :- true.
 
 +!start : true <- .wait(4000); .print("ZZzzz...").
 
-// FIX: the thesis searched in 5-degree steps, always clockwise (9-13 s of every run, the long
+// FIX(F9): the thesis searched in 5-degree steps, always clockwise (9-13 s of every run, the long
 // way round when Faulty was on the left). Helper now sweeps a full turn in one action and cuts
 // it short at the first sighting (a new turn preempts the sweep); the 5-degree-precision
 // centring only starts once Faulty is in view.
@@ -82,7 +82,7 @@ currTerm(lost, currLost) :- true.
       .print("helper ready.");
       .send(R, tell, found(R)).
 
-// FIX: +!findRobot never gave up; the thesis text says Helper aborts after a full turn
+// FIX(F6): +!findRobot never gave up; the thesis text says Helper aborts after a full turn
 // (360 degrees). It now fails, and -!helpme tells the requester it was not found.
 -!helpme[source(R)]
    <- .print("could not find ", R);
@@ -147,13 +147,13 @@ currTerm(lost, currLost) :- true.
    <- -sweeping(Robot);
       .succeed_goal(sweep(Robot, _)).
 
-// FIX (reconstruction): the thesis' last plan (cut at the page end) copied every robot(...)
+// FIX(F7) (reconstruction): the thesis' last plan (cut at the page end) copied every robot(...)
 // percept into a source(self) belief; that copy outlived the sighting and was reported as
 // Faulty's current position after Faulty had left the view. Helper now only reasons on current
 // percepts (sees/3, observations below) and has no such copy.
 
 // ---- evidence ------------------------------------------------------------------------------
-// FIX: the thesis compared two single frames, the second possibly older than the end of the
+// FIX(F10): the thesis compared two single frames, the second possibly older than the end of the
 // move. An observation waits until the motion has settled, then averages `samples` full
 // sightings from fresh frames: obs(R, Label, pos(Deg, Depth, Yaw)); with too few full
 // sightings it is part(Deg, Depth, Colour) (one cylinder seen: yaw unknown) or lost.
@@ -192,7 +192,7 @@ currTerm(lost, currLost) :- true.
    <- .wait(P);
       !collect(R, Label, Tries - 1, Full, Part).
 
-// FIX (future work of the thesis: repositioning the observer): beyond goodRange the yaw is
+// FIX(F12) (future work of the thesis: repositioning the observer): beyond goodRange the yaw is
 // noisy (far) or Faulty's test move may leave the view (near); Helper drives along its line of
 // sight to viewDepth and centres Faulty again.
 +!viewpoint(R)
@@ -209,7 +209,7 @@ currTerm(lost, currLost) :- true.
       !observe(R, init);
       !ready(R).
 
-// FIX (future work of the thesis: against self-occlusion): when only one cylinder is seen,
+// FIX(F11) (future work of the thesis: against self-occlusion): when only one cylinder is seen,
 // or Faulty's heading is near the occlusion angle, Faulty is asked once to turn and show its
 // flank; it answers with trackMe again and the initial observation is taken anew.
 +!ready(R)
@@ -245,7 +245,7 @@ currTerm(lost, currLost) :- true.
       -helping(R);
       .send(R, tell, notFound(R)).
 
-// FIX: the thesis reported the position it last kept (possibly from before the move, or from
+// FIX(F10): the thesis reported the position it last kept (possibly from before the move, or from
 // before Faulty turned out of sight) as the current one. The current position now comes from
 // an observation taken after the move has ended; if it is only partial or lost, the feedback
 // says so (currPart / currLost) instead of reporting a stale position.
