@@ -173,7 +173,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--layouts", choices=("fixed", "random"), default="fixed",
                         help="fixed: the thesis' layout; random: a seeded layout per run index "
                              "(the same N layouts for every fault)")
+    parser.add_argument("--report-only", action="store_true",
+                        help="only rewrite report.md and the plots from the runs.csv in --out "
+                             "(e.g. of a campaign cut short)")
     args = parser.parse_args(argv)
+    if args.report_only:
+        return report_only(args)
     (args.out / "runs").mkdir(parents=True, exist_ok=True)
     if args.layouts == "random":
         return random_campaign(args)
@@ -241,6 +246,43 @@ def random_campaign(args: argparse.Namespace) -> int:
     wrong = sum(1 for r in results if r["outcome"] == "wrong")
     orphans = sum(r.get("orphans", 0) for r in results)
     return 0 if wrong == 0 and not orphans else 1
+
+
+def _from_csv(row: dict) -> dict:
+    """A runs.csv row with its numbers and flags parsed back."""
+    out: dict = {}
+    for key, value in row.items():
+        if value in ("", None):
+            out[key] = None
+        elif key in ("correct",):
+            out[key] = value == "True"
+        elif key in ("seed", "orphans"):
+            out[key] = int(value)
+        else:
+            try:
+                out[key] = float(value)
+            except ValueError:
+                out[key] = value
+    return out
+
+
+def report_only(args: argparse.Namespace) -> int:
+    """Rewrite report.md and plots from ``--out``/runs.csv."""
+    from rason_diagnosis.layouts import random_layout
+
+    with open(args.out / "runs.csv", newline="") as f:
+        results = [_from_csv(row) for row in csv.DictReader(f)]
+    if results and "outcome" in results[0]:
+        room = tuple(yaml.safe_load(world_file().read_text()).get("room", {}).get(
+            "size", (10.0, 10.0)))
+        seeds = sorted({r["seed"] for r in results})
+        write_layout_plot(results, args.out)
+        print(write_layout_report(results, [random_layout(s, room) for s in seeds], args.out))
+    else:
+        runs = max(sum(1 for r in results if r["fault"] == f) for f in FAULTS)
+        write_plots(results, args.out)
+        print(write_report(results, args.out, runs))
+    return 0
 
 
 def write_layout_report(results: list[dict], layouts: list, out: Path) -> str:
