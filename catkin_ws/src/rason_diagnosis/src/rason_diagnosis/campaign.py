@@ -331,10 +331,12 @@ def write_layout_plot(results: list[dict], out: Path) -> None:
     plots.mkdir(exist_ok=True)
     faults = [f for f in FAULTS if any(r["fault"] == f for r in results)]
     fig, axes = plt.subplots(1, 3, figsize=(15, 4), sharey=True)
-    for ax, key, label in zip(axes, ("bearing", "distance", "relative_heading"),
-                              ("bearing of Faulty from Helper (deg, + = right)",
-                               "distance (m)", "Faulty's heading - line of sight (deg)"),
-                              strict=True):
+    for ax, key, label, span in zip(
+            axes, ("bearing", "distance", "relative_heading"),
+            ("bearing of Faulty from Helper (deg, + = right)", "distance (m)",
+             "Faulty's heading - line of sight (deg, -90 = thesis)"),
+            ((-180, 180), (0.7, 4.1), (-180, 180)), strict=True):
+        ax.set_xlim(*span)
         for kind, colour in OUTCOME_COLOURS.items():
             pts = [(r[key], faults.index(r["fault"])) for r in results if r["outcome"] == kind]
             if pts:
