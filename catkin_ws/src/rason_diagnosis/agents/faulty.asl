@@ -38,9 +38,13 @@ displacement(Init, Curr, Dist, Slack)
     & X0 = Dp0 * math.tan(D0 * 3.14159265 / 180) & X1 = Dp1 * math.tan(D1 * 3.14159265 / 180)
     & Dist = math.round(math.sqrt((X1 - X0) * (X1 - X0) + (Dp1 - Dp0) * (Dp1 - Dp0)) * 1000) / 1000.
 
-// A turn away from the occlusion angle (heading - bearing = +90 as Helper sees it).
+// A turn away from the occlusion angle (heading - bearing = +90 as Helper sees it), and
+// whether a sighting's heading is near it (there the yaw is off by up to ~6 degrees).
 awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E >= 0 & flankTurn(T).
 awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E < 0 & flankTurn(F) & T = -F.
+awayTurn(currPos(D, _, Y), T) :- awayTurn(initPos(D, 0, Y), T).
+weakView(currPos(D, _, Y)) :- wrap(Y - 2 * D - 90, E) & occlusionMargin(M) & math.abs(E) < M.
+occlusionMargin(20).
 
 /* Initial goals */
 
@@ -177,6 +181,16 @@ awayTurn(initPos(D, _, Y), T) :- wrap(Y - 2 * D - 90, E) & E < 0 & flankTurn(F) 
       .print("it was a false positive for bad_move, thanks ", R);
       -+diagnosis(false_positive);                            // ADDED: outcome belief
       .send(R, achieve, thanks).
+
+// Too close to call, but seen near the occlusion angle: turn away by a known angle and ask
+// for a better view once (FIX(F11)); otherwise unknown.
++!feedback(initPos(D, Dp, Y), currPos(D1, Dp1, Y1))[source(R)]
+   : reason(bad_move) & not turnedBy(_)
+   & weakView(currPos(D1, Dp1, Y1)) & awayTurn(currPos(D1, Dp1, Y1), T)
+   <- .print(R, " sees my heading near the occlusion angle (", currPos(D1, Dp1, Y1), "): turning ", T, " degrees to show my flank");
+      +turnedBy(T);
+      turn(T);
+      .send(R, achieve, giveFeedback).
 
 +!feedback(initPos(D, Dp, Y), currPos(D1, Dp1, Y1))[source(R)]
    : reason(bad_move)
