@@ -1,5 +1,7 @@
 // Agent helper: thesis (Morais 2015) Appendix A.2, with ONLY the fixes documented in
 // docs/thesis-fixes.md of the rason repository. Every change is marked "FIX(Fn):", Fn its entry.
+// Added for robots on their own machines (not a thesis fix): handling of a .send to an
+// unreachable requester (README, "Link faults"). Marked "HOSTS:".
 //
 // Percepts (rason_vision's robot synthesizer, conventions in its README):
 //   robot(Name, Angle, Depth, Yaw)            both cylinders seen: bearing, depth, yaw
@@ -84,6 +86,11 @@ currTerm(lost, currLost) :- true.
 
 // FIX(F6): +!findRobot never gave up; the thesis text says Helper aborts after a full turn
 // (360 degrees). It now fails, and -!helpme tells the requester it was not found.
+// HOSTS: R unreachable (see the HOSTS plans below): stop helping it, nothing to tell it.
+-!helpme[source(R), error(ia_failed), error_msg(Why)]
+   <- .print("cannot reach ", R, ": ", Why);
+      -helping(R);
+      -sweeping(R).
 -!helpme[source(R)]
    <- .print("could not find ", R);
       -helping(R);
@@ -234,6 +241,22 @@ currTerm(lost, currLost) :- true.
    : obs(R, init, O)
    <- .print("I'm ready: ", R, " is at ", O);
       .send(R, achieve, tryMove).
+
+// HOSTS (robots on their own machines): a .send to R fails with error(ia_failed) and the
+// reason in error_msg while R's presence has lapsed (its link is down). Helper stops helping R
+// and says why; R ends its diagnosis unknown when no answer comes. (-!helpme: above.)
+-!trackMe[source(R), error(ia_failed), error_msg(Why)]
+   <- .print("cannot reach ", R, ": ", Why);
+      -helping(R);
+      -obs(R, _, _).
+-!giveFeedback[source(R), error(ia_failed), error_msg(Why)]
+   <- .print("cannot reach ", R, ": ", Why);
+      -helping(R);
+      -obs(R, _, _).
+-!ready(R)[error(ia_failed), error_msg(Why)]
+   <- .print("cannot reach ", R, ": ", Why);
+      -helping(R);
+      -obs(R, _, _).
 
 -!trackMe[source(R)]
    <- .print("could not track ", R);
