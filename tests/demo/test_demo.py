@@ -55,9 +55,10 @@ def test_demo_in_a_user_world(world, fault, seed, tmp_path):
     out = tmp_path / "run"
     done = subprocess.run(
         [sys.executable, "-m", "rason_diagnosis", "--fault", fault, "--seed", str(seed),
-         "--world", str(world_file(world)), "--out", str(out), "--quiet", "--json"],
+         "--world", str(world_file(world)), "--out", str(out), "--quiet", "--json",
+         "--no-inspector"],
         capture_output=True, text=True, timeout=600)
-    printed = json.loads(done.stdout[done.stdout.index("{"):])
+    printed = json.loads(done.stdout[done.stdout.index('{\n  "fault"'):])
     assert printed["diagnosis"] == fault, done.stdout[-4000:]
     assert done.returncode == 0
     assert printed["location_s"] is not None and printed["location_s"] < 5.0, printed
