@@ -42,3 +42,24 @@ def test_demo_diagnoses_the_injected_fault(fault, tmp_path):
                               text=True, timeout=60)
         assert info.returncode == 0, info.stderr
         assert "/faulty/jason/action" in info.stdout and "/jason/messages" in info.stdout
+
+
+@pytest.mark.parametrize("world,fault,seed", [("facing", "right_actuator", 21),
+                                              ("flank", "left_actuator", 22)])
+def test_demo_in_a_user_world(world, fault, seed, tmp_path):
+    """`./run.sh demo --world FILE --json` in layouts other than the thesis': Faulty behind
+    Helper's view on its left with its yaw near +-180 (a turn across the wrap), and Faulty's
+    flank self-occluded at the start. Right diagnosis, Faulty located within 5 s."""
+    from rason_diagnosis.paths import world_file
+
+    out = tmp_path / "run"
+    done = subprocess.run(
+        [sys.executable, "-m", "rason_diagnosis", "--fault", fault, "--seed", str(seed),
+         "--world", str(world_file(world)), "--out", str(out), "--quiet", "--json",
+         "--no-inspector"],
+        capture_output=True, text=True, timeout=600)
+    printed = json.loads(done.stdout[done.stdout.index('{\n  "fault"'):])
+    assert printed["diagnosis"] == fault, done.stdout[-4000:]
+    assert done.returncode == 0
+    assert printed["location_s"] is not None and printed["location_s"] < 5.0, printed
+    assert printed["total_s"] is not None

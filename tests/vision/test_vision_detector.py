@@ -14,6 +14,7 @@ from rason_vision.geometry import (
     Intrinsics,
     cylinder_axes_in_camera,
     format_literal,
+    format_partial_literal,
     relative_from_axes,
     thesis_angle_deg,
 )
@@ -93,6 +94,50 @@ def test_right_flank_hides_green_behind_orange():
     """Seen from Faulty's right the tall orange cylinder hides the short green one (7.3)."""
     result = detect(*faulty_scene(1.5, 0, 90).render())
     assert result.blobs["green"] == [] and result.detection is None
+
+
+@pytest.mark.parametrize("distance,bearing", [(0.8, 0.0), (1.5, 12.0), (2.5, -15.0), (3.8, 5.0)])
+def test_right_flank_is_a_partial_sighting_of_the_orange_cylinder(distance, bearing):
+    """Self-occlusion: no pair, but the one cylinder seen is reported with its bearing and depth
+    (Faulty's heading unknown), so Helper knows Faulty is there."""
+    scene = faulty_scene(distance, bearing, 90 + bearing)  # flank along the line of sight
+    result = detect(*scene.render(np.random.default_rng(2)))
+    assert result.detection is None and result.partial is not None
+    orange = scene.cylinders[2]
+    assert result.partial.colour == "orange"
+    assert abs(result.partial.angle - math.degrees(math.atan2(orange.x, orange.z))) < 1.0
+    assert abs(result.partial.depth - orange.z) < 0.04
+
+
+def test_no_partial_when_the_pair_is_seen():
+    result = detect(*faulty_scene(1.5, 0, -90).render())
+    assert result.detection is not None and result.partial is None
+
+
+def test_one_green_cylinder_alone_is_a_partial_sighting():
+    scene = faulty_scene(2.0, -8, 30)
+    scene.cylinders.pop(2)                      # the orange one is gone (e.g. lost to lighting)
+    result = detect(*scene.render())
+    assert result.detection is None and result.partial is not None
+    assert result.partial.colour == "green"
+
+
+@pytest.mark.parametrize("cylinder", [
+    Cylinder(0.1, 2.0, 0.03, 0.0, 0.12, (240, 120, 20)),    # on the floor: below Faulty's plate
+    Cylinder(0.1, 2.0, 0.03, 1.0, 1.4, (240, 120, 20)),     # far above the camera
+    Cylinder(0.1, 2.0, 0.20, 0.40, 0.60, (240, 120, 20)),   # far too wide for a cylinder
+])
+def test_objects_unlike_a_cylinder_are_no_partial_sighting(cylinder):
+    result = detect(*Scene(cylinders=[cylinder]).render())
+    assert result.blobs["orange"], "the object is seen"
+    assert result.detection is None and result.partial is None
+
+
+def test_partial_literal_format():
+    assert format_partial_literal("faulty", -3.21, 1.5, "orange") == \
+        "robot_partial(faulty,-3.2,1.50,orange)"
+    assert format_partial_literal("faulty", -0.04, 2.0, "green") == \
+        "robot_partial(faulty,0.0,2.00,green)"
 
 
 def test_left_flank_far_orange_shows_above_near_green():

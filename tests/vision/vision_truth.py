@@ -15,6 +15,7 @@ SWEEP_BAG = BAGS / "vision_sweep.bag"
 CASES_BAG = BAGS / "vision_cases.bag"
 ANGLE_TOL, DEPTH_TOL, YAW_TOL = 1.0, 0.03, 8.0
 LITERAL = re.compile(r"^robot\((\w+),(-?\d+\.\d),(-?\d+\.\d\d),(-?\d+\.\d)\)$")
+PARTIAL = re.compile(r"^robot_partial\((\w+),(-?\d+\.\d),(-?\d+\.\d\d),(green|orange)\)$")
 
 
 def errors(angle: float, depth: float, yaw: float, truth: dict[str, Any]) -> tuple[float, ...]:

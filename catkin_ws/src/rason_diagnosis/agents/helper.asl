@@ -2,10 +2,67 @@
 // docs/thesis-fixes.md of the rason repository. Every change is marked "FIX(Fn):", Fn its entry.
 // Added for robots on their own machines (not a thesis fix): handling of a .send to an
 // unreachable requester (README, "Link faults"). Marked "HOSTS:".
+//
+// Percepts (rason_vision's robot synthesizer, conventions in its README):
+//   robot(Name, Angle, Depth, Yaw)            both cylinders seen: bearing, depth, yaw
+//   robot_partial(Name, Angle, Depth, Colour) one cylinder only: bearing and depth of that
+//                                             cylinder, Faulty's heading unknown
+// Angles in degrees, positive clockwise (to the right); yaw in (-180, 180].
 
 /* Initial beliefs and rules */
-turnRate(5).
-centerThreshold(7).
+centerThreshold(7).     // |bearing| below this: Faulty is centred (thesis)
+maxSweeps(3).           // search sweeps (each a full turn cut short by a sighting) before giving up
+maxCentring(8).         // centring turns per search before giving up
+samples(5).             // full sightings averaged into one observation
+sampleTries(16).        // frames tried per observation (one per framePeriod)
+framePeriod(70).        // ms: about one Kinect frame (15 Hz)
+settleTime(300).        // ms after a motion before frames count (newer than its end)
+goodRange(1.0, 3.3).    // m: depths where the yaw is reliable and a 0.3 m move stays in view
+viewDepth(1.8).         // m: the depth Helper moves to when Faulty is outside goodRange
+occlusionMargin(20).    // deg: relative headings this close to +90 (orange hides green) are weak
+flankTurn(60).          // deg: how far Faulty is asked to turn to show its flank
+
+// FIX(F8): every angle difference is wrapped into (-180, 180] (the thesis' arithmetic read a
+// turn across +-180 as a turn of ~340 degrees the other way).
+wrap(A, W) :- W = A - 360 * math.ceil((A - 180) / 360).
+
+// Faulty in view (a full or a partial sighting, only a current percept: never a memory).
+sees(R, Deg, Depth) :- robot(R, Deg, Depth, _)[source(percept)].
+sees(R, Deg, Depth) :- robot_partial(R, Deg, Depth, _)[source(percept)].
+
+// Search direction: back against the last sweep when a sighting was lost by overshooting it;
+// otherwise clockwise, as the thesis' Helper.
+searchSide(R, Dir) :- lastSweep(R, D) & Dir = -D.
+searchSide(_, 1) :- true.
+
+// Mean of full sightings s(Deg, Depth, Yaw); the yaw is averaged as wrapped offsets from the
+// first sample, so samples on both sides of +-180 average correctly.
+sumObs([], _, 0, 0, 0) :- true.
+sumObs([s(D, Dp, Y) | T], Y0, SD, SDp, SW)
+   :- sumObs(T, Y0, SD1, SDp1, SW1) & wrap(Y - Y0, W)
+    & SD = SD1 + D & SDp = SDp1 + Dp & SW = SW1 + W.
+meanObs([s(D, Dp, Y) | T], pos(MD, MDp, MY))
+   :- sumObs([s(D, Dp, Y) | T], Y, SD, SDp, SW) & .length([s(D, Dp, Y) | T], N)
+    & wrap(Y + SW / N, WY)
+    & MD = math.round(SD / N * 10) / 10 & MDp = math.round(SDp / N * 1000) / 1000
+    & MY = math.round(WY * 10) / 10.
+
+// Faulty's heading relative to the line of sight: Yaw = heading + Angle (rason_vision README),
+// so heading - Angle = Yaw - 2 Angle. Near +90 its right (orange, tall) cylinder hides the
+// left (green) one: the yaw is unreliable there, or no full sighting at all.
+nearOcclusion(pos(D, _, Y), T)
+   :- wrap(Y - 2 * D - 90, E) & occlusionMargin(M) & math.abs(E) < M & flankTurn(F)
+    & ((E >= 0 & T = F) | (E < 0 & T = -F)).
+nearOcclusion(part(_, _, _), T) :- flankTurn(T).
+
+// The feedback's terms: initPos/currPos as in the thesis for full sightings. (Facts with
+// variables are written as rules so that each use gets fresh variables.)
+initTerm(pos(D, Dp, Y), initPos(D, Dp, Y)) :- true.
+initTerm(part(D, Dp, C), initPart(D, Dp, C)) :- true.
+currTerm(pos(D, Dp, Y), currPos(D, Dp, Y)) :- true.
+currTerm(part(D, Dp, C), currPart(D, Dp, C)) :- true.
+currTerm(lost, currLost) :- true.
+
 /* Initial goals */
 !start.
 
@@ -13,62 +70,177 @@ centerThreshold(7).
 
 +!start : true <- .wait(4000); .print("ZZzzz...").
 
+// FIX(F9): the thesis searched in 5-degree steps, always clockwise (9-13 s of every run, the long
+// way round when Faulty was on the left). Helper now sweeps a full turn in one action and cuts
+// it short at the first sighting (a new turn preempts the sweep); the 5-degree-precision
+// centring only starts once Faulty is in view.
 +!helpme[source(R)]
    <- +helping(R);
-      !findRobot(R, 0);
+      -lastSweep(R, _);
+      -fullTurn(R);
+      -flankAsked(R);
+      -relooked(R);
+      !findRobot(R, 0, 0);
       .print("helper ready.");
       .send(R, tell, found(R)).
 
 // FIX(F6): +!findRobot never gave up; the thesis text says Helper aborts after a full turn
 // (360 degrees). It now fails, and -!helpme tells the requester it was not found.
-+!findRobot(Robot, Turned)
-   : math.abs(Turned) >= 360
-   <- .print("Turned ", Turned, " degrees without finding ", Robot, ", giving up");
-      .fail(not_found(Robot)).
-
 // HOSTS: R unreachable (see the HOSTS plans below): stop helping it, nothing to tell it.
 -!helpme[source(R), error(ia_failed), error_msg(Why)]
    <- .print("cannot reach ", R, ": ", Why);
-      -helping(R).
--!helpme[source(R)]                                           // FIX(F6): see above
+      -helping(R);
+      -sweeping(R).
+-!helpme[source(R)]
    <- .print("could not find ", R);
       -helping(R);
+      -sweeping(R);
       .send(R, tell, notFound(R)).
 
-+!findRobot(Robot, Turned)
-   : robot(Robot, Deg, Depth, Yaw)
-   & centerThreshold(DT)
-   & (math.abs(Deg) >= DT)
-   <- .print("Found ", Robot, ", but I need to reposition myself...");
-      turn(Deg);
-      !findRobot(Robot, Turned + Deg).
-
-+!findRobot(Robot, Turned)
-   : robot(Robot, Deg, Depth, Yaw)
++!findRobot(Robot, _, _)
+   : sees(Robot, Deg, _)
    & centerThreshold(DT)
    & math.abs(Deg) < DT
-   <- .print("Found ", Robot);
-      +foundRobot(Robot, Deg, Depth, Yaw).
+   <- .print("Found ", Robot).
 
-+!findRobot(Robot, Turned)
-   : turnRate(Rate)
-   & centerThreshold(DT)
-   <- .print("Finding ", Robot, " turning ", Rate, " degrees, turned ", Turned, " so far. Threshold is ", DT);
-      turn(Rate);
-      !findRobot(Robot, Turned + Rate).
++!findRobot(Robot, _, Steps)
+   : maxCentring(M)
+   & Steps >= M
+   <- .print("Could not centre ", Robot, " in ", Steps, " turns, giving up");
+      .fail(not_centred(Robot)).
+
++!findRobot(Robot, Sweeps, Steps)
+   : sees(Robot, Deg, _)
+   <- .print("Found ", Robot, ", but I need to reposition myself...");
+      turn(Deg);
+      !findRobot(Robot, Sweeps, Steps + 1).
+
++!findRobot(Robot, _, _)
+   : fullTurn(Robot)
+   <- -fullTurn(Robot);
+      .print("Turned 360 degrees without finding ", Robot, ", giving up");
+      .fail(not_found(Robot)).
+
++!findRobot(Robot, Sweeps, _)
+   : maxSweeps(M)
+   & Sweeps >= M
+   <- .print("Lost ", Robot, " ", Sweeps, " times while searching, giving up");
+      .fail(not_found(Robot)).
+
++!findRobot(Robot, Sweeps, Steps)
+   : searchSide(Robot, Dir)
+   <- .print("Searching ", Robot, ": sweeping ", Dir * 360, " degrees");
+      !sweep(Robot, Dir);
+      !findRobot(Robot, Sweeps + 1, Steps).
+
++!sweep(Robot, Dir)
+   <- -+lastSweep(Robot, Dir);
+      +sweeping(Robot);
+      turn(Dir * 360);
+      -sweeping(Robot);
+      +fullTurn(Robot).
+
+-!sweep(Robot, _) <- -sweeping(Robot).
+
+// A sighting during a sweep ends it: the search goes on from here (its centring turn
+// preempts the sweep's turn at the motion decomposer).
++robot(Robot, _, _, _)[source(percept)]
+   : sweeping(Robot)
+   <- -sweeping(Robot);
+      .succeed_goal(sweep(Robot, _)).
+
++robot_partial(Robot, _, _, _)[source(percept)]
+   : sweeping(Robot)
+   <- -sweeping(Robot);
+      .succeed_goal(sweep(Robot, _)).
+
+// FIX(F7) (reconstruction): the thesis' last plan (cut at the page end) copied every robot(...)
+// percept into a source(self) belief; that copy outlived the sighting and was reported as
+// Faulty's current position after Faulty had left the view. Helper now only reasons on current
+// percepts (sees/3, observations below) and has no such copy.
+
+// ---- evidence ------------------------------------------------------------------------------
+// FIX(F10): the thesis compared two single frames, the second possibly older than the end of the
+// move. An observation waits until the motion has settled, then averages `samples` full
+// sightings from fresh frames: obs(R, Label, pos(Deg, Depth, Yaw)); with too few full
+// sightings it is part(Deg, Depth, Colour) (one cylinder seen: yaw unknown) or lost.
++!observe(R, Label)
+   : settleTime(S) & sampleTries(M)
+   <- -obs(R, Label, _);
+      .wait(S);
+      !collect(R, Label, M, [], []).
+
++!collect(R, Label, _, Full, _)
+   : samples(K) & .length(Full, N) & N >= K & meanObs(Full, Obs)
+   <- +obs(R, Label, Obs).
+
++!collect(R, Label, 0, Full, _)
+   : .length(Full, N) & N >= 3 & meanObs(Full, Obs)
+   <- +obs(R, Label, Obs).
+
++!collect(R, Label, 0, _, [p(D, Dp, C) | _])
+   <- +obs(R, Label, part(D, Dp, C)).
+
++!collect(R, Label, 0, _, _)
+   <- +obs(R, Label, lost).
+
++!collect(R, Label, Tries, Full, Part)
+   : robot(R, D, Dp, Y)[source(percept)] & framePeriod(P)
+   <- .wait(P);
+      !collect(R, Label, Tries - 1, [s(D, Dp, Y) | Full], Part).
+
++!collect(R, Label, Tries, Full, Part)
+   : robot_partial(R, D, Dp, C)[source(percept)] & framePeriod(P)
+   <- .wait(P);
+      !collect(R, Label, Tries - 1, Full, [p(D, Dp, C) | Part]).
+
++!collect(R, Label, Tries, Full, Part)
+   : framePeriod(P)
+   <- .wait(P);
+      !collect(R, Label, Tries - 1, Full, Part).
+
+// FIX(F12) (future work of the thesis: repositioning the observer): beyond goodRange the yaw is
+// noisy (far) or Faulty's test move may leave the view (near); Helper drives along its line of
+// sight to viewDepth and centres Faulty again.
++!viewpoint(R)
+   : sees(R, _, Depth) & goodRange(Lo, Hi) & (Depth < Lo | Depth > Hi) & viewDepth(V)
+   <- Dist = math.round((Depth - V) * 100) / 100;
+      .print(R, " is ", Depth, " m away: moving ", Dist, " m for a better view");
+      move(Dist);
+      !findRobot(R, 0, 0).
++!viewpoint(_).
 
 +!trackMe[source(R)]
    : helping(R)
-   & foundRobot(R, Deg, Depth, Yaw)
-   <- .print("I'm ready.");
-      .send(R, achieve, tryMove).
+   <- !viewpoint(R);
+      !observe(R, init);
+      !ready(R).
 
-+!giveFeedback[source(R)]
-   : helping(R)
-   & foundRobot(R, Deg, Depth, Yaw)
-   & robot(R, Deg1, Depth1, Yaw1)
-   <- .print("reporting to ", R, " -> ", Deg, " ", Depth, " ", Yaw, " / ", Deg1, " ", Depth1, " ", Yaw1);
-      .send(R, achieve, feedback(initPos(Deg, Depth, Yaw), currPos(Deg1, Depth1, Yaw1))).
+// FIX(F11) (future work of the thesis: against self-occlusion): when only one cylinder is seen,
+// or Faulty's heading is near the occlusion angle, Faulty is asked once to turn and show its
+// flank; it answers with trackMe again and the initial observation is taken anew.
++!ready(R)
+   : obs(R, init, O) & nearOcclusion(O, T) & not flankAsked(R)
+   <- +flankAsked(R);
+      .print("I cannot see ", R, "'s heading well (", O, "): asking it to turn ", T, " degrees");
+      .send(R, achieve, showFlank(T)).
+
++!ready(R)
+   : obs(R, init, lost) & not relooked(R)
+   <- +relooked(R);
+      .print("I lost sight of ", R, ", looking again");
+      !findRobot(R, 0, 0);
+      !observe(R, init);
+      !ready(R).
+
++!ready(R)
+   : obs(R, init, lost)
+   <- .fail(lost_sight(R)).
+
++!ready(R)
+   : obs(R, init, O)
+   <- .print("I'm ready: ", R, " is at ", O);
+      .send(R, achieve, tryMove).
 
 // HOSTS (robots on their own machines): a .send to R fails with error(ia_failed) and the
 // reason in error_msg while R's presence has lapsed (its link is down). Helper stops helping R
@@ -76,24 +248,45 @@ centerThreshold(7).
 -!trackMe[source(R), error(ia_failed), error_msg(Why)]
    <- .print("cannot reach ", R, ": ", Why);
       -helping(R);
-      -foundRobot(R, _, _, _).
+      -obs(R, _, _).
 -!giveFeedback[source(R), error(ia_failed), error_msg(Why)]
    <- .print("cannot reach ", R, ": ", Why);
       -helping(R);
-      -foundRobot(R, _, _, _).
+      -obs(R, _, _).
+-!ready(R)[error(ia_failed), error_msg(Why)]
+   <- .print("cannot reach ", R, ": ", Why);
+      -helping(R);
+      -obs(R, _, _).
+
+-!trackMe[source(R)]
+   <- .print("could not track ", R);
+      -helping(R);
+      .send(R, tell, notFound(R)).
+
+-!ready(R)
+   <- .print("could not track ", R);
+      -helping(R);
+      .send(R, tell, notFound(R)).
+
+// FIX(F10): the thesis reported the position it last kept (possibly from before the move, or from
+// before Faulty turned out of sight) as the current one. The current position now comes from
+// an observation taken after the move has ended; if it is only partial or lost, the feedback
+// says so (currPart / currLost) instead of reporting a stale position.
++!giveFeedback[source(R)]
+   : helping(R)
+   <- !observe(R, curr);
+      ?obs(R, init, I);
+      ?obs(R, curr, C);
+      ?initTerm(I, Init);
+      ?currTerm(C, Curr);
+      .print("reporting to ", R, " -> ", Init, " / ", Curr);
+      .send(R, achieve, feedback(Init, Curr)).
+
 
 +!thanks[source(R)]
    : helping(R)
    <- .print(R, " said 'thanks'...");
       .print("You're welcome, ", R);
       -helping(R);
-      -foundRobot(R, _, _, _).
-
-// FIX(F7) (reconstruction): the listing is cut at the page end ("<- + robot (...);"). The text
-// says this plan "updates the belief about the Faulty". Read literally (+robot), every
-// percept leaves a source(self) copy behind, a stale robot(_,Deg,_,_) with |Deg| >= 7 makes
-// the repositioning plan above applicable forever and Helper never centres Faulty (the
-// thesis found Faulty in every run, so its agent did not do that). -+ keeps one copy: the
-// latest; the trigger is restricted to percepts so that the copy does not retrigger it.
-+robot(Robot, Deg, Depth, Yaw)[source(percept)]
-   <- -+robot(Robot, Deg, Depth, Yaw).
+      -flankAsked(R);
+      -obs(R, _, _).

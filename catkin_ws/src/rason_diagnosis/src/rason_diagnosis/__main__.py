@@ -1,4 +1,4 @@
-"""``./run.sh demo [--fault NAME] [--seed N] [--record] [--out DIR]``: one cooperative diagnosis.
+"""``./run.sh demo [--fault NAME] [--seed N] [--record] [--out DIR] [--world FILE]``: one diagnosis.
 
 Starts roscore, the simulator (Faulty and Helper side by side 1.5 m apart), a fault injector and
 a motion decomposer per robot, Helper's vision synthesizer and both agents, each with ``rosrun``;
@@ -15,9 +15,12 @@ import sys
 import time
 from pathlib import Path
 
+import yaml
+
 from rason_diagnosis import thesis
 from rason_diagnosis.hosts import LinkCut
 from rason_diagnosis.scenario import FAULTS, default_fault, run_scenario
+from turtlebot_sim.config import resolve
 
 
 def _link_cut(text: str) -> LinkCut:
@@ -27,6 +30,21 @@ def _link_cut(text: str) -> LinkCut:
         raise argparse.ArgumentTypeError(str(err)) from None
 
 
+def world_problem(path: Path) -> str | None:
+    """Why a world file cannot host the case study, or None."""
+    if not path.is_file():
+        return "no such file"
+    try:
+        cfg = resolve(path)
+    except (OSError, ValueError, TypeError, KeyError, yaml.YAMLError) as err:
+        return f"not a valid world file: {' '.join(str(err).split())}"
+    kinds = {robot["name"]: robot["kind"] for robot in cfg["robots"]}
+    if kinds.get("helper") != "helper" or kinds.get("faulty") != "faulty":
+        return ("the case study needs a robot named helper (kind: helper) and one named faulty "
+                f"(kind: faulty); found {kinds or 'none'}")
+    return None
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="./run.sh demo", description=__doc__.split("\n")[0])
     parser.add_argument("--fault", choices=FAULTS, help="fault to inject (default: picked by the seed)")
@@ -34,6 +52,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="seed of the run's variation (default: from the clock)")
     parser.add_argument("--record", action="store_true", help="also record a bag of the run")
     parser.add_argument("--out", type=Path, default=None, help="folder for the picture and logs")
+    parser.add_argument("--world", type=Path, default=None,
+                        help="world file (robot poses, room, lighting; as worlds/case_study.yaml)")
     parser.add_argument("--json", action="store_true", help="print the result as JSON at the end")
     parser.add_argument("--quiet", action="store_true", help="do not stream the agents' console")
     parser.add_argument("--timeout", type=float, default=300.0, help="simulated seconds allowed")
@@ -51,6 +71,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if (args.hosts or args.cut) and os.geteuid() != 0:
         parser.error("--hosts and --cut make network namespaces: run as root")
+    if args.world is not None:
+        problem = world_problem(args.world)
+        if problem:
+            parser.error(f"--world {args.world}: {problem}")
 
     seed = args.seed if args.seed is not None else int(time.time()) % 100000
     fault = args.fault or default_fault(seed)
@@ -59,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
     result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,
                           sim_timeout=args.timeout,
                           inspector_port=args.inspector_port if args.inspector else None,
-                          hosts=args.hosts, cuts=args.cut)
+                          hosts=args.hosts, cuts=args.cut, world=args.world)
 
     print("\n[demo] ---------------- result ----------------")
     print(f"[demo] injected fault : {fault}")

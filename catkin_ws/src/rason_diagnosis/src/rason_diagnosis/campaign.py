@@ -1,4 +1,4 @@
-"""``./run.sh campaign [--runs N] [--out DIR]``: every scenario N times, beside the thesis.
+"""``./run.sh campaign [--runs N] [--out DIR] [--layouts fixed|random]``: every scenario N times.
 
 Each run is a separate demo process (its own roscore, simulator, nodes and agents) with a seed
 that varies start poses, lighting and sensor noise. Writes ``runs.csv``, ``report.md`` (tables in
@@ -22,9 +22,11 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import yaml
 
 from rason.testing.harness import processes_left_by
 from rason_diagnosis import thesis
+from rason_diagnosis.paths import world_file
 from rason_diagnosis.scenario import FAULTS
 
 FIELDS = ("fault", "seed", "diagnosis", "expected", "correct", "detection_s", "location_s",
@@ -168,8 +170,18 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--first-seed", type=int, default=1)
     parser.add_argument("--hosts", action="store_true",
                         help="every run across hosts of its own (./run.sh demo --hosts; root)")
+    parser.add_argument("--layouts", choices=("fixed", "random"), default="fixed",
+                        help="fixed: the thesis' layout; random: a seeded layout per run index "
+                             "(the same N layouts for every fault)")
+    parser.add_argument("--report-only", action="store_true",
+                        help="only rewrite report.md and the plots from the runs.csv in --out "
+                             "(e.g. of a campaign cut short)")
     args = parser.parse_args(argv)
+    if args.report_only:
+        return report_only(args)
     (args.out / "runs").mkdir(parents=True, exist_ok=True)
+    if args.layouts == "random":
+        return random_campaign(args)
 
     jobs = [(fault, args.first_seed + i) for i in range(args.runs) for fault in args.faults]
     results: list[dict] = []
@@ -186,6 +198,159 @@ def main(argv: list[str] | None = None) -> int:
     print(write_report(results, args.out, args.runs))
     print(f"wrote {args.out / 'runs.csv'}, {args.out / 'report.md'}, {args.out / 'plots'}")
     return 0 if all(r.get("correct") and not r.get("orphans") for r in results) else 1
+
+
+# -- randomized layouts -----------------------------------------------------------------------
+
+LAYOUT_FIELDS = ("distance", "bearing", "relative_heading", "helper_x", "helper_y", "helper_yaw",
+                 "faulty_x", "faulty_y", "faulty_yaw")
+OUTCOME_COLOURS = {"right": "tab:green", "unknown": "tab:orange", "wrong": "tab:red"}
+
+
+def outcome(result: dict) -> str:
+    """right, unknown (no component named, or no answer) or wrong (a wrong component)."""
+    if result.get("correct"):
+        return "right"
+    if result.get("diagnosis") in (None, "unknown"):
+        return "unknown"
+    return "wrong"
+
+
+def random_campaign(args: argparse.Namespace) -> int:
+    """Every fault in N seeded random layouts; report.md, runs.csv, layouts.csv, plots."""
+    from rason_diagnosis.layouts import random_layout, write_world
+
+    base = world_file()
+    room = tuple(yaml.safe_load(base.read_text()).get("room", {}).get("size", (10.0, 10.0)))
+    layouts = [random_layout(args.first_seed + i, room) for i in range(args.runs)]
+    worlds = {lay.seed: write_world(lay, base, args.out / "worlds" / f"layout-{lay.seed}.yaml")
+              for lay in layouts}
+    jobs = [(fault, lay) for lay in layouts for fault in args.faults]
+    results: list[dict] = []
+    started = time.monotonic()
+    for done, (fault, lay) in enumerate(jobs, 1):
+        extra = ["--world", str(worlds[lay.seed]), *(["--hosts"] if args.hosts else [])]
+        result = run_one(fault, lay.seed, args.out, extra)
+        result.update({k: round(getattr(lay, k), 3) for k in LAYOUT_FIELDS})
+        result["outcome"] = outcome(result)
+        results.append(result)
+        progress(done, len(jobs), started, result)
+        with open(args.out / "runs.csv", "w", newline="") as f:
+            writer = csv.DictWriter(f, (*FIELDS, "outcome", *LAYOUT_FIELDS), extrasaction="ignore")
+            writer.writeheader()
+            writer.writerows(results)
+    print()
+    write_layout_plot(results, args.out)
+    print(write_layout_report(results, layouts, args.out))
+    print(f"wrote {args.out / 'runs.csv'}, {args.out / 'report.md'}, {args.out / 'plots'}")
+    wrong = sum(1 for r in results if r["outcome"] == "wrong")
+    orphans = sum(r.get("orphans", 0) for r in results)
+    return 0 if wrong == 0 and not orphans else 1
+
+
+def _from_csv(row: dict) -> dict:
+    """A runs.csv row with its numbers and flags parsed back."""
+    out: dict = {}
+    for key, value in row.items():
+        if value in ("", None):
+            out[key] = None
+        elif key in ("correct",):
+            out[key] = value == "True"
+        elif key in ("seed", "orphans"):
+            out[key] = int(value)
+        else:
+            try:
+                out[key] = float(value)
+            except ValueError:
+                out[key] = value
+    return out
+
+
+def report_only(args: argparse.Namespace) -> int:
+    """Rewrite report.md and plots from ``--out``/runs.csv."""
+    from rason_diagnosis.layouts import random_layout
+
+    with open(args.out / "runs.csv", newline="") as f:
+        results = [_from_csv(row) for row in csv.DictReader(f)]
+    if results and "outcome" in results[0]:
+        room = tuple(yaml.safe_load(world_file().read_text()).get("room", {}).get(
+            "size", (10.0, 10.0)))
+        seeds = sorted({r["seed"] for r in results})
+        write_layout_plot(results, args.out)
+        print(write_layout_report(results, [random_layout(s, room) for s in seeds], args.out))
+    else:
+        runs = max(sum(1 for r in results if r["fault"] == f) for f in FAULTS)
+        write_plots(results, args.out)
+        print(write_report(results, args.out, runs))
+    return 0
+
+
+def write_layout_report(results: list[dict], layouts: list, out: Path) -> str:
+    runs = len(layouts)
+    lines = [f"# Cooperative fault diagnosis in {runs} random layout(s) per fault", "",
+             "Faulty 0.8-4 m from Helper at any bearing, both robots at any heading, inside the "
+             "room (`rason_diagnosis.layouts`); the same layouts for every fault. Latencies in "
+             "simulated seconds. right: the injected fault; unknown: no component named (or no "
+             "answer); wrong: a wrong component.", "",
+             "| fault | right | unknown | wrong | location mean (max) | total mean (max) |",
+             "|---|---|---|---|---|---|"]
+    for fault in FAULTS:
+        mine = [r for r in results if r["fault"] == fault]
+        if not mine:
+            continue
+        count = {k: sum(1 for r in mine if r["outcome"] == k) for k in OUTCOME_COLOURS}
+        loc = [r["location_s"] for r in mine if r.get("location_s") is not None]
+        tot = [r["total_s"] for r in mine if r.get("total_s") is not None]
+        lines.append(f"| {fault} | {count['right']}/{len(mine)} | {count['unknown']} | "
+                     f"{count['wrong']} | {fmt(_mean(loc))} ({fmt(max(loc, default=None))}) | "
+                     f"{fmt(_mean(tot))} ({fmt(max(tot, default=None))}) |")
+    total = {k: sum(1 for r in results if r["outcome"] == k) for k in OUTCOME_COLOURS}
+    orphans = sum(r.get("orphans", 0) for r in results)
+    lines += ["", f"Overall: {total['right']}/{len(results)} right "
+              f"({100.0 * total['right'] / max(1, len(results)):.0f}%), {total['unknown']} unknown, "
+              f"{total['wrong']} wrong. Processes left running: {orphans}.", "",
+              "![outcome against the layout](plots/layouts.png)", "",
+              "## Layouts", "",
+              "| seed | distance (m) | bearing (deg) | relative heading (deg) | Helper x, y, yaw | "
+              "Faulty x, y, yaw | outcomes |", "|---|---|---|---|---|---|---|"]
+    for lay in layouts:
+        mine = [r for r in results if r["seed"] == lay.seed]
+        outcomes = ", ".join(f"{r['fault']}: {r.get('diagnosis')} ({r['outcome']})" for r in mine)
+        lines.append(f"| {lay.seed} | {lay.distance:.2f} | {lay.bearing:.0f} | "
+                     f"{lay.relative_heading:.0f} | {lay.helper_x:.2f}, {lay.helper_y:.2f}, "
+                     f"{lay.helper_yaw:.0f} | {lay.faulty_x:.2f}, {lay.faulty_y:.2f}, "
+                     f"{lay.faulty_yaw:.0f} | {outcomes} |")
+    text = "\n".join(lines) + "\n"
+    (out / "report.md").write_text(text)
+    return text
+
+
+def write_layout_plot(results: list[dict], out: Path) -> None:
+    """Outcome (colour) of every run against bearing, distance and relative heading."""
+    plots = out / "plots"
+    plots.mkdir(exist_ok=True)
+    faults = [f for f in FAULTS if any(r["fault"] == f for r in results)]
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4), sharey=True)
+    for ax, key, label, span in zip(
+            axes, ("bearing", "distance", "relative_heading"),
+            ("bearing of Faulty from Helper (deg, + = right)", "distance (m)",
+             "Faulty's heading - line of sight (deg, -90 = thesis)"),
+            ((-180, 180), (0.7, 4.1), (-180, 180)), strict=True):
+        ax.set_xlim(*span)
+        for kind, colour in OUTCOME_COLOURS.items():
+            pts = [(r[key], faults.index(r["fault"])) for r in results if r["outcome"] == kind]
+            if pts:
+                ax.scatter(*zip(*pts, strict=True), c=colour, label=kind, s=30,
+                           edgecolors="k", linewidths=0.3)
+        ax.set_xlabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].set_yticks(range(len(faults)))
+    axes[0].set_yticklabels(faults)
+    axes[0].legend(fontsize=8)
+    fig.suptitle("outcome of every run against the layout")
+    fig.tight_layout()
+    fig.savefig(plots / "layouts.png", dpi=80)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -69,16 +69,23 @@ def _diff(a: float | None, b: float | None) -> float | None:
     return round(b - a, 2) if a is not None and b is not None else None
 
 
+#: Helper's motion decomposer turns at 90 deg/s (Kobuki: up to 180) so that its search sweep
+#: (one full turn, cut short at the first sighting) covers the room in about 4 s.
+HELPER_MOTION = {"angular_speed": 90.0, "angular_accel": 180.0, "angular_decel": 120.0}
+
+
 def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, echo: bool = True,
                  sim_timeout: float = 300.0, real_time_factor: float = 1.0,
                  inspector_port: int | None = None, hosts: bool = False,
-                 cuts: Sequence[LinkCut] = ()) -> RunResult:
+                 cuts: Sequence[LinkCut] = (), world: Path | None = None) -> RunResult:
     """Run one scenario; returns its result (never raises for a failed diagnosis).
 
     With `inspector_port` (0: any free port) the mind inspector watches the run; its address is
     printed (and kept in ``result.inspector``) as soon as it listens.
     ``hosts``: world, helper and faulty on their own network namespaces (see hosts.py);
     ``cuts``: links taken down and up again during the run (implies ``hosts``).
+    ``world``: a world file (robot poses, room, lighting, camera; see ``worlds/case_study.yaml``),
+    default the thesis' layout.
     """
     if fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
@@ -100,7 +107,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                 if inspector_port is not None:
                     result.inspector = _start_inspector(ros, inspector_port)
                 _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor,
-                     network, cuts)
+                     network, cuts, world or world_file())
         except HarnessError as err:
             result.error = str(err).splitlines()[0]
     result.wall_s = round(time.monotonic() - started, 1)
@@ -111,18 +118,19 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
 
 def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: bool,
          sim_timeout: float, real_time_factor: float, network: CaseStudyLan | None = None,
-         cuts: Sequence[LinkCut] = ()) -> None:
+         cuts: Sequence[LinkCut] = (), world: Path | None = None) -> None:
     import rospy  # the demo process joins the run as an observer
 
     from rason_diagnosis.monitor import RunMonitor
     from rason_diagnosis.plots import save_run_picture
 
     sim = ros.rosrun("turtlebot_sim", "sim", params={
-        "world": str(world_file()), "seed": result.seed, "real_time_factor": real_time_factor})
+        "world": str(world or world_file()), "seed": result.seed, "real_time_factor": real_time_factor})
     ros.wait_for_topic("/clock", timeout=60, watch=[sim])
     for robot in ROBOTS:
         ros.rosrun("kobuki_fault_injector", "fault_injector", ns=f"/{robot}")
-        ros.rosrun("rason", "motion_decomposer", ns=f"/{robot}")
+        ros.rosrun("rason", "motion_decomposer", ns=f"/{robot}",
+                   params=HELPER_MOTION if robot == "helper" else None)
     ros.rosrun("rason_vision", "robot_synthesizer", ns="/helper")
     for robot in ROBOTS:
         ros.wait_for_service(f"/{robot}/fault_injector", timeout=30)

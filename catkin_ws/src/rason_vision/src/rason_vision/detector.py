@@ -34,6 +34,7 @@ from rason_vision.geometry import (
     CYLINDER_SPACING,
     Intrinsics,
     Relative,
+    bearing_deg,
     relative_from_axes,
     thesis_angle_deg,
 )
@@ -76,6 +77,7 @@ class DetectorConfig:
     depth_gap: float = 0.10
     min_width_fraction: float = 0.25
     max_blobs: int = 10
+    partial_height: float = 0.25
     bgr: bool = False
     intrinsics: Intrinsics = field(default_factory=Intrinsics)
 
@@ -120,12 +122,28 @@ class Detection:
         return self.relative.yaw
 
 
+@dataclass(frozen=True)
+class Partial:
+    """One cylinder of Faulty's pair seen without the other (the thesis' self-occlusion case):
+    its bearing and depth (of the cylinder's axis); Faulty's heading is unknown."""
+
+    blob: Blob
+    angle: float
+    depth: float
+
+    @property
+    def colour(self) -> str:
+        return self.blob.colour
+
+
 @dataclass
 class FrameResult:
-    """What the detector found in a frame: the chosen detection (or None) and all blobs."""
+    """What the detector found in a frame: the chosen detection (or None), a partial sighting
+    when no pair was found but one cylinder was (or None), and all blobs."""
 
     detection: Detection | None
     blobs: dict[str, list[Blob]]
+    partial: Partial | None = None
 
 
 def _kernel(size: int) -> np.ndarray:
@@ -316,6 +334,31 @@ def describe_pair(green: Blob, orange: Blob, dist: float, config: DetectorConfig
         depth_thesis=(green.centroid_depth + orange.centroid_depth) / 2.0)
 
 
+def _cylinder_like(blob: Blob, xyz: np.ndarray, config: DetectorConfig) -> bool:
+    """A blob that can be one of Faulty's cylinders seen alone: not cut by the image border, about
+    a cylinder wide at its depth (half to twice), and at the cylinders' height (its centroid
+    within ``partial_height`` of the optical axis, the Kinect being about level with them)."""
+    if blob.cut:
+        return False
+    depth = blob.axis[1]
+    expected = 2.0 * config.radius * config.intrinsics.fx / max(depth, 1e-3)
+    if not 0.5 * expected <= blob.bbox[2] <= 2.0 * expected:
+        return False
+    height = (blob.v - config.intrinsics.cy) / config.intrinsics.fy * depth  # optical y, down
+    return abs(height) <= config.partial_height
+
+
+def choose_partial(blobs: dict[str, list[Blob]], xyz: np.ndarray,
+                   config: DetectorConfig) -> Partial | None:
+    """The largest cylinder-like blob when no pair was found (see :func:`_cylinder_like`)."""
+    candidates = [b for colour in (GREEN, ORANGE) for b in blobs[colour]
+                  if _cylinder_like(b, xyz, config)]
+    if not candidates:
+        return None
+    best = max(candidates, key=lambda b: b.area)
+    return Partial(best, bearing_deg(*best.axis), best.axis[1])
+
+
 def detect(image: np.ndarray, xyz: np.ndarray,
            config: DetectorConfig | None = None) -> FrameResult:
     """Run the whole pipeline on one frame.
@@ -330,4 +373,5 @@ def detect(image: np.ndarray, xyz: np.ndarray,
     blobs = {colour: find_blobs(colour, mask, xyz, config) for colour, mask in masks.items()}
     chosen = choose_pair(blobs[GREEN], blobs[ORANGE], config)
     detection = describe_pair(*chosen, config) if chosen else None
-    return FrameResult(detection, blobs)
+    partial = None if detection else choose_partial(blobs, xyz, config)
+    return FrameResult(detection, blobs, partial)

@@ -120,6 +120,12 @@ def format_literal(name: str, angle: float, depth: float, yaw: float) -> str:
     return f"robot({name},{clean(angle, 1)},{clean(depth, 2)},{clean(yaw, 1)})"
 
 
+def format_partial_literal(name: str, angle: float, depth: float, colour: str) -> str:
+    """``robot_partial(name,Angle,Depth,Colour)``: one cylinder seen, Faulty's yaw unknown."""
+    text = format_literal(name, angle, depth, 0.0)
+    return "robot_partial" + text[len("robot"):text.rindex(",")] + f",{colour})"
+
+
 def relative_from_axes(green_xz: tuple[float, float],
                        orange_xz: tuple[float, float]) -> Relative:
     """Angle, depth, yaw and heading from the two cylinder axes (optical frame x, z)."""

@@ -8,7 +8,9 @@ Subscribes (relative names, so ``__ns:=/helper`` puts them under the robot):
 paired by timestamp with ``message_filters.ApproximateTimeSynchronizer``. For every pair it
 publishes a ``jason_msgs/Perception`` on ``jason/perception`` with source
 ``<node_name>_robot`` and the complete current list: ``["robot(faulty,Angle,Depth,Yaw)"]`` or
-``[]`` (thesis 5.4). Conventions of Angle/Depth/Yaw: :mod:`rason_vision.geometry`.
+``[]`` (thesis 5.4); when only one cylinder is seen (the other hidden behind it),
+``["robot_partial(faulty,Angle,Depth,Colour)"]``: that cylinder's bearing and depth, yaw
+unknown. Conventions of Angle/Depth/Yaw: :mod:`rason_vision.geometry`.
 
 Private parameters: :class:`RobotParams` (``rosrun rason_vision robot_synthesizer --help``
 prints them), those of every synthesizer (:mod:`rason.execution.synthesizer`) included.
@@ -30,7 +32,7 @@ from rason.execution.synthesizer import BadFrame, Synthesizer, SynthesizerParams
 from rason.ros.params import param
 from rason_vision.convert import MAX_PIXELS, cloud_to_xyz, image_to_rgb
 from rason_vision.detector import DetectorConfig, HsvRange, detect
-from rason_vision.geometry import format_literal
+from rason_vision.geometry import format_literal, format_partial_literal
 
 _BASE = DetectorConfig()
 
@@ -98,10 +100,14 @@ class RobotSynthesizer(Synthesizer):
                            f"{xyz.shape[1]}x{xyz.shape[0]} differ in size")
         if not np.isfinite(xyz[..., 2]).any():
             raise BadFrame("the cloud has no valid depth point")
-        det = detect(rgb, xyz, self.config).detection
-        if det is None:
-            return []
-        return [format_literal(self.robot_name, det.angle, det.depth, det.yaw)]
+        result = detect(rgb, xyz, self.config)
+        det = result.detection
+        if det is not None:
+            return [format_literal(self.robot_name, det.angle, det.depth, det.yaw)]
+        if result.partial is not None:
+            part = result.partial
+            return [format_partial_literal(self.robot_name, part.angle, part.depth, part.colour)]
+        return []
 
 
 def main(argv: list[str] | None = None) -> int:

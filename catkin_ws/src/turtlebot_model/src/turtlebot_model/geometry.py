@@ -11,8 +11,13 @@ def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
 
 
 def wrap_rad(angle: float) -> float:
-    """An angle in radians wrapped into [-pi, pi)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+    """An angle in radians wrapped into (-pi, pi], as :func:`wrap_deg` (one convention)."""
+    wrapped = math.fmod(angle, 2.0 * math.pi)
+    if wrapped <= -math.pi:
+        wrapped += 2.0 * math.pi
+    elif wrapped > math.pi:
+        wrapped -= 2.0 * math.pi
+    return wrapped
 
 
 def wrap_deg(angle: float) -> float:
