@@ -207,7 +207,8 @@ def test_case_conversion_of_atoms_gives_strings() -> None:
 
 # ------------------------------------------------------------------ plans as terms
 def test_relevant_plans_add_plan_remove_plan() -> None:
-    # jason.stdlib.relevant_plans (label sources removed, 3rd arg the labels), add_plan
+    # jason.stdlib.relevant_plans (labels keep source and url, as Jason 3.3 prints them; 3rd arg
+    # the labels), add_plan
     # (plan term or string, 'begin' puts it first), remove_plan by label
     prog = ('!s.\n@p1 +!g(1) <- .print(one).\n@p2 +!g(X) : X > 1 <- .print(big).\n'
             '+!s <- .relevant_plans({+!g(_)}, _, Ls); .print(Ls);'
@@ -216,8 +217,9 @@ def test_relevant_plans_add_plan_remove_plan() -> None:
             ' .add_plan({ @p3 +!k <- .print(kk) }); .add_plan("+!m(X) <- .print(m,X)."); !k; !m(4);'
             ' .remove_plan(p3); .relevant_plans({+!k}, L4); .print(L4);'
             ' .add_plan({ @p0 +!g(A) <- .print(first) }, self, begin); !g(1).')
-    assert lines(run_source(prog)) == ["[p1,p2]", "{ @p1 +!g(1) <- .print(one) }", "[p2]", "kk", "m4", "[]",
-                                       "first"]
+    lab = '[source(self),url("file:main.asl")]'
+    assert lines(run_source(prog)) == [f"[p1{lab},p2{lab}]", f"{{ @p1{lab} +!g(1) <- .print(one) }}",
+                                       f"[p2{lab}]", "kk", "m4", "[]", "first"]
 
 
 # ------------------------------------------------------------------ goals and intentions
@@ -369,13 +371,15 @@ def mas(timeout: float = 10.0, **agents: str) -> str:
     return out.getvalue()
 
 
-def test_askone_prefers_the_self_sourced_belief() -> None:
-    # kqmlPlans.asl @kqmlReceivedAskOne1a: Content[source(self)] first, then any source (1b)
+def test_askone_answers_carry_nested_sources() -> None:
+    # Jason 3.3 kqmlPlans.asl @kqmlReceivedAskOne1d (kqml::bel_no_source_self): the first belief,
+    # source(self) dropped; the asker nests the answer's sources in source(Sender) (checked
+    # against Jason 3.3: x(1) told by a comes back as x(1)[source(b)[source(a)]])
     out = mas(a="""!s.
 +!s <- .send(b, tell, x(1)); .send(b, askOne, x(X), A); .print(A);
        .send(b, askOne, y(Y), B); .print(B).""",
               b="x(5).\ny(2)[source(c)].")
-    assert lines(out, "a") == ["x(5)[source(b)]", "y(2)[source(b),source(c)]"]
+    assert lines(out, "a") == ["x(1)[source(b)[source(a)]]", "y(2)[source(b)[source(c)]]"]
 
 
 def test_askall_keeps_other_sources_and_drops_self() -> None:
@@ -384,7 +388,8 @@ def test_askall_keeps_other_sources_and_drops_self() -> None:
 +!s <- .send(b, tell, x(1)); .send(b, askAll, x(_), L); .print(L);
        .send(b, askAll, none(_), E); .print(E).""",
               b="x(5).")
-    assert lines(out, "a") == ["[x(1)[source(a),source(b)],x(5)[source(b)]]", "[]"]
+    # (Jason 3.3: each answer's sources nested in source(b))
+    assert lines(out, "a") == ["[x(1)[source(b)[source(a)]],x(5)[source(b)]]", "[]"]
 
 
 def test_tell_and_achieve_of_lists_go_through_the_kqml_plans() -> None:

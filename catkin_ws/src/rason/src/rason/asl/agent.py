@@ -5,7 +5,6 @@ from __future__ import annotations
 import heapq
 import itertools
 import os
-import random
 import sys
 import threading
 from collections import deque
@@ -13,7 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from . import reasoning
-from .arch import AgentArch, Message
+from .arch import AgentArch, JavaRandom, Message
 from .beliefs import BeliefBase
 from .inspection import MindState, mind_state
 from .intentions import (
@@ -35,9 +34,10 @@ from .intentions import (
 )
 from .kqml import KQML_SRC, kqml_plans
 from .logic import solve
-from .parser import AgentSource, AslSyntaxError, Rule, parse_source
-from .plans import ACHIEVE, ADD, BELIEF, DEL, K_INTERNAL, PlanLibrary, Trigger, body_deeds
+from .parser import AgentSource, AslSyntaxError, Rule, parse_source, parse_term, path_include_resolver
+from .plans import ACHIEVE, ADD, BELIEF, DEL, GOAL_STATE, K_INTERNAL, PlanLibrary, Trigger, body_deeds
 from .stdlib import IA_REGISTRY, IAError
+from .stdlib.comm import _set_source as nested_source
 from .terms import (
     FALSE,
     SOURCE_PERCEPT,
@@ -50,7 +50,7 @@ from .terms import (
     source,
     term_str,
 )
-from .unify import resolve, unify
+from .unify import rename_vars, resolve, unify
 
 
 @dataclass(frozen=True)
@@ -94,14 +94,17 @@ class Agent:
 
     def __init__(self, name: str, source: str, arch: AgentArch, filename: str = "<string>",
                  seed: int | None = None, src_name: str | None = None,
-                 options: AgentOptions | None = None) -> None:
+                 options: AgentOptions | None = None, source_path: list[str] | None = None) -> None:
         self.name = name
         self.options = options if options is not None else AgentOptions()
+        #: folders where included files (and agents created by this one) are looked for
+        self.source_path = list(source_path or [])
         self.arch = arch
         self.filename = filename
         if src_name is None:
             src_name = os.path.basename(filename) if filename != "<string>" else filename
-        parsed = parse_source(source, filename, src="file:" + src_name)
+        parsed = parse_source(source, filename, src="file:" + src_name,
+                              include=path_include_resolver(self.source_path))
         self.bb = BeliefBase()
         self.pl = PlanLibrary()
         self.events: deque[Event] = deque()
@@ -115,7 +118,7 @@ class Agent:
         self.pending_events: list[PendingEvent] = []  # Jason's PE: events held by .suspend
         self.selected_event: Event | None = None      # Jason's C.SE (the event of this cycle)
         self.ask_waits: dict[str, AskWait] = {}       # by the question's msg_id
-        self.random = random.Random(seed)
+        self.random = JavaRandom(seed)
         self._seq = itertools.count()
         self._action_ids = itertools.count(1)
         self.intention_ids = itertools.count(1)
@@ -127,6 +130,8 @@ class Agent:
         # set once an [atomic] plan is intended: until then no intention can be atomic
         self.atomic_used = False
         self._stop_requested = False
+        # idle (Jason's sleeping agent): +jag_sleeping / +jag_awaking events for plans that want them
+        self.sleeping = False
         # called (from any thread) whenever input arrives; a runner may use it to wake up
         self.on_wake: Any = None
         self.load(parsed)
@@ -153,6 +158,22 @@ class Agent:
         for g in parsed.goals:
             lit = g.with_self_source()
             self.events.append(Event(Trigger(ADD, ACHIEVE, lit)))
+
+    def add_initial(self, beliefs: str | None = None, goals: str | None = None) -> None:
+        """The ``beliefs="..."`` and ``goals="..."`` options of a ``.mas2j`` agent: comma
+        separated literals added as initial beliefs / goals."""
+        for text, is_goal in ((beliefs, False), (goals, True)):
+            if not text:
+                continue
+            items = parse_term("[" + text + "]")
+            for lit in getattr(items, "items", ()):
+                if not isinstance(lit, Literal):
+                    continue
+                lit = lit.with_self_source()
+                if is_goal:
+                    self.events.append(Event(Trigger(ADD, ACHIEVE, lit)))
+                else:
+                    self.add_belief(lit, front=False)
 
     # ================================================================ public API
     def receive(self, message: Message) -> None:
@@ -186,8 +207,12 @@ class Agent:
         with self._state_lock:
             try:
                 did = self.sense()
+                if did and self.sleeping:
+                    self._wake_up()
                 did = reasoning.deliberate(self) or did
                 did = reasoning.act(self) or did
+                if not did and not self.sleeping and not self.events and not self.running:
+                    did = self._fall_asleep()
             except Exception as e:  # a bug or an odd program must not kill the agent
                 self.log(f"internal error in the reasoning cycle ({type(e).__name__}: {e}); "
                          "the event/intention at hand was dropped")
@@ -196,6 +221,21 @@ class Agent:
                     self.current = None
                 return True
             return did
+
+    def _fall_asleep(self) -> bool:
+        """Nothing to do: the agent sleeps; with a ``+jag_sleeping`` plan (Jason's sleep
+        event), that event is posted. Returns True when it was."""
+        self.sleeping = True
+        if self.pl.has_key(_JAG_SLEEPING.key):
+            self.events.append(Event(_JAG_SLEEPING))
+            return True
+        return False
+
+    def _wake_up(self) -> None:
+        """Input arrived while asleep: ``+jag_awaking`` (when a plan wants it)."""
+        self.sleeping = False
+        if self.pl.has_key(_JAG_AWAKING.key):
+            self.events.append(Event(_JAG_AWAKING))
 
     def run(self, stop: threading.Event) -> None:
         """Reason until ``stop`` is set; block (no polling) while idle."""
@@ -230,7 +270,8 @@ class Agent:
 
     def next_deadline(self) -> float | None:
         """Earliest ``.wait`` deadline (clock seconds), or None."""
-        while self.timers and self.timers[0].intention.id not in self.suspended:
+        while (self.timers and self.timers[0].kind is not TimerKind.AT
+               and self.timers[0].intention.id not in self.suspended):
             heapq.heappop(self.timers)
         return self.timers[0].deadline if self.timers else None
 
@@ -353,13 +394,23 @@ class Agent:
         while self.timers and self.timers[0].deadline <= now:
             timer = heapq.heappop(self.timers)
             kind, i = timer.kind, timer.intention
+            if kind is TimerKind.AT:
+                self.add_event(Event(timer.data))
+                did = True
+                continue
             if i.id not in self.suspended or i.dropped:
                 continue
             if kind is TimerKind.WAIT and i.suspended is Suspension.WAIT:
                 self.resume(i)
                 did = True
-            elif kind is TimerKind.EVENT_TIMEOUT and i.suspended is Suspension.EVENT_WAIT:
+            elif (kind is TimerKind.EVENT_TIMEOUT and i.suspended is Suspension.EVENT_WAIT
+                  and timer.data is i.wait_reason):
                 self.event_waits = [w for w in self.event_waits if w.intention is not i]
+                if i.wait_elapsed is not None:
+                    self._bind_elapsed(i)
+                    self.resume(i)
+                    did = True
+                    continue
                 if not self.resume(i):
                     continue
                 reasoning.fail_intention(self, i, annots=reasoning.error_annots(
@@ -380,10 +431,16 @@ class Agent:
 
     # ================================================================ intentions
     def atomic_running(self) -> bool:
+        """Jason's ``C.hasAtomicIntention``: an atomic intention runs, or waits (``.wait``,
+        an action, an answer) without giving up its atomicity; one waiting for its own
+        event (a subgoal, a belief change, a failure) is not counted."""
         if not self.atomic_used:
             return False
-        for i in self.running:  # noqa: SIM110 - hot path, no generator
+        for i in self.running:
             if i.atomic_count:
+                return True
+        for i in self.suspended.values():
+            if i.atomic_count and not i.sus_ia and not i.dropped and i.suspended not in _OWN_EVENT_WAITS:
                 return True
         return False
 
@@ -421,18 +478,57 @@ class Agent:
             return True
         return False
 
+    def goal_state(self, trigger: Trigger, state: str, reason: Any = "") -> None:
+        """Post the goal-state meta event ``^!g[state(S)[reason(R)]]`` when a plan handles it
+        (Jason's GoalListenerForMetaEvents)."""
+        lit = trigger.literal
+        if not isinstance(lit, Literal):
+            return
+        st = Literal("state", (Literal(state),), (Literal("reason", (reason,)),))
+        meta = Trigger(GOAL_STATE, trigger.type, lit.add_annots([st]))
+        if self.pl.relevant(meta):
+            self.events.append(Event(meta))
+
+    def schedule_event(self, trigger: Trigger, delay: float) -> None:
+        """``.at``: post the event ``delay`` clock seconds from now."""
+        heapq.heappush(self.timers, Timer(self.arch.clock.now() + delay, next(self._seq), TimerKind.AT, None,
+                                          data=trigger))
+
     def suspend_timer(self, i: Intention, deadline: float, ms: float = 0.0) -> None:
         self.suspend(i, Suspension.WAIT)
         i.pi_key = f"{i.id}/time{int(ms)}"
+        i.wait_reason = Literal("wait", (float(ms),), (Literal("time", (float(ms),)),))
         heapq.heappush(self.timers, Timer(deadline, next(self._seq), TimerKind.WAIT, i))
+        self._goal_waiting(i, i.wait_reason)
+
+    def _goal_waiting(self, i: Intention, reason: Any) -> None:
+        """Jason's intentionWaiting: the goal of the top means is ``waiting``."""
+        top = i.top()
+        if self.pl.goal_state_plans and top is not None and top.trigger.op == ADD and top.trigger.is_goal:
+            self.goal_state(top.trigger, "waiting", reason)
+
+    def _bind_elapsed(self, i: Intention) -> None:
+        """``.wait(E, T, Elapsed)``: Elapsed gets the milliseconds the intention waited."""
+        term, start = i.wait_elapsed
+        i.wait_elapsed = None
+        im = i.top()
+        if im is not None:
+            s2 = dict(im.u)
+            if unify(term, float(int((self.arch.clock.now() - start) * 1000)), s2):
+                im.u = s2
 
     def suspend_event_wait(self, i: Intention, trig: Trigger | None, cond: Any,
                            deadline: float | None) -> None:
         self.suspend(i, Suspension.EVENT_WAIT)
         i.pi_key = f"{i.id}/{trig if trig is not None else term_str(cond)}"
+        what = Literal(str(trig)) if trig is not None else cond
+        i.wait_reason = Literal("wait", (what,))
+        self._goal_waiting(i, i.wait_reason)
         self.event_waits.append(EventWait(trig, cond, i, i.top()))
         if deadline is not None:
-            heapq.heappush(self.timers, Timer(deadline, next(self._seq), TimerKind.EVENT_TIMEOUT, i))
+            # the reason identifies this very wait: a timer of an earlier wait is stale
+            heapq.heappush(self.timers, Timer(deadline, next(self._seq), TimerKind.EVENT_TIMEOUT, i,
+                                              data=i.wait_reason))
 
     def register_ask(self, msg_id: str, i: Intention | None, answer: Any, deadline: float | None,
                      perf: str = "askOne", n: int | None = None) -> None:
@@ -513,9 +609,32 @@ class Agent:
             self.events.clear()
             self.events.extend(kept)
 
+    def _goal_events(self, pattern: Any, s: dict) -> list[Event]:
+        """The queued ``+!G`` events (goals not intended yet) the pattern unifies with."""
+        return [ev for ev in self.events if ev.trigger.op == ADD and ev.trigger.type == ACHIEVE
+                and unify(pattern, ev.trigger.literal, dict(s))]
+
     def succeed_goal(self, pattern: Any, s: dict) -> None:
+        for ev in self._goal_events(pattern, s):
+            # jason.stdlib.succeed_goal on an event: it goes, as an achieved goal
+            self.events.remove(ev)
+            if self.pl.goal_state_plans:
+                self.goal_state(ev.trigger, "achieved")
+                self.goal_state(ev.trigger, "finished")
+            i = ev.intention
+            if i is not None:
+                top = i.top()
+                if top is not None and top.stack:
+                    top.stack.pop()
+                reasoning.clr_int(self, i)
+                i.suspended = None
+                if i.ims and not i.dropped:
+                    self.running.append(i)
         for i, idx in list(self._goal_positions(pattern, s)):
             was_current = i is self.current
+            if self.pl.goal_state_plans:
+                self.goal_state(i.ims[idx].trigger, "achieved")
+                self.goal_state(i.ims[idx].trigger, "finished")
             self.detach(i)
             i.truncate(idx)
             if not i.ims:
@@ -578,7 +697,15 @@ class Agent:
                 if ev.intention is not None:
                     ev.intention.sus_ia = True
             self.events = keep
+        self._goal_state_of(pattern, s, "suspended")
         return own, s
+
+    def _goal_state_of(self, pattern: Any, s: dict, state: str) -> None:
+        """The goal-state event of a goal ``.suspend``/``.resume`` handled (when bound)."""
+        if self.pl.goal_state_plans:
+            g = resolve(pattern, s)
+            if isinstance(g, Literal):
+                self.goal_state(Trigger(ADD, ACHIEVE, g.with_self_source()), state)
 
     def resume_goal(self, pattern: Any, s: dict) -> dict:
         """``.resume(G)`` (jason.stdlib.resume): intentions held in PI by ``.suspend`` go back
@@ -610,9 +737,18 @@ class Agent:
             if self.event_waits:
                 self._check_event_waits(ev)
             self.events.append(ev)
+        self._goal_state_of(pattern, s, "resumed")
         return s
 
     def fail_goal(self, pattern: Any, s: dict) -> None:
+        for ev in self._goal_events(pattern, s):
+            if ev.intention is not None:
+                continue
+            # jason.stdlib.fail_goal on an external event: it becomes the -!G event
+            if self.pl.goal_state_plans:
+                self.goal_state(ev.trigger, "failed", Literal("drop_by_fail_goal"))
+            k = self.events.index(ev)
+            self.events[k] = Event(Trigger(DEL, ACHIEVE, ev.trigger.literal))
         for i, idx in list(self._goal_positions(pattern, s)):
             reasoning.fail_goal_at(self, i, idx)
 
@@ -620,6 +756,9 @@ class Agent:
     def add_event(self, ev: Event) -> None:
         """Queue an event; like Jason, an external event nobody listens to is only kept when
         some plan is relevant for it."""
+        t = ev.trigger
+        if self.pl.goal_state_plans and t.op == ADD and t.type == ACHIEVE and ev.intention is None:
+            self.goal_state(t, "pending")
         if self.event_waits:
             self._check_event_waits(ev)
         elif (ev.intention is None and not (ev.trigger.is_goal and ev.trigger.op == ADD)
@@ -636,6 +775,8 @@ class Agent:
             if (trig is not None and trig.op == t.op and trig.type == t.type
                     and unify(trig.literal, t.literal, {}, self)):
                 woken.append(w.intention)
+                if w.intention.wait_elapsed is not None:
+                    self._bind_elapsed(w.intention)
             else:
                 keep.append(w)
         if woken:
@@ -653,6 +794,8 @@ class Agent:
                 sol = next(iter(solve(self, cond, im.u, i)), None)
                 if sol is not None:
                     im.u = sol
+                    if i.wait_elapsed is not None:
+                        self._bind_elapsed(i)
                     self.resume(i)
                     continue
             keep.append(w)
@@ -689,9 +832,16 @@ class Agent:
             self.check_cond_waits()
         return True
 
-    def abolish(self, pattern: Literal) -> None:
-        for b in self.bb.abolish(pattern):
-            self.add_event(Event(Trigger(DEL, BELIEF, b)))
+    def abolish(self, pattern: Any, s: dict | None = None) -> None:
+        """``.abolish(P)`` (Jason's ``Agent.abolish``): every belief P unifies with (P's
+        annotations a subset of the belief's, e.g. ``b(_)[source(ag1)]``) goes, all of it;
+        a variable P (``_[source(a)]``) looks at every belief."""
+        cands = list(self.bb.candidates(pattern.key)) if isinstance(pattern, Literal) else list(self.bb)
+        for b in cands:
+            if isinstance(b, Literal) and unify(pattern, b, dict(s or {})):
+                removed = self.bb.remove(b)
+                if removed is not None:
+                    self.add_event(Event(Trigger(DEL, BELIEF, removed)))
 
     # ================================================================ actions
     def start_action(self, i: Intention, im: IntendedMeans, deed: Any, action: Literal) -> int:
@@ -743,7 +893,8 @@ class Agent:
         perf = m.performative
         if (perf in ("tell", "achieve", "signal") and type(content) is Literal
                 and not self._user_kqml_plans()):
-            lit = _strip_sources(content).add_annots([src])
+            # TransitionSystem.applyProcMsg: the content's sources are nested in the sender's
+            lit = nested_source(content, src.args[0])
             if perf == "tell":
                 self.add_belief(lit, front=True)
             elif perf == "achieve":
@@ -780,14 +931,13 @@ class Agent:
         wait = self.ask_waits[mid]
         i, ans, perf, n, got = wait.intention, wait.answer, wait.performative, wait.receivers, wait.answers
         sender = Literal(m.sender)
-        content = m.content
+        # the answer's variables are not the asker's (Jason's messages are copied as text)
+        content = rename_vars(m.content, {})
         if m.performative == "untell" and perf == "askOne":
             content = FALSE
-        elif isinstance(content, Literal):
-            content = content.add_annots([Literal("source", (sender,))])
-        elif perf == "askAll" and isinstance(content, ListTerm):
-            content = make_list([c.add_annots([Literal("source", (sender,))])
-                                 if isinstance(c, Literal) else c for c in content.items])
+        elif isinstance(content, Literal) or (perf == "askAll" and isinstance(content, ListTerm)):
+            # TransitionSystem: the answer's sources are nested in source(Sender)
+            content = nested_source(content, sender)
         if n is not None:
             got.append(content)
             if len(got) < n:
@@ -813,6 +963,12 @@ class Agent:
             reasoning.fail_intention(self, i, annots=reasoning.error_annots(
                 self, im, im.current, "ask_failed", msg))
 
+
+#: what an intention waits for when its own event is queued (it is not blocking then)
+_OWN_EVENT_WAITS = frozenset({None, Suspension.SUBGOAL, Suspension.EVENT, Suspension.FAILURE})
+
+_JAG_SLEEPING = Trigger(ADD, BELIEF, Literal("jag_sleeping"))
+_JAG_AWAKING = Trigger(ADD, BELIEF, Literal("jag_awaking"))
 
 #: the event of a message handled by (default or user) plans
 _KQML_RECEIVED = Trigger(ADD, ACHIEVE, Literal("kqml_received", (Literal("s"), Literal("p"),

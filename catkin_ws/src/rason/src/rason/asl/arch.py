@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import random
 import threading
 import time
 from dataclasses import dataclass, field
@@ -139,3 +140,38 @@ class AgentArch:
 
     def console(self, agent_name: str, text: str) -> None:
         print(f"[{agent_name}] {text}", flush=True)
+
+
+class JavaRandom(random.Random):
+    """``java.util.Random``'s generator (a 48-bit linear congruential one), so that a seeded
+    agent (``.set_random_seed``, ``--seed``) draws the numbers Jason draws with that seed."""
+
+    _MULT = 0x5DEECE66D
+    _MASK = (1 << 48) - 1
+
+    def seed(self, a: Any = None, version: int = 2) -> None:
+        if a is None:
+            a = random.SystemRandom().getrandbits(64)
+        if not isinstance(a, int):
+            a = hash(a)
+        self._state = (a ^ self._MULT) & self._MASK
+
+    def _next(self, bits: int) -> int:
+        self._state = (self._state * self._MULT + 0xB) & self._MASK
+        return self._state >> (48 - bits)
+
+    def random(self) -> float:
+        return ((self._next(26) << 27) + self._next(27)) * (1.0 / (1 << 53))
+
+    def getrandbits(self, k: int) -> int:
+        out, got = 0, 0
+        while got < k:
+            out = (out << 32) | self._next(32)
+            got += 32
+        return out >> (got - k)
+
+    def getstate(self) -> Any:
+        return self._state
+
+    def setstate(self, state: Any) -> None:
+        self._state = state

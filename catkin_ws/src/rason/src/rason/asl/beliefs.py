@@ -108,6 +108,14 @@ class BeliefBase:
         else:
             entries.append(rule)
 
+    def remove_rule(self, rule: Rule) -> None:
+        key = rule.head.key
+        lst = [r for r in self._index.get(key, ()) if r is not rule]
+        if lst:
+            self._index[key] = lst
+        else:
+            self._index.pop(key, None)
+
     def remove(self, lit: Literal) -> Literal | None:
         """Remove ``lit``'s annotations from the stored belief (whole belief when no source is
         left). Returns the literal for the ``-b`` event or None if nothing was removed."""

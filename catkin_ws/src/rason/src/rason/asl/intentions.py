@@ -89,7 +89,8 @@ class Suspension(Enum):
 class Intention:
     """A stack of intended means; ``ims[-1]`` is the top."""
 
-    __slots__ = ("atomic_count", "dropped", "id", "ims", "pi_key", "reply", "sus_ia", "suspended")
+    __slots__ = ("atomic_count", "dropped", "id", "ims", "pi_key", "reply", "sus_ia", "suspended",
+                 "wait_elapsed", "wait_reason")
 
     def __init__(self, ident: int | None = None) -> None:
         self.id = ident if ident is not None else next(_ids)
@@ -104,6 +105,10 @@ class Intention:
         # its key in Jason's pending intentions (PI): "suspended-<id>" (by .suspend),
         # "<id>/time<ms>" (.wait)... .resume and .intention follow the order of these keys
         self.pi_key: str | None = None
+        # what a .wait waits for, as Jason's suspended reason (``wait(500)[time(500)]``)
+        self.wait_reason: Any = None
+        # .wait(E, T, Elapsed): (the Elapsed term, start time); a timeout then does not fail
+        self.wait_elapsed: Any = None
 
     def push(self, im: IntendedMeans) -> None:
         self.ims.append(im)
@@ -147,6 +152,7 @@ class TimerKind(Enum):
     WAIT = "wait"                     # ``.wait(ms)``: the intention goes on
     EVENT_TIMEOUT = "event_timeout"   # ``.wait(E, ms)``: the intention fails
     ASK_TIMEOUT = "ask_timeout"       # ``.send(.., askOne, .., A, ms)``: A is ``timeout``
+    AT = "at"                         # ``.at(When, Event)``: the event is posted
 
 
 class Timer(NamedTuple):
@@ -155,8 +161,9 @@ class Timer(NamedTuple):
     deadline: float
     seq: int
     kind: TimerKind
-    intention: Intention
+    intention: Intention | None
     msg_id: str | None = None   # for ASK_TIMEOUT: the question
+    data: Any = None            # AT: the trigger; EVENT_TIMEOUT: the wait it ends (its reason)
 
 
 class EventWait(NamedTuple):

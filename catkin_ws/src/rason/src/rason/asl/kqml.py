@@ -9,7 +9,7 @@ program's own).
 from .parser import parse_source
 
 KQML_PLANS = r"""
-@kqmlReceivedTellStructure
+@kqmlReceivedTellStructure[atomic]
 +!kqml_received(Sender, tell, Content, _)
    :  .literal(Content) & .ground(Content) & not .list(Content) &
       .add_nested_source(Content, Sender, CA)
@@ -34,10 +34,10 @@ KQML_PLANS = r"""
 +!add_all_kqml_received(Sender, [_|T])
    <- !add_all_kqml_received(Sender, T).
 
-@kqmlReceivedUnTell
+@kqmlReceivedUnTell[atomic]
 +!kqml_received(Sender, untell, Content, _)
-   <- .add_nested_source(Content, Sender, CA);
-      --CA.
+   :  .add_nested_source(Content, Sender, CA)
+   <- --CA.
 
 @kqmlReceivedAchieve
 +!kqml_received(Sender, achieve, Content, _)
@@ -62,15 +62,10 @@ KQML_PLANS = r"""
 +!kqml_received(_, unachieve, Content, _)
    <- .drop_desire(Content).
 
-@kqmlReceivedAskOne1a
+@kqmlReceivedAskOne1d
 +!kqml_received(Sender, askOne, Content, MsgId)
-   :  .remove_source_annot(Content, C2) & C2[source(self)]
-   <- .send(Sender, tell, Content, MsgId).
-
-@kqmlReceivedAskOne1b
-+!kqml_received(Sender, askOne, Content, MsgId)
-   :  Content[source(AGS)]
-   <- .send(Sender, tell, Content[source(AGS)], MsgId).
+   :  .kqml_belief_answer(Content, Ans)
+   <- .send(Sender, tell, Ans, MsgId).
 
 @kqmlReceivedAskOne1c
 +!kqml_received(Sender, askOne, Content, MsgId)
@@ -85,9 +80,8 @@ KQML_PLANS = r"""
 
 @kqmlReceivedAskAll2
 +!kqml_received(Sender, askAll, Content, MsgId)
-   <- .findall(Content[source(AGS)], Content[source(AGS)], List);
-      .clear_source_self(List, L2);
-      .send(Sender, tell, L2, MsgId).
+   <- .findall(Ans, .kqml_belief_answer(Content, Ans), List);
+      .send(Sender, tell, List, MsgId).
 
 @kqmlReceivedTellHow
 +!kqml_received(Sender, tellHow, Content, _)

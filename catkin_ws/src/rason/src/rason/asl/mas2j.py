@@ -1,12 +1,22 @@
-"""Reader for Jason ``.mas2j`` project files (agents, ``#N`` copies, ``aslSourcePath``...)."""
+"""Reader for Jason ``.mas2j`` project files, parsed with a lark grammar of Jason 3.3's MAS
+language: ``infrastructure``, ``environment``, ``executionControl`` (with ``at``), ``agents``
+(file, options, ``agentArchClass``, ``agentClass``, ``beliefBaseClass``, ``#N``, ``at``),
+``directives``, ``classpath`` and ``aslSourcePath``.
+
+What has no meaning in a local or ROS run (infrastructures, environments, Java classes, hosts)
+is parsed and reported once in :attr:`MasProject.notes`.
+"""
 
 from __future__ import annotations
 
 import os
-import re
 from dataclasses import dataclass, field
+from typing import Any
 
-from .parser import AslSyntaxError
+from lark import Lark, Transformer, v_args
+from lark.exceptions import LarkError, UnexpectedInput
+
+from .parser import AslSyntaxError, _describe
 
 
 @dataclass
@@ -17,6 +27,9 @@ class AgentSpec:
     asl_path: str
     arch_class: str | None = None
     options: dict = field(default_factory=dict)
+    agent_class: str | None = None
+    bb_class: str | None = None
+    host: str | None = None
 
 
 @dataclass
@@ -27,90 +40,227 @@ class MasProject:
     infrastructure: str | None = None
     environment: str | None = None
     notes: list[str] = field(default_factory=list)
+    source_path: list[str] = field(default_factory=list)
+    directives: dict[str, str] = field(default_factory=dict)
+    classpath: list[str] = field(default_factory=list)
+    execution_control: str | None = None
 
 
-_COMMENT = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
+MAS2J_GRAMMAR = r"""
+start: "MAS" ID "{" section* "}"
+?section: infra | env | control | agents | directives | classpath | sourcepath
+infra: "infrastructure" ":" class_def
+env: "environment" ":" class_def [at]
+control: "executionControl" ":" class_def [at]
+agents: "agents" ":" agent*
+agent: ID [file_name] [options] agent_extra* ";"
+?agent_extra: "agentArchClass" class_def  -> arch_class
+            | "agentClass" class_def      -> agent_class
+            | "beliefBaseClass" class_def -> bb_class
+            | "#" NUMBER                  -> count
+            | at
+at: "at" STRING
+file_name: [PATH] ID ["." ID]
+options: "[" option ("," option)* "]"
+option: ID "=" opt_value
+?opt_value: STRING | ID | NUMBER | opt_list | ID "/" NUMBER -> opt_indicator
+opt_list: "[" [opt_value ("," opt_value)*] "]"
+directives: "directives" ":" (ID "=" class_def ";")+
+classpath: "classpath" ":" (STRING ";")+
+sourcepath: "aslSourcePath" ":" (STRING ";")+
+class_def: dotted [class_params]
+dotted: ID ("." ID)*
+class_params: "(" [param ("," param)*] ")"
+?param: class_def | NUMBER | STRING | param_list
+param_list: "[" param ("," param)* "]"
+
+PATH: /(\.\/|\/|\\|[A-Za-z]:)([A-Za-z0-9_\-.]*[\/\\])*/
+ID: /[A-Za-z_][A-Za-z0-9_]*/
+NUMBER: /[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?/
+STRING: /"(\\.|[^"\\])*"/
+COMMENT: /\/\/[^\n]*/
+BLOCK_COMMENT: /\/\*(.|\n)*?\*\//
+%import common.WS
+%ignore WS
+%ignore COMMENT
+%ignore BLOCK_COMMENT
+"""
+
+_lark: Lark | None = None
 
 
-def _line_col(text: str, pos: int) -> tuple[int, int]:
-    line = text.count("\n", 0, pos) + 1
-    col = pos - (text.rfind("\n", 0, pos) + 1) + 1
-    return line, col
+def _get_lark() -> Lark:
+    global _lark
+    if _lark is None:
+        _lark = Lark(MAS2J_GRAMMAR, parser="lalr", propagate_positions=True, maybe_placeholders=True)
+    return _lark
+
+
+def _unquote(s: str) -> str:
+    return s[1:-1].replace('\\"', '"') if s.startswith('"') else s
+
+
+@v_args(meta=True)
+class _ToProject(Transformer):
+    def dotted(self, meta: Any, c: list) -> str:
+        return ".".join(str(x) for x in c)
+
+    def class_params(self, meta: Any, c: list) -> str:
+        return "(" + ", ".join(str(x) for x in c if x is not None) + ")"
+
+    def class_def(self, meta: Any, c: list) -> str:
+        return c[0] + (c[1] or "")
+
+    def param_list(self, meta: Any, c: list) -> str:
+        return "[" + ", ".join(str(x) for x in c) + "]"
+
+    def opt_list(self, meta: Any, c: list) -> str:
+        return "[" + ", ".join(_unquote(str(x)) for x in c if x is not None) + "]"
+
+    def opt_indicator(self, meta: Any, c: list) -> str:
+        return f"{c[0]}/{c[1]}"
+
+    def option(self, meta: Any, c: list) -> tuple:
+        return (str(c[0]), _unquote(str(c[1])))
+
+    def options(self, meta: Any, c: list) -> dict:
+        return dict(c)
+
+    def file_name(self, meta: Any, c: list) -> str:
+        path, name, ext = c
+        return (str(path) if path else "") + str(name) + "." + (str(ext) if ext else "asl")
+
+    def at(self, meta: Any, c: list) -> tuple:
+        return ("at", _unquote(str(c[0])))
+
+    def arch_class(self, meta: Any, c: list) -> tuple:
+        return ("arch", c[0])
+
+    def agent_class(self, meta: Any, c: list) -> tuple:
+        return ("agent_class", c[0])
+
+    def bb_class(self, meta: Any, c: list) -> tuple:
+        return ("bb_class", c[0])
+
+    def count(self, meta: Any, c: list) -> tuple:
+        return ("count", int(float(str(c[0]))))
+
+    def agent(self, meta: Any, c: list) -> tuple:
+        return ("agent", (str(c[0]), c[1], c[2] or {}, c[3:], meta))
+
+    def agents(self, meta: Any, c: list) -> tuple:
+        return ("agents", c)
+
+    def infra(self, meta: Any, c: list) -> tuple:
+        return ("infrastructure", c[0])
+
+    def env(self, meta: Any, c: list) -> tuple:
+        return ("environment", (c[0], c[1]))
+
+    def control(self, meta: Any, c: list) -> tuple:
+        return ("control", (c[0], c[1]))
+
+    def directives(self, meta: Any, c: list) -> tuple:
+        return ("directives", {str(c[k]): c[k + 1] for k in range(0, len(c), 2)})
+
+    def classpath(self, meta: Any, c: list) -> tuple:
+        return ("classpath", [_unquote(str(x)) for x in c])
+
+    def sourcepath(self, meta: Any, c: list) -> tuple:
+        return ("sourcepath", [_unquote(str(x)) for x in c])
+
+    def start(self, meta: Any, c: list) -> tuple:
+        return (str(c[0]), c[1:])
+
+
+def _fix_path(p: str, base_dir: str) -> list[str]:
+    """A source-path entry: a relative one is looked up from the project's folder, then from
+    the current folder (Jason runs projects from either)."""
+    if os.path.isabs(p):
+        return [p]
+    return [os.path.join(base_dir, p), os.path.abspath(p)]
 
 
 def parse_mas2j(text: str, path: str = "<mas2j>") -> MasProject:
     """Parse the text of a ``.mas2j`` file; raises :class:`AslSyntaxError`."""
-    clean = _COMMENT.sub(lambda m: re.sub(r"[^\n]", " ", m.group(0)), text)
-    m = re.search(r"\bMAS\s+([A-Za-z_][\w.-]*)\s*\{", clean)
-    if not m:
-        raise AslSyntaxError(path, 1, 1, "expected 'MAS name {'")
-    name = m.group(1)
-    end = clean.rfind("}")
-    if end < m.end():
-        ln, col = _line_col(text, len(text))
-        raise AslSyntaxError(path, ln, col, "missing '}'")
-    body = clean[m.end():end]
-    base = m.end()
+    try:
+        tree = _get_lark().parse(text)
+        name, sections = _ToProject().transform(tree)
+    except UnexpectedInput as e:
+        line = getattr(e, "line", -1)
+        col = getattr(e, "column", -1)
+        if line is None or line < 1:
+            line, col = text.count("\n") + 1, len(text) - (text.rfind("\n") + 1) + 1
+        raise AslSyntaxError(path, line, col, _describe(e)) from None
+    except LarkError as e:
+        raise AslSyntaxError(path, 1, 1, str(e).splitlines()[0] if str(e) else "invalid project") from None
     base_dir = os.path.dirname(os.path.abspath(path)) if path != "<mas2j>" else os.getcwd()
     proj = MasProject(name, [], path)
-    src_paths = [base_dir]
-    sp = re.search(r"\baslSourcePath\s*:\s*([^;]*);", body)
-    if sp:
-        src_paths = []
-        for s in re.findall(r'"([^"]*)"', sp.group(1)):
-            src_paths.append(s if os.path.isabs(s) else os.path.join(base_dir, s))
-        src_paths.append(base_dir)
-    inf = re.search(r"\binfrastructure\s*:\s*([^\n;]*)", body)
-    if inf:
-        proj.infrastructure = inf.group(1).strip()
-        proj.notes.append(f"infrastructure '{proj.infrastructure}' ignored: agents run locally")
-    env = re.search(r"\benvironment\s*:\s*([^\n;]*)", body)
-    if env:
-        proj.environment = env.group(1).strip()
-        proj.notes.append(f"environment '{proj.environment}' ignored: no environment in local runs")
-    ag = re.search(r"\bagents\s*:", body)
-    if not ag:
-        return proj
-    # the agents section runs until the next known section keyword or the end
-    rest_start = ag.end()
-    nxt = re.search(r"\b(aslSourcePath|environment|infrastructure|executionControl|classpath|directives)\s*:",
-                    body[rest_start:])
-    section = body[rest_start: rest_start + nxt.start() if nxt else len(body)]
-    offset = base + rest_start
-    for decl in re.finditer(r"[^;]+", section):
-        raw = decl.group(0)
-        txt = raw.strip()
-        if not txt:
-            continue
-        pos = offset + decl.start() + (len(raw) - len(raw.lstrip()))
-        dm = re.match(r"([a-z][\w]*)\s*(.*)$", txt, re.S)
-        if not dm:
-            ln, col = _line_col(text, pos)
-            raise AslSyntaxError(path, ln, col, f"invalid agent declaration {txt.split()[0]!r}")
-        agname, tail = dm.group(1), dm.group(2)
-        file_m = re.match(r"([\w./-]+\.asl)\b", tail)
-        asl_file = file_m.group(1) if file_m else agname + ".asl"
-        arch_m = re.search(r"\bagentArchClass\s+([\w.$]+)", tail)
-        count_m = re.search(r"#\s*(\d+)", tail)
-        n = int(count_m.group(1)) if count_m else 1
-        asl_path = None
-        for d in src_paths:
-            cand = os.path.join(d, asl_file)
-            if os.path.isfile(cand):
-                asl_path = cand
-                break
+    decls: list = []
+    for kind, value in sections:
+        if kind == "infrastructure":
+            proj.infrastructure = value
+            proj.notes.append(f"infrastructure '{value}' ignored: agents run locally")
+        elif kind == "environment":
+            proj.environment = value[0]
+            proj.notes.append(f"environment '{value[0]}' ignored: no Java environment here "
+                              "(on ROS the robot is the environment)")
+        elif kind == "control":
+            proj.execution_control = value[0]
+            proj.notes.append(f"executionControl '{value[0]}' ignored: agents run asynchronously")
+        elif kind == "directives":
+            proj.directives.update(value)
+            proj.notes.append(f"user directives {sorted(value)} ignored: Java directive classes "
+                              "cannot be loaded")
+        elif kind == "classpath":
+            proj.classpath.extend(value)
+            proj.notes.append("classpath ignored: no Java classes are loaded")
+        elif kind == "sourcepath":
+            for p in value:
+                if p.startswith("$"):   # inside Jason's jar: nothing of it here
+                    continue
+                proj.source_path.extend(d for d in _fix_path(p, base_dir) if d not in proj.source_path)
+        elif kind == "agents":
+            decls.extend(v for _, v in value)
+    search = [*proj.source_path, base_dir]
+    for agname, fname, opts, extras, _meta in decls:
+        asl_file = fname or agname + ".asl"
+        spec_kw: dict = {}
+        n = 1
+        for ek, ev in extras:
+            if ek == "count":
+                n = ev
+            elif ek == "arch":
+                spec_kw["arch_class"] = ev
+            elif ek == "agent_class":
+                spec_kw["agent_class"] = ev
+                proj.notes.append(f"agent {agname}: agentClass {ev} ignored (Java class)")
+            elif ek == "bb_class":
+                spec_kw["bb_class"] = ev
+                proj.notes.append(f"agent {agname}: beliefBaseClass {ev} ignored: the default "
+                                  "belief base is used")
+            elif ek == "at":
+                spec_kw["host"] = ev
+                proj.notes.append(f"agent {agname}: 'at \"{ev}\"' ignored: agents run in this process")
+        for opt in opts:
+            if opt in _UNUSED_OPTIONS:
+                proj.notes.append(f"agent {agname}: option {opt}={opts[opt]} has no effect here")
+        asl_path = next((os.path.normpath(os.path.join(d, asl_file)) for d in search
+                         if os.path.isfile(os.path.join(d, asl_file))), None)
         if asl_path is None:
-            asl_path = os.path.join(src_paths[0], asl_file)
-        arch = arch_m.group(1) if arch_m else None
-        if n == 1:
-            proj.agents.append(AgentSpec(agname, asl_path, arch))
-        else:
-            for k in range(1, n + 1):
-                proj.agents.append(AgentSpec(f"{agname}{k}", asl_path, arch))
+            asl_path = asl_file if os.path.isabs(asl_file) else os.path.join(search[0], asl_file)
+        names = [agname] if n == 1 else [f"{agname}{k}" for k in range(1, n + 1)]
+        for nm in names:
+            proj.agents.append(AgentSpec(nm, asl_path, options=dict(opts), **spec_kw))
     return proj
+
+
+#: Jason agent options that rason does not implement (it behaves as their defaults)
+_UNUSED_OPTIONS = frozenset({"events", "intBels", "nrcbp", "verbose", "synchronised", "queries",
+                             "mindinspector"})
 
 
 def load_mas2j(path: str) -> MasProject:
     """Read and parse a ``.mas2j`` file."""
     with open(path, encoding="utf-8") as f:
-        return parse_mas2j(f.read(), path)
+        return parse_mas2j(f.read(), str(path))

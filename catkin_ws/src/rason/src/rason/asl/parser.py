@@ -6,6 +6,9 @@ Every error is raised as :class:`AslSyntaxError` (``file:line:col: message``).
 from __future__ import annotations
 
 import itertools
+import os
+import sys
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -15,8 +18,10 @@ from lark.exceptions import LarkError, UnexpectedCharacters, UnexpectedEOF, Unex
 from .plans import (
     ACHIEVE,
     ADD,
+    ANON_LABEL,
     BELIEF,
     DEL,
+    GOAL_STATE,
     K_ACHIEVE,
     K_ACHIEVE_NEW,
     K_ACTION,
@@ -67,16 +72,19 @@ class AslSyntaxError(Exception):
 
 GRAMMAR = r"""
 start: item*
-?item: belief | rule | init_goal | plan
+?item: belief | rule | init_goal | plan | directive
 belief: literal "."
 rule: literal ":-" log_expr "."
 init_goal: "!" literal "."
 plan: [label] trigger [context] [plan_body] "."
-label: "@" literal
+directive: "{" literal "}"
+label: "@" literal              -> label
+     | "@" annots               -> label_anon
+     | "@" var                  -> label_var
 context: ":" log_expr
 plan_body: "<-" stmt_list
 trigger: top [goaltype] literal_or_var
-!top: "+" | "-"
+!top: "+" | "-" | "^"
 !goaltype: "!" | "?"
 
 stmt_list: simple
@@ -129,13 +137,18 @@ block: "{" [stmt_list] "}"
         | list
         | "(" log_expr ")"
         | "{" [stmt_list] "}"     -> plan_term
+        | "{" stmt_list ":-" log_expr "}"                    -> rule_term
+        | "{" stmt_list context [plan_body] "}"              -> plan_term_belief
+        | "{" stmt_list plan_body "}"                        -> plan_term_belief_noctx
         | "{" "+" goaltype literal_or_var [context] [plan_body] "}"  -> plan_term_add_goal
         | "{" "-" goaltype literal_or_var [context] [plan_body] "}"  -> plan_term_del_goal
+        | "{" "^" goaltype literal_or_var [context] [plan_body] "}"  -> plan_term_state_goal
         | "{" label trigger [context] [plan_body] "}"               -> plan_term_labelled
 
 ?literal_or_var: literal | var
 var: VAR [annots]
-literal: [NEG] ATOM [args] [annots]
+literal: [NEG] [NS] ATOM [args] [annots]
+NS.2: /[a-z][A-Za-z0-9_]*::/
 NEG: "~"
 args: "(" log_expr ("," log_expr)* ")"
 annots: "[" [elems] "]"
@@ -265,7 +278,9 @@ class _ToAst(Transformer):
         return ListTerm(items, tail)
 
     def literal(self, meta: Any, c: list) -> Literal:
-        neg, atom, args, annots = c
+        neg, ns, atom, args, annots = c
+        if ns is not None and str(ns) != "default::":
+            atom = str(ns) + str(atom)   # a namespace is kept as a prefix of the functor
         annots_t: tuple = ()
         tail = None
         if annots is not None:
@@ -318,7 +333,7 @@ class _ToAst(Transformer):
         return PlanTerm(body, body_str(body))
 
     def _plan_term(self, meta: Any, label: Any, trigger: Trigger, context: Any, body: Any) -> PlanTerm:
-        plan = Plan(label, trigger, context, tuple(body or ()), meta.line, self.src)
+        plan = Plan(label, trigger, context, tuple(body or ()), meta.line, self.src, in_file=False)
         return plan.as_term()
 
     def _goal_plan_term(self, meta: Any, op: str, c: list) -> PlanTerm:
@@ -328,6 +343,31 @@ class _ToAst(Transformer):
 
     def plan_term_add_goal(self, meta: Any, c: list) -> PlanTerm:
         return self._goal_plan_term(meta, ADD, c)
+
+    def plan_term_state_goal(self, meta: Any, c: list) -> PlanTerm:
+        return self._goal_plan_term(meta, GOAL_STATE, c)
+
+    def rule_term(self, meta: Any, c: list) -> PlanTerm:
+        """``{ head :- body }``: a rule as a term (for ``+``, ``.add_plan``, ``.relevant_rules``)."""
+        body, cond = c
+        if (len(body) != 1 or body[0].kind not in (K_ACTION, K_INTERNAL)
+                or not isinstance(body[0].term, Literal)):
+            raise _SemErr(meta, "wrong place for a rule")
+        rule = Rule(body[0].term, _fix(cond))
+        return PlanTerm((), str(rule), rule=rule)
+
+    def _belief_plan_term(self, meta: Any, body: list, context: Any, plan_body: Any) -> PlanTerm:
+        """``{ +b : c <- body }`` / ``{ -b <- body }``: a plan whose trigger is a belief."""
+        if len(body) != 1 or body[0].kind not in (K_ADD_BEL, K_DEL_BEL):
+            raise _SemErr(meta, "a plan term needs a trigger (+b, -b, +!g...)")
+        op = ADD if body[0].kind == K_ADD_BEL else DEL
+        return self._plan_term(meta, None, Trigger(op, BELIEF, body[0].term), context, plan_body)
+
+    def plan_term_belief(self, meta: Any, c: list) -> PlanTerm:
+        return self._belief_plan_term(meta, c[0], c[1], c[2])
+
+    def plan_term_belief_noctx(self, meta: Any, c: list) -> PlanTerm:
+        return self._belief_plan_term(meta, c[0], None, c[1])
 
     def plan_term_del_goal(self, meta: Any, c: list) -> PlanTerm:
         return self._goal_plan_term(meta, DEL, c)
@@ -365,6 +405,10 @@ class _ToAst(Transformer):
 
     def s_expr(self, meta: Any, c: list) -> Deed:
         t = c[0]
+        if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], PlanTerm):
+            return _plan_term_deed(t[1], ADD, meta.line)
+        if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, PlanTerm):
+            return _plan_term_deed(t.left, DEL, meta.line)
         if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], (Literal, Var, AnnotVar)):
             return Deed(K_ADD_BEL, t[1], meta.line)
         if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, (Literal, Var, AnnotVar)):
@@ -420,6 +464,17 @@ class _ToAst(Transformer):
     def label(self, meta: Any, c: list) -> Literal:
         return c[0]
 
+    def label_anon(self, meta: Any, c: list) -> Literal:
+        """``@[atomic]``: a label without a name (the plan library gives it one)."""
+        annots, _tail = c[0]
+        return Literal(ANON_LABEL, (), merge_annots((), annots))
+
+    def label_var(self, meta: Any, c: list) -> Any:
+        return c[0]
+
+    def directive(self, meta: Any, c: list) -> tuple:
+        return ("directive", _fix(c[0]), meta)
+
     def context(self, meta: Any, c: list) -> Any:
         return _fix(c[0])
 
@@ -427,7 +482,7 @@ class _ToAst(Transformer):
         return tuple(c[0])
 
     def trigger(self, meta: Any, c: list) -> Trigger:
-        op = ADD if str(c[0]) == "+" else DEL
+        op = {"+": ADD, "-": DEL}.get(str(c[0]), GOAL_STATE)
         gt = BELIEF if c[1] is None else (ACHIEVE if str(c[1]) == "!" else TEST)
         return Trigger(op, gt, _fix(c[2]))
 
@@ -437,6 +492,20 @@ class _ToAst(Transformer):
 
     def start(self, meta: Any, c: list) -> list:
         return c
+
+
+def _plan_term_deed(t: PlanTerm, op: str, line: int) -> Deed:
+    """``+{ rule }`` / ``-{ rule }`` change the rules; ``+{ plan }`` is ``.add_plan(P, self,
+    begin)`` and ``-{ plan }`` is ``.remove_plan(P)`` (as Jason's parser makes them)."""
+    if (t.plan is None and t.rule is None and len(t.body) == 1
+            and t.body[0].kind in (K_ADD_BEL, K_DEL_BEL)):
+        # +{ +b } is not a plan: keep the old reading of a braced body
+        return Deed(K_ADD_BEL if op == ADD else K_DEL_BEL, t, line)
+    if t.rule is not None:
+        return Deed(K_ADD_BEL if op == ADD else K_DEL_BEL, t, line)
+    if op == ADD:
+        return Deed(K_INTERNAL, Literal(".add_plan", (t, Literal("self"), Literal("begin"))), line)
+    return Deed(K_INTERNAL, Literal(".remove_plan", (t,)), line)
 
 
 class _SemErr(Exception):
@@ -506,10 +575,39 @@ def _parse_tree(text: str, filename: str, start: str = "start") -> Any:
     return tree
 
 
+#: Resolves an ``include`` directive: (file as written, including file) -> (path, text, src name).
+IncludeResolver = Callable[[str, str], tuple[str, str, str]]
+
+
+def path_include_resolver(search_path: list[str]) -> IncludeResolver:
+    """Jason's include lookup: the file as written, relative to the including file's folder,
+    then to each folder of the source path (``aslSourcePath``). A path Jason resolves inside
+    its own jar (``$jasonJar/...``) or any other path not found is then looked up by its file
+    name in the same folders."""
+    def resolve_include(name: str, including: str) -> tuple[str, str, str]:
+        name = name.replace("\\", "/")
+        folders = []
+        if including and not including.startswith("<"):
+            folders.append(os.path.dirname(os.path.abspath(including)))
+        folders.extend(search_path)
+        candidates = [name] if os.path.isabs(name) else []
+        rel = name.split("/", 1)[1] if name.startswith("$") and "/" in name else name
+        candidates += [os.path.join(d, rel) for d in folders if not os.path.isabs(rel)]
+        candidates += [os.path.join(d, os.path.basename(name)) for d in folders]
+        for cand in candidates:
+            if os.path.isfile(cand):
+                with open(cand, encoding="utf-8") as f:
+                    return cand, f.read(), name
+        raise FileNotFoundError(name)
+    return resolve_include
+
+
 def parse_source(text: str, filename: str = "<string>", src: str | None = None,
-                 exact: bool = False) -> AgentSource:
+                 exact: bool = False, include: IncludeResolver | None = None,
+                 _depth: int = 0) -> AgentSource:
     """Parse a whole ``.asl`` program (``exact``: text written by ``term_text``, see
-    :func:`parse_term_text`)."""
+    :func:`parse_term_text`); ``include`` finds the files of ``{ include("f.asl") }``
+    directives (default: relative to ``filename``'s folder)."""
     tree = _parse_tree(text, filename)
     tr = _ToAst(filename, exact)
     if src is not None:
@@ -539,9 +637,39 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
             if not isinstance(obj, Literal):
                 raise AslSyntaxError(filename, meta.line, meta.column, "an initial goal must be a literal")
             out.goals.append(obj)
+        elif kind == "directive":
+            _directive(out, obj, meta, filename, include, _depth)
         else:
             out.plans.append(obj)
     return out
+
+
+#: Jason's directives that need no action here (namespaces are kept as functor prefixes)
+_IGNORED_DIRECTIVES = frozenset({"begin", "end", "namespace"})
+
+
+def _directive(out: AgentSource, d: Any, meta: Any, filename: str, include: IncludeResolver | None,
+               depth: int) -> None:
+    """Apply a directive ``{ name(args) }``: ``include`` merges the other file in place."""
+    if not isinstance(d, Literal):
+        raise AslSyntaxError(filename, meta.line, meta.column, "invalid directive")
+    if d.functor == "include" and d.args and isinstance(d.args[0], str):
+        if depth > 20:
+            raise AslSyntaxError(filename, meta.line, meta.column, "include nested too deeply")
+        resolver = include or path_include_resolver([])
+        try:
+            path, text, src_name = resolver(d.args[0], filename)
+        except OSError:
+            raise AslSyntaxError(filename, meta.line, meta.column,
+                                 f"the included file '{d.args[0]}' was not found") from None
+        inner = parse_source(text, path, src=src_name, include=include, _depth=depth + 1)
+        out.beliefs.extend(inner.beliefs)
+        out.goals.extend(inner.goals)
+        out.plans.extend(inner.plans)
+        return
+    if d.functor not in _IGNORED_DIRECTIVES:
+        print(f"{filename}:{meta.line}: warning: directive {term_str(d)} is not known here; ignored",
+              file=sys.stderr)
 
 
 def parse_term(text: str, exact: bool = False) -> Any:

@@ -2,15 +2,20 @@
 
 from __future__ import annotations
 
+import copy
+import itertools
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from .terms import AnnotVar, Literal, PlanTerm, Var, is_constant, term_str
+from .terms import SOURCE_SELF, AnnotVar, Literal, PlanTerm, Var, is_constant, term_str
 from .unify import compile_resolve
 
 # triggering event operators and types
 ADD, DEL = "+", "-"
+GOAL_STATE = "^"   # goal-state meta events: ^!g[state(S)]
+#: the functor of an anonymous label (``@[atomic]``) until the plan library names the plan
+ANON_LABEL = "undefined"
 ACHIEVE, TEST, BELIEF = "!", "?", ""
 
 # body formula kinds (Jason's BodyType)
@@ -155,14 +160,18 @@ class Plan:
     # the context compiled on first use (see reasoning.sel_appl): None = not yet tried,
     # False = not a compilable shape
     compiled_context: Any = field(default=None, repr=False)
+    #: a plan of a source file (its label gets ``url(File)``), not one made from a plan term
+    in_file: bool = True
 
     def __post_init__(self) -> None:
+        if type(self.context) is Literal and self.context.functor == "true" and not self.context.args:
+            self.context = None   # as Jason's Plan.setContext: a 'true' context is no context
         self.rev_body = tuple(reversed(self.body))
-        if self.label is not None:
+        if isinstance(self.label, Literal):
             self.atomic = any(isinstance(a, Literal) and a.functor == "atomic" for a in self.label.annots)
 
     def label_name(self) -> str | None:
-        if self.label is None:
+        if not isinstance(self.label, Literal):
             return None
         return self.label.functor
 
@@ -176,9 +185,9 @@ class Plan:
     def body_text(self) -> str:
         return body_str(self.body)
 
-    def as_text(self) -> str:
+    def as_text(self, label: bool = True) -> str:
         s = ""
-        if self.label is not None:
+        if self.label is not None and label:
             s += "@" + term_str(self.label) + " "
         s += str(self.trigger)
         if self.context is not None:
@@ -186,6 +195,45 @@ class Plan:
         if self.body:
             s += " <- " + body_str(self.body)
         return s
+
+
+def map_deeds(body: tuple, fn: Any) -> tuple:
+    """The deeds of a body with ``fn`` applied to every term (blocks included)."""
+    out = []
+    for d in body:
+        if d.kind == K_IF:
+            branches, els = d.extra
+            extra = ([(fn(c), map_deeds(b, fn)) for c, b in branches],
+                     None if els is None else map_deeds(els, fn))
+        elif d.kind in (K_WHILE, K_FOR):
+            extra = map_deeds(d.extra, fn)
+        else:
+            extra = d.extra
+        out.append(Deed(d.kind, fn(d.term), d.line, extra))
+    return tuple(out)
+
+
+def map_plan_term(t: PlanTerm, fn: Any) -> PlanTerm:
+    """``t`` with ``fn`` applied to every term in it (``resolve``, renaming); ``t`` itself
+    when nothing changed."""
+    if t.rule is not None:
+        from .parser import Rule
+        head, body = fn(t.rule.head), fn(t.rule.body)
+        if head == t.rule.head and body == t.rule.body:
+            return t
+        rule = Rule(head, body)
+        return PlanTerm((), str(rule), rule=rule)
+    p = t.plan
+    if p is None:
+        body = map_deeds(t.body, fn)
+        text = body_str(body)
+        return t if text == t.text else PlanTerm(body, text, braces=t.braces)
+    label = p.label if p.label is None else fn(p.label)
+    trigger = Trigger(p.trigger.op, p.trigger.type, fn(p.trigger.literal))
+    context = p.context if p.context is None else fn(p.context)
+    q = Plan(label, trigger, context, map_deeds(p.body, fn), p.line, p.src, in_file=p.in_file)
+    text = q.as_text()
+    return t if text == t.text else PlanTerm(q.body, text, q)
 
 
 def body_deeds(body: tuple) -> Iterator[Deed]:
@@ -201,6 +249,30 @@ def body_deeds(body: tuple) -> Iterator[Deed]:
             yield from body_deeds(d.extra)
 
 
+_plan_numbers = itertools.count(1)
+
+
+def named_plan(plan: Plan) -> Plan:
+    """The plan as Jason's ``PlanLibrary.add`` keeps it: a plan without a label (or with an
+    anonymous one, ``@[atomic]``) is named ``p__N`` (annotations kept), and the label carries
+    ``source(self)`` when it names no source and ``url(File)`` of the file it came from."""
+    label = plan.label
+    if isinstance(label, Literal) and label.functor != ANON_LABEL and label.has_source() \
+            and (not plan.src or not plan.in_file
+                 or any(isinstance(a, Literal) and a.functor == "url" for a in label.annots)):
+        return plan
+    if not isinstance(label, Literal) or label.functor == ANON_LABEL:
+        annots = label.annots if isinstance(label, Literal) else ()
+        label = Literal(f"p__{next(_plan_numbers)}", (), annots)
+    extra = [] if label.has_source() else [SOURCE_SELF]
+    if plan.src and plan.in_file and not any(isinstance(a, Literal) and a.functor == "url"
+                                             for a in label.annots):
+        extra.append(Literal("url", (plan.src,)))
+    named = copy.copy(plan)
+    named.label = label.add_annots(extra) if extra else label
+    return named
+
+
 class PlanLibrary:
     """Plans indexed by trigger (operator, type, functor, arity) in source order."""
 
@@ -208,8 +280,11 @@ class PlanLibrary:
         self.plans: list[Plan] = []
         self._index: dict[tuple, list[Plan]] = {}
         self._var_plans: list[Plan] = []
+        #: some plan handles goal-state meta events (``^!g[state(S)]``)
+        self.goal_state_plans = False
 
     def add(self, plan: Plan, front: bool = False) -> None:
+        plan = named_plan(plan)
         if front:
             self.plans.insert(0, plan)
         else:
@@ -230,6 +305,7 @@ class PlanLibrary:
     def _rebuild(self) -> None:
         self._index = {}
         self._var_plans = []
+        self.goal_state_plans = any(p.trigger.op == GOAL_STATE for p in self.plans)
         for p in self.plans:
             if isinstance(p.trigger.literal, (Var, AnnotVar)):
                 self._var_plans.append(p)
@@ -237,7 +313,10 @@ class PlanLibrary:
                 self._index.setdefault(p.trigger.key, []).append(p)
 
     def relevant(self, trigger: Trigger) -> list[Plan]:
-        """Candidate plans for a trigger (Jason ``getCandidatePlans``)."""
+        """Candidate plans for a trigger (Jason ``getCandidatePlans``); for a variable
+        (``+!_``), every plan of the same operator and type."""
+        if trigger.key[2] is None:
+            return [p for p in self.plans if p.trigger.op == trigger.op and p.trigger.type == trigger.type]
         lst = self._index.get(trigger.key)
         if self._var_plans:
             extra = [p for p in self._var_plans

@@ -11,10 +11,12 @@ from typing import TYPE_CHECKING, Any
 
 from .intentions import Event, IntendedMeans, Intention, Suspension
 from .logic import IAContext, compile_context, eval_rel, first_solution, query_bb, solve
+from .parser import Rule
 from .plans import (
     ACHIEVE,
     ADD,
     DEL,
+    GOAL_STATE,
     K_ACHIEVE,
     K_ACHIEVE_NEW,
     K_ACTION,
@@ -36,7 +38,7 @@ from .plans import (
     Trigger,
 )
 from .stdlib import SUSPEND, FailGoal, IAError, call_ia
-from .terms import ListTerm, Literal, RelExpr, is_ground, is_internal_action, term_str
+from .terms import ListTerm, Literal, PlanTerm, RelExpr, is_ground, is_internal_action, term_str
 from .unify import ArithError, rename_vars, resolve, unify
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -269,6 +271,8 @@ def _no_plan(ag: Agent, trig: Trigger, i: Intention | None, what: str) -> bool:
     if i is not None and not trig.is_goal:
         _resume_after_belief_event(ag, i)
         return True
+    if trig.op == GOAL_STATE:
+        return False   # a goal-state meta event nobody handles now is dropped silently
     if i is not None:
         msg = f"Found a goal for which there is no {what} plan: {trig}"
         if trig.op == DEL:
@@ -341,6 +345,7 @@ def sel_int(ag: Agent) -> Intention | None:
             if i.is_atomic:
                 running.remove(i)
                 return i
+        return None   # the atomic intention waits: nothing else runs meanwhile (as in Jason)
     return running.popleft()
 
 
@@ -442,6 +447,8 @@ def _exec_add_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
     """``+b``: add a belief; its event belongs to this intention."""
     u = im.u
     im.stack.pop()
+    if type(d.term) is PlanTerm:
+        return _change_rule(ag, im, d, ADD)
     lit = _self_sourced(ag, d, u, "cannot add {} as a belief")
     return _await_own_event(i, im, d, ag.add_belief(lit, front=True, focus=i))
 
@@ -471,7 +478,10 @@ def _exec_achieve(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     if not (lit._g or is_ground(lit)):
         lit = rename_vars(lit, {})
     i.suspended = Suspension.SUBGOAL
-    ag.events.append(Event(Trigger(ADD, ACHIEVE, lit), i))
+    trig = Trigger(ADD, ACHIEVE, lit)
+    ag.events.append(Event(trig, i))
+    if ag.pl.goal_state_plans:
+        ag.goal_state(trig, "pending")
     return False
 
 
@@ -479,11 +489,10 @@ def _exec_achieve_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed)
     """``!!g``: post the goal as a new intention's event."""
     u = im.u
     im.stack.pop()
-    if d.self_trigger is not None:
-        ag.add_event(Event(d.self_trigger))
-        return True
-    lit = _self_sourced(ag, d, u, "invalid goal {}")
-    ag.add_event(Event(Trigger(ADD, ACHIEVE, lit)))
+    trig = d.self_trigger
+    if trig is None:
+        trig = Trigger(ADD, ACHIEVE, _self_sourced(ag, d, u, "invalid goal {}"))
+    ag.add_event(Event(trig))   # (its goal-state event "pending" is posted there)
     return True
 
 
@@ -523,10 +532,32 @@ def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) ->
 def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``-b``: remove a belief; its event belongs to this intention."""
     im.stack.pop()
+    if type(d.term) is PlanTerm:
+        return _change_rule(ag, im, d, DEL)
     lit = _belief_to_remove(ag, im, d)
     if lit is None:
         return True
     return _await_own_event(i, im, d, ag.remove_belief(lit, focus=i))
+
+
+def _change_rule(ag: Agent, im: IntendedMeans, d: Deed, op: str) -> bool:
+    """``+{ h :- b }`` adds a rule at the beginning of the rules for ``h``; ``-{ h :- b }``
+    removes the first rule that unifies with it."""
+    t = resolve(d.term, im.u)
+    rule = t.rule if type(t) is PlanTerm else None
+    if rule is None or not isinstance(rule.head, Literal):
+        raise IAError(f"cannot add {term_str(t)} as a belief")
+    if op == ADD:
+        ag.bb.add_rule(Rule(rule.head.with_self_source(), rule.body), front=True)
+        return True
+    for r in list(ag.bb.candidates(rule.head.key)):
+        if isinstance(r, Rule):
+            s2 = dict(im.u)
+            if unify(r.head.no_annots(), rule.head.no_annots(), s2) and unify(r.body, rule.body, s2):
+                ag.bb.remove_rule(r)
+                im.u = s2
+                break
+    return True
 
 
 def _belief_to_remove(ag: Agent, im: IntendedMeans, d: Deed) -> Literal | None:
@@ -686,6 +717,10 @@ def clr_int(ag: Agent, i: Intention) -> None:
     ims = i.ims
     while ims and not ims[-1].stack:
         im = i.pop()
+        if ag.pl.goal_state_plans and im.trigger.is_goal and im.trigger.op != GOAL_STATE:
+            # a -!g plan that finishes achieves g too (Jason: the goal of the top means)
+            ag.goal_state(im.trigger, "achieved")
+            ag.goal_state(im.trigger, "finished")
         if not ims:
             ag.intention_finished(i, im)
             return
@@ -755,6 +790,8 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
 
 def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx: int) -> None:
     t = im.trigger
+    if ag.pl.goal_state_plans:
+        ag.goal_state(t, "failed")
     lit = t.literal.add_annots(annots) if isinstance(t.literal, Literal) else t.literal
     ag.detach(i)
     i.suspended = Suspension.FAILURE
@@ -770,6 +807,8 @@ def fail_goal_at(ag: Agent, i: Intention, idx: int) -> None:
         t = im.trigger
         if ag.pl.has_candidate(DEL, t.type, t.literal):
             if t.op == ADD and t.is_goal:
+                if ag.pl.goal_state_plans:
+                    ag.goal_state(t, "failed")
                 lit = t.literal.no_annots() if isinstance(t.literal, Literal) else t.literal
                 ag.detach(i)
                 i.suspended = Suspension.FAILURE

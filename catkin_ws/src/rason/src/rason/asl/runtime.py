@@ -29,6 +29,13 @@ class LocalArch(AgentArch):
     def agent_names(self) -> list[str]:
         return list(self.mas.agents)
 
+    def create_agent(self, creator: Agent, name: str | None, source: str | None) -> str:
+        """``.create_agent``: a new agent of this MAS (its file found as the project's are)."""
+        return self.mas.create_agent(name, source, creator)
+
+    def kill_agent(self, name: str) -> bool:
+        return self.mas.kill_agent(name)
+
     def console(self, agent_name: str, text: str) -> None:
         self.mas.console(agent_name, text)
 
@@ -52,6 +59,8 @@ class LocalMas:
         self._wake = threading.Event()
         self.notes: list[str] = []
         self.options = AgentOptions()   # for agents added without options of their own
+        #: the project's ``aslSourcePath`` (included files, agents made by ``.create_agent``)
+        self.source_path: list[str] = []
 
     # ------------------------------------------------------------ setup
     def console(self, agent_name: str, text: str) -> None:
@@ -70,23 +79,66 @@ class LocalMas:
     def add_agent(self, name: str, source: str, filename: str = "<string>", seed: int | None = None,
                   src_name: str | None = None, options: AgentOptions | None = None) -> Agent:
         ag = Agent(name, source, self.make_arch(name), filename, seed=seed, src_name=src_name,
-                   options=options if options is not None else self.options)
+                   options=options if options is not None else self.options,
+                   source_path=self.source_path)
         ag.on_wake = self.notify
         self.agents[name] = ag
         return ag
 
     def load_project(self, proj: MasProject, seed: int | None = None) -> None:
         base = os.path.dirname(os.path.abspath(proj.path))
+        self.source_path = [*proj.source_path, base]
         for k, spec in enumerate(proj.agents):
             src = load_agent_source(spec.asl_path)
             rel = os.path.relpath(spec.asl_path, base)
             opts = AgentOptions.from_options(spec.options, self.options)
-            self.add_agent(spec.name, src, spec.asl_path, None if seed is None else seed + k, src_name=rel,
-                           options=opts)
+            ag = self.add_agent(spec.name, src, spec.asl_path, None if seed is None else seed + k,
+                                src_name=rel, options=opts)
+            ag.add_initial(spec.options.get("beliefs"), spec.options.get("goals"))
             if spec.arch_class:
                 self.notes.append(f"agent {spec.name}: agentArchClass {spec.arch_class} accepted "
                                   "(local run uses the built-in architecture)")
         self.notes.extend(proj.notes)
+
+    def find_source(self, source: str, near: str | None = None) -> str:
+        """The path of an agent's ``.asl`` file: as given, then in the creator's folder and
+        the project's source path."""
+        folders = [os.path.dirname(os.path.abspath(near))] if near and not near.startswith("<") else []
+        folders += [*self.source_path, os.getcwd()]
+        if os.path.isabs(source) and os.path.isfile(source):
+            return source
+        for d in folders:
+            for cand in (os.path.join(d, source), os.path.join(d, os.path.basename(source))):
+                if os.path.isfile(cand):
+                    return cand
+        if os.path.isfile(source):
+            return os.path.abspath(source)
+        raise FileNotFoundError(source)
+
+    def create_agent(self, name: str | None, source: str | None, creator: Agent | None = None) -> str:
+        """Add an agent while the MAS runs (``.create_agent``); a taken name gets a suffix."""
+        base = name or "agent"
+        final = base
+        k = 1
+        while final in self.agents:
+            final = f"{base}_{k}"
+            k += 1
+        if source is None:
+            path, text = "<string>", ""
+        else:
+            path = self.find_source(source, creator.filename if creator else None)
+            text = load_agent_source(path)
+        self.add_agent(final, text, path, src_name=source)
+        self.notify()
+        return final
+
+    def kill_agent(self, name: str) -> bool:
+        ag = self.agents.pop(name, None)
+        if ag is None:
+            return False
+        ag.request_stop()
+        self.notify()
+        return True
 
     # ------------------------------------------------------------ run
     def step_all(self) -> bool:

@@ -233,20 +233,36 @@ class LogExpr(_Expr):
 
 class PlanTerm:
     """A plan/plan-body term in braces, e.g. ``{ p(1) }``, ``{+stop}`` or a whole plan
-    ``{ @l +!g : c <- .print(a) }`` (then ``plan`` is the :class:`~.plans.Plan`)."""
+    ``{ @l +!g : c <- .print(a) }`` (then ``plan`` is the :class:`~.plans.Plan`; a plan with
+    neither label, context nor body is Jason's trigger term ``{+!g}``), or a rule
+    ``{ p(X) :- q(X) }`` (then ``rule`` is the :class:`~.parser.Rule`)."""
 
-    __slots__ = ("body", "plan", "text")
+    __slots__ = ("_g", "body", "braces", "plan", "rule", "text")
 
-    def __init__(self, body: tuple, text: str, plan: Any = None) -> None:
+    def __init__(self, body: tuple, text: str, plan: Any = None, rule: Any = None,
+                 braces: bool = True) -> None:
         self.body = body
+        #: printed in braces; a body part taken by unification (``{ A; _ }``) prints without,
+        #: as Jason's PlanBody that is not a body term
+        self.braces = braces
         self.text = text
         self.plan = plan
+        self.rule = rule
+        self._g: bool | None = None   # ground (no variable inside), computed on first use
+
+    def same_key(self) -> str:
+        """What makes two plan terms equal: as Jason's ``Plan.equals``, a plan's trigger,
+        context and body, not its label."""
+        p = self.plan
+        if p is None:
+            return self.text
+        return p.as_text(label=False)
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, PlanTerm) and self.text == other.text
+        return isinstance(other, PlanTerm) and self.same_key() == other.same_key()
 
     def __hash__(self) -> int:
-        return hash(("P", self.text))
+        return hash(("P", self.same_key()))
 
     def __repr__(self) -> str:
         return term_str(self)
@@ -350,7 +366,7 @@ def term_str(t: Any) -> str:
             return "not (" + term_str(t.left) + ")"
         return "(" + term_str(t.left) + " " + t.op + " " + term_str(t.right) + ")"
     if isinstance(t, PlanTerm):
-        return "{ " + t.text + " }"
+        return "{ " + t.text + " }" if t.braces else t.text
     if isinstance(t, int):
         return format_number(float(t))
     return str(t)
@@ -482,6 +498,13 @@ def is_ground(t: Any) -> bool:
         return all(is_ground(a) for a in t.items) and (t.tail is None or is_ground(t.tail))
     if isinstance(t, (ArithExpr, RelExpr, LogExpr)):
         return is_ground(t.left) and (t.right is None or is_ground(t.right))
+    if isinstance(t, PlanTerm):
+        if t._g is None:
+            from .unify import rename_vars
+            found: dict = {}
+            rename_vars(t, found)
+            t._g = not found
+        return t._g
     return not isinstance(t, AnnotVar)
 
 

@@ -251,6 +251,9 @@ def resolve(t: Any, s: Subst, ag: FunctionHost | None = None) -> Any:
     if isinstance(t, LogExpr):
         r = t.right
         return LogExpr(t.op, resolve(t.left, s, ag), None if r is None else resolve(r, s, ag))
+    if tt is PlanTerm and s:
+        from .plans import map_plan_term
+        return map_plan_term(t, lambda x: resolve(x, s, ag))
     return t
 
 
@@ -400,8 +403,81 @@ def unify(a: Any, b: Any, s: Subst, ag: FunctionHost | None = None) -> bool:
             return b.right is None
         return b.right is not None and unify(a.right, b.right, s, ag)
     if ta is PlanTerm:
-        return a == b
+        if type(b) is AnnotVar:
+            return _unify_annot_var(a, b, s)
+        return type(b) is PlanTerm and _unify_plan_terms(a, b, s)
     return a == b
+
+
+_NOLABEL = Literal("nolabel")
+_TRUE = Literal("true")
+
+
+def _unify_plan_terms(a: PlanTerm, b: PlanTerm, s: Subst) -> bool:
+    """Plan terms unify part by part, as Jason's ``Plan`` (label, trigger, context, body),
+    ``Trigger`` and ``PlanBody`` structures do; rules as their head and body."""
+    if a.rule is not None or b.rule is not None:
+        return (a.rule is not None and b.rule is not None and unify(a.rule.head, b.rule.head, s)
+                and unify(a.rule.body, b.rule.body, s))
+    pa, pb = a.plan, b.plan
+    if pa is None and pb is None:
+        return _unify_bodies(a.body, b.body, s)
+    if pa is None or pb is None:
+        return False
+    ta, tb = pa.trigger, pb.trigger
+    if ta.op != tb.op or ta.type != tb.type:
+        return False
+    ca = _TRUE if pa.context is None else pa.context
+    cb = _TRUE if pb.context is None else pb.context
+    return (unify(_NOLABEL if pa.label is None else pa.label, _NOLABEL if pb.label is None else pb.label, s)
+            and unify(ta.literal, tb.literal, s) and unify(ca, cb, s)
+            and _unify_bodies(pa.body, pb.body, s))
+
+
+def _body_var(d: Any, s: Subst) -> Var | None:
+    """The unbound variable a body formula is made of (``B`` in ``{ B }``), or None."""
+    if d.kind != "action" or type(d.term) is not Var:
+        return None
+    v = walk(d.term, s)
+    return v if type(v) is Var else None
+
+
+def _body_term(deeds: tuple) -> PlanTerm:
+    from .plans import body_str
+    return PlanTerm(tuple(deeds), body_str(deeds), braces=False)
+
+
+def _unify_bodies(da: tuple, db: tuple, s: Subst) -> bool:
+    """Jason's plan-body unification: formula by formula; a variable formula takes one
+    formula, or, when it is the last one, the rest of the other body (``{ T; _ }``)."""
+    while True:
+        if not da or not db:
+            rest = da or db
+            if not rest:
+                return True
+            if len(rest) == 1 and _body_var(rest[0], s) is not None:
+                return unify(rest[0].term, _body_term(()), s)
+            return False
+        x, y = da[0], db[0]
+        vx, vy = _body_var(x, s), _body_var(y, s)
+        if vx is not None and len(da) == 1:
+            return unify(vx, _body_term(db), s)
+        if vy is not None and len(db) == 1:
+            return unify(vy, _body_term(da), s)
+        if vx is not None:
+            ok = unify(vx, _body_term((y,)), s)
+        elif vy is not None:
+            ok = unify(vy, _body_term((x,)), s)
+        elif x.kind != y.kind:
+            return False
+        elif x.kind in ("if", "while", "for"):
+            from .plans import deed_str
+            ok = deed_str(x) == deed_str(y)
+        else:
+            ok = unify(x.term, y.term, s)
+        if not ok:
+            return False
+        da, db = da[1:], db[1:]
 
 
 #: terms that are Jason ``Pred`` instances for the annotation check of annotated variables
@@ -611,6 +687,9 @@ def rename_vars(t: Any, mapping: dict) -> Any:
                        None if t.right is None else rename_vars(t.right, mapping))
     if isinstance(t, RelExpr):
         return RelExpr(t.op, rename_vars(t.left, mapping), rename_vars(t.right, mapping))
+    if isinstance(t, PlanTerm):
+        from .plans import map_plan_term
+        return map_plan_term(t, lambda x: rename_vars(x, mapping))
     return t
 
 

@@ -8,8 +8,8 @@ from typing import Any
 from ..arch import Message, new_msg_id
 from ..intentions import Event
 from ..plans import ADD, BELIEF, Trigger
-from ..terms import ListTerm, Literal, list_to_python, term_str
-from ..unify import eval_arith
+from ..terms import ListTerm, Literal, Var, fresh_name, list_to_python, merge_annots, term_str
+from ..unify import eval_arith, resolve, unify
 from . import SUSPEND, IAError, arg_count, internal_action
 
 PERFORMATIVES = {"tell", "untell", "achieve", "unachieve", "askOne", "askAll", "tellHow",
@@ -50,7 +50,7 @@ def send(ctx: Any, args: list) -> Any:
     receivers = list_to_python(to) if isinstance(to, ListTerm) else [to]
     sync_ask = perf.startswith("ask") and len(args) > 3
     reply_to = None
-    if (perf in ("tell", "untell") or perf not in PERFORMATIVES) and len(args) > 3:
+    if (perf.startswith(("tell", "untell")) or perf not in PERFORMATIVES) and len(args) > 3:
         if not (isinstance(args[3], Literal) and not args[3].args):
             raise IAError(f"The Message ID ('{term_str(args[3])}') parameter of the internal action "
                           "'send' is not an atom!")
@@ -71,10 +71,15 @@ def send(ctx: Any, args: list) -> Any:
 
 
 def _set_source(t: Any, sender: Any) -> Any:
+    """jason.stdlib.add_nested_source: the literal's sources go inside ``source(Sender)``:
+    ``v[source(a)]`` from b is ``v[source(b)[source(a)]]`` (each literal of a list too)."""
     if isinstance(t, ListTerm):
         return ListTerm(tuple(_set_source(x, sender) for x in t.items), t.tail)
     if isinstance(t, Literal):
-        return t.add_annots([Literal("source", (sender,))])
+        old = [a for a in t.annots if isinstance(a, Literal) and a.functor == "source"]
+        rest = tuple(a for a in t.annots if not (isinstance(a, Literal) and a.functor == "source"))
+        src = Literal("source", (sender,), merge_annots((), old))
+        return t.with_annots(merge_annots(rest, [src]), t.tail)
     return t
 
 
@@ -92,6 +97,29 @@ def add_nested_source(ctx: Any, args: list) -> bool:
     """``.add_nested_source(Content, Source, Result)``: adds ``source(Source)``."""
     arg_count(args, 3)
     return ctx.unify(args[2], _set_source(args[0], args[1]))
+
+
+@internal_action(".kqml_belief_answer")
+def kqml_belief_answer(ctx: Any, args: list) -> Any:
+    """rason's form of Jason 3.3's ``kqml::bel_no_source_self`` rule (askOne/askAll
+    answers): each belief matching Content, with every annotation but ``source(self)``."""
+    arg_count(args, 2)
+    from ..logic import query_bb
+    content = args[0]
+    if not isinstance(content, Literal):
+        return False
+    pattern = content if content.tail is not None else Literal(
+        content.functor, content.args, content.annots, Var(fresh_name()), content.neg)
+    self_src = Literal("source", (Literal("self"),))
+
+    def gen():
+        for sol in query_bb(ctx.ag, pattern, ctx.s):
+            b = resolve(pattern, sol)
+            ans = b.with_annots(tuple(a for a in b.annots if a != self_src), None)
+            s2 = dict(ctx.s)
+            if unify(content.with_annots(()), ans.with_annots(()), s2) and unify(args[1], ans, s2):
+                yield s2
+    return gen()
 
 
 @internal_action(".remove_source_annot")

@@ -9,18 +9,21 @@ from typing import Any
 from ..parser import AslSyntaxError, parse_source, parse_term
 from ..plans import Plan, PlanTerm, Trigger, plan_term_trigger
 from ..terms import (
+    AnnotVar,
     ListTerm,
     Literal,
     Var,
+    fresh_name,
     is_ground,
     java_double_str,
     list_to_python,
     make_list,
+    merge_annots,
     sort_key,
     term_str,
     to_print_str,
 )
-from ..unify import eval_arith, resolve, unify
+from ..unify import eval_arith, rename_vars, resolve, unify
 from . import SUSPEND, FailGoal, IAError, arg_count, internal_action, wrong_arg
 
 
@@ -138,6 +141,8 @@ def wait(ctx: Any, args: list) -> Any:
     timeout = None
     if len(args) >= 2 and isinstance(args[1], float):
         timeout = clock.now() + max(args[1], 0.0) / 1000.0
+    # a third argument gets the time waited; then a timeout does not fail the intention
+    ctx.intention.wait_elapsed = (args[2], clock.now()) if len(args) == 3 else None
     if isinstance(first, PlanTerm):
         trig = plan_term_trigger(first)
         if trig is None:
@@ -186,14 +191,30 @@ def date(ctx: Any, args: list) -> bool:
 
 @internal_action(".random")
 def random_(ctx: Any, args: list) -> Any:
-    """``.random(R)``: R in [0,1); ``.random(L, R)``: a random member of list L."""
-    arg_count(args, 1, 2)
+    """``.random(R)``: R in [0,1); ``.random(R, N)``: N such numbers one after another on
+    backtracking (N = 0: without end); ``.random(L, X[, N])``: a random member of list L."""
+    arg_count(args, 1, 2, 3)
+    rnd = ctx.ag.random
     if len(args) == 1:
-        return ctx.unify(args[0], ctx.ag.random.random())
+        return ctx.unify(args[0], rnd.random())
     items = list_to_python(args[0])
-    if items:
-        return ctx.unify(args[1], ctx.ag.random.choice(items))
-    return False
+    if isinstance(args[0], ListTerm):
+        if not items:
+            return False
+        count = int(eval_arith(args[2], ctx.s)) if len(args) == 3 else 1
+        target, draw = args[1], (lambda: rnd.choice(items))
+    else:
+        count = int(eval_arith(args[1], ctx.s))
+        target, draw = args[0], rnd.random
+
+    def gen():
+        n = 0
+        while n < count or count == 0:
+            n += 1
+            s2 = dict(ctx.s)
+            if unify(target, draw(), s2):
+                yield s2
+    return gen()
 
 
 @internal_action(".range")
@@ -259,7 +280,10 @@ def _as_literal(t: Any) -> Literal:
 @internal_action(".abolish")
 def abolish(ctx: Any, args: list) -> bool:
     arg_count(args, 1)
-    ctx.ag.abolish(_as_literal(args[0]))
+    t = args[0]
+    if not isinstance(t, (Literal, AnnotVar, Var)):
+        raise IAError(f"not a literal: {term_str(t)}")
+    ctx.ag.abolish(t, ctx.s)
     return True
 
 
@@ -339,12 +363,11 @@ def _label_sources(label: Literal) -> list:
 
 
 def _with_label_sources(p: Plan, sources: list) -> Plan:
-    """``p`` with exactly these label sources (``[self]`` is stored as no source)."""
+    """``p`` with exactly these label sources."""
     rest = tuple(a for a in p.label.annots if not (isinstance(a, Literal) and a.functor == "source"))
-    if sources != [SELF_ATOM]:
-        rest = rest + tuple(Literal("source", (s,)) for s in sources)
-    label = Literal(p.label.functor, p.label.args, rest)
-    return Plan(label, p.trigger, p.context, p.body, p.line, p.src)
+    srcs = [Literal("source", (s,)) for s in sources]
+    label = Literal(p.label.functor, p.label.args, merge_annots(rest, srcs))
+    return Plan(label, p.trigger, p.context, p.body, p.line, p.src, in_file=p.in_file)
 
 
 @internal_action(".stopMAS")
@@ -387,7 +410,7 @@ def add_plan(ctx: Any, args: list) -> bool:
             if q.label is not None and src not in _label_sources(q.label):
                 pl.replace(same, _with_label_sources(q, [*_label_sources(q.label), src]))
             continue
-        if p.label is not None and src != SELF_ATOM:
+        if isinstance(p.label, Literal) and src != SELF_ATOM:
             p = _with_label_sources(p, [src])
         pl.add(p, front=front)
     return True
@@ -422,17 +445,17 @@ def relevant_plans(ctx: Any, args: list) -> bool:
     arg_count(args, 2, 3)
     te = _trigger_of(args[0])
     plans, labels = [], []
+    lit = te.literal
+    if isinstance(lit, Literal) and not lit.has_source():
+        # as Jason: a trigger without source gets an anonymous one (so [source(A)] plans match)
+        lit = lit.add_annots([Literal("source", (Var(fresh_name()),))])
     for p in ctx.ag.pl.relevant(te):
-        if p.trigger.op != te.op or p.trigger.type != te.type or not unify(p.trigger.literal, te.literal, {}):
+        if p.trigger.op != te.op or p.trigger.type != te.type or not unify(p.trigger.literal, lit, {}):
             continue
         label = p.label
-        if label is not None:
-            label = Literal(label.functor, label.args,
-                            tuple(a for a in label.annots
-                                  if not (isinstance(a, Literal) and a.functor == "source")))
         q = Plan(label, Trigger(p.trigger.op, p.trigger.type, p.trigger.literal), p.context, p.body,
-                 p.line, p.src)
-        plans.append(q.as_term())
+                 p.line, p.src, in_file=p.in_file)
+        plans.append(rename_vars(q.as_term(), {}))  # fresh variables, as Jason's clone
         labels.append(label if label is not None else Literal("nolabel"))
     if not ctx.unify(make_list(plans), args[1]):
         return False
@@ -443,10 +466,14 @@ def relevant_plans(ctx: Any, args: list) -> bool:
 def plan_label(ctx: Any, args: list) -> bool:
     """``.plan_label(P, L)``: P is the plan (as a term) whose label is L."""
     arg_count(args, 2)
+    if isinstance(args[1], (Var, AnnotVar)) and isinstance(args[0], PlanTerm) and args[0].plan is not None:
+        label = args[0].plan.label    # the label of the plan term as written
+        return label is not None and ctx.unify(args[1], label)
     name = args[1].functor if isinstance(args[1], Literal) else to_print_str(args[1])
     for p in ctx.ag.pl.plans:
         if p.label_name() == name:
             # the library's labels carry their source (PlanLibrary.add), which plan_label keeps
-            q = Plan(p.label.with_self_source(), p.trigger, p.context, p.body, p.line, p.src)
-            return ctx.unify(q.as_term(), args[0])
+            q = Plan(p.label.with_self_source(), p.trigger, p.context, p.body, p.line, p.src,
+                     in_file=p.in_file)
+            return ctx.unify(rename_vars(q.as_term(), {}), args[0])
     return False

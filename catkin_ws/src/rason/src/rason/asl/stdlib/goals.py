@@ -5,9 +5,9 @@ from __future__ import annotations
 from typing import Any
 
 from ..intentions import Suspension, has_goal, java_map_order
-from ..plans import ACHIEVE, ADD, deed_str
+from ..plans import ACHIEVE, ADD, Plan, deed_str, map_deeds
 from ..terms import Literal, PlanTerm, Var, make_list, term_str
-from ..unify import unify
+from ..unify import rename_vars, unify
 from . import SUSPEND, arg_count, internal_action, wrong_arg
 
 
@@ -39,15 +39,21 @@ def _places(ag: Any) -> list:
 
 
 def im_term(im: Any) -> Literal:
-    """``im(Label, {Trigger}, {Body}, [map(Var, Value), ...])`` (Jason's IntendedMeans.getAsTerm;
-    our labels and variable names are not Jason's)."""
+    """``im(Label, {Trigger}, {Body}, [map(Var, Value), ...])`` (Jason's IntendedMeans.getAsTerm):
+    the label with ``code_src``/``code_line`` of the plan, the trigger as a trigger term, the
+    deeds still to run as a plan-body term (our variable names are not Jason's)."""
     plan = im.plan
-    label = plan.label if plan.label is not None else Literal(f"l__{id(plan) % 100000}")
+    label = plan.label if isinstance(plan.label, Literal) else Literal("nolabel")
+    label = label.add_annots([Literal("code_src", (plan.src,)), Literal("code_line", (float(plan.line),))])
     deeds = list(reversed(im.stack))
     if im.current is not None and (not deeds or deeds[0] is not im.current) and im.stack:
         deeds.insert(0, im.current)
-    body = PlanTerm((), "; ".join(deed_str(d) for d in deeds))
-    trig = PlanTerm((), str(im.trigger))
+    # Jason's makeVarsAnnon: the body's variables are fresh ones (the deed running this very
+    # action may hold the variable the stack is unified with)
+    mapping: dict = {}
+    deeds = list(map_deeds(tuple(deeds), lambda t: rename_vars(t, mapping)))
+    body = PlanTerm(tuple(deeds), "; ".join(deed_str(d) for d in deeds))
+    trig = Plan(None, im.trigger, None, ()).as_term()
     unif = make_list([Literal("map", (Var(k), v)) for k, v in im.u.items()
                       if isinstance(k, str) and not k.startswith("_")])
     return Literal("im", (label, trig, body, unif))
@@ -86,7 +92,8 @@ def desire(ctx: Any, args: list) -> Any:
 
     def gen():
         evs = [ag.selected_event] if ag.selected_event is not None else []
-        for ev in evs + list(ag.events):
+        held = [ev for _, ev in java_map_order(ag.pending_events, lambda kv: kv[0])]
+        for ev in evs + list(ag.events) + held:
             t = ev.trigger
             if t.op == ADD and t.type == ACHIEVE:
                 s2 = dict(ctx.s)
@@ -229,6 +236,8 @@ def suspended(ctx: Any, args: list) -> Any:
             continue
         if place == "PA":
             reason: Any = Literal("act")
+        elif i.wait_reason is not None and i.suspended in (Suspension.WAIT, Suspension.EVENT_WAIT):
+            reason = i.wait_reason
         elif i.sus_ia and (i.pi_key or "").startswith("suspended-"):
             reason = Literal("suspend_ia")
         else:

@@ -1,0 +1,399 @@
+"""More of Jason 3.3's standard library: logging, types, term copies, rules and plans listing,
+agents created and killed at run time, files, scheduled goals (``.at``) and odd ends."""
+
+from __future__ import annotations
+
+import os
+import re
+from typing import Any
+
+from ..intentions import java_map_order
+from ..parser import Rule
+from ..plans import ACHIEVE, ADD, BELIEF, PlanTerm, Trigger, plan_term_trigger
+from ..terms import (
+    AnnotVar,
+    ListTerm,
+    Literal,
+    Var,
+    is_ground,
+    make_list,
+    term_str,
+    to_print_str,
+)
+from ..unify import rename_vars, resolve, unify
+from . import IAError, arg_count, internal_action, wrong_arg
+
+TRUE_ATOM = Literal("true")
+FALSE_ATOM = Literal("false")
+
+#: ``.log`` levels shown (Jason's default console logging shows info and above)
+_SHOWN_LEVELS = {"severe", "warning", "info"}
+
+
+@internal_action(".log")
+def log(ctx: Any, args: list) -> bool:
+    """``.log(Level, Args...)``: the arguments as ``.print`` joins them, logged at Level
+    (severe, warning, info are shown; fine, finer, finest are not)."""
+    if not args:
+        raise wrong_arg("a log level is expected")
+    level = to_print_str(args[0])
+    if level in _SHOWN_LEVELS:
+        text = "".join(to_print_str(a) for a in args[1:])
+        ctx.ag.console(text if level == "info" else f"[{level.upper()}] {text}")
+    return True
+
+
+def type_names(t: Any) -> list[str]:
+    """The types of a term, from the most primitive (Jason's ``.type`` order)."""
+    out = []
+    if isinstance(t, float):
+        out.append("number")
+    if isinstance(t, Literal) and not t.args and not t.annots and not t.neg and t.tail is None:
+        out.append("atom")
+    if isinstance(t, Literal):
+        out.append("literal")
+    if isinstance(t, str):
+        out.append("string")
+    if isinstance(t, ListTerm):
+        out.append("list")
+    if isinstance(t, (Literal, ListTerm, PlanTerm)):
+        out.append("structure")
+    if isinstance(t, PlanTerm) and t.rule is not None:
+        out.append("rule")
+    if isinstance(t, PlanTerm) and t.rule is None:
+        out.append("plan")
+    if is_ground(t) and not isinstance(t, (Var, AnnotVar)):
+        out.append("ground")
+    if isinstance(t, (Var, AnnotVar)):
+        out.append("free")
+    return out
+
+
+@internal_action(".type")
+def type_(ctx: Any, args: list) -> Any:
+    """``.type(T, Type)``: checks, or enumerates, the types of T."""
+    arg_count(args, 2)
+    names = type_names(args[0])
+    if not isinstance(args[1], (Var, AnnotVar)):
+        return isinstance(args[1], Literal) and args[1].functor in names and not args[1].args
+
+    def gen():
+        for n in names:
+            s2 = dict(ctx.s)
+            if unify(args[1], Literal(n), s2):
+                yield s2
+    return gen()
+
+
+@internal_action(".eval")
+def eval_(ctx: Any, args: list) -> bool:
+    """``.eval(R, Formula)``: R is ``true`` when the formula holds, else ``false``."""
+    arg_count(args, 2)
+    ok = next(iter(ctx.solve(args[1])), None) is not None
+    return ctx.unify(args[0], TRUE_ATOM if ok else FALSE_ATOM)
+
+
+@internal_action(".copy_term", ".rename_apart")
+def copy_term(ctx: Any, args: list) -> bool:
+    """``.copy_term(T, C)`` / ``.rename_apart(T, C)``: C is T with new variables."""
+    arg_count(args, 2)
+    return ctx.unify(args[1], rename_vars(args[0], {}))
+
+
+@internal_action(".set_random_seed")
+def set_random_seed(ctx: Any, args: list) -> bool:
+    arg_count(args, 1)
+    if not isinstance(args[0], float):
+        raise wrong_arg("the seed must be a number")
+    ctx.ag.random.seed(int(args[0]))
+    return True
+
+
+@internal_action(".version")
+def version(ctx: Any, args: list) -> bool:
+    """``.version(V)``: the Jason version whose language this interpreter follows."""
+    arg_count(args, 1)
+    return ctx.unify(args[0], "3.3.0 (rason)")
+
+
+@internal_action(".verbose")
+def verbose(ctx: Any, args: list) -> bool:
+    """``.verbose(N)``: accepted; rason has one console level."""
+    arg_count(args, 1)
+    return True
+
+
+@internal_action(".print_unifier")
+def print_unifier(ctx: Any, args: list) -> bool:
+    items = ", ".join(f"{k}={term_str(resolve(v, ctx.s))}" for k, v in ctx.s.items()
+                      if not k.startswith("_"))
+    ctx.ag.console("{" + items + "}")
+    return True
+
+
+# ---------------------------------------------------------------- rules and plans
+def _rule_term(r: Rule) -> PlanTerm:
+    head = r.head.with_annots(tuple(a for a in r.head.annots
+                                    if not (isinstance(a, Literal) and a.functor == "source")))
+    rule = Rule(head, r.body)
+    return PlanTerm((), str(rule), rule=rule)
+
+
+@internal_action(".relevant_rules")
+def relevant_rules(ctx: Any, args: list) -> bool:
+    """``.relevant_rules(Head, List)``: the rules whose head unifies with Head, as terms."""
+    arg_count(args, 2)
+    pat = args[0]
+    out = []
+    if isinstance(pat, Literal):
+        for r in ctx.ag.bb.candidates(pat.key):
+            if isinstance(r, Rule) and unify(pat, r.head, dict(ctx.s)):
+                out.append(_rule_term(r))
+    return ctx.unify(args[1], make_list(out))
+
+
+@internal_action(".list_rules")
+def list_rules(ctx: Any, args: list) -> bool:
+    """``.list_rules`` prints every rule; ``.list_rules(Head)`` those whose head unifies."""
+    for r in ctx.ag.bb.rules():
+        if args and not (isinstance(args[0], Literal) and unify(args[0], r.head, dict(ctx.s))):
+            continue
+        ctx.ag.console(str(_rule_term(r).rule) + ".")
+    return True
+
+
+@internal_action(".list_plans")
+def list_plans(ctx: Any, args: list) -> bool:
+    """``.list_plans`` prints the plans (those of the KQML protocol aside); with a trigger
+    term, only the plans relevant for it."""
+    from ..kqml import KQML_SRC
+    trig = None
+    if args:
+        trig = plan_term_trigger(args[0]) if isinstance(args[0], PlanTerm) else None
+        if trig is None:
+            raise wrong_arg("the argument must be a trigger term, e.g. {+!g}")
+    for p in ctx.ag.pl.plans:
+        if p.src == KQML_SRC:
+            continue
+        if trig is not None and not (p.trigger.op == trig.op and p.trigger.type == trig.type
+                                     and unify(trig.literal, p.trigger.literal, {})):
+            continue
+        ctx.ag.console(str(p))
+    return True
+
+
+@internal_action(".relevant_plan")
+def relevant_plan(ctx: Any, args: list) -> Any:
+    """``.relevant_plan(Trigger, Plan)``: backtracks over the plans relevant for Trigger."""
+    arg_count(args, 2)
+    trig = plan_term_trigger(args[0]) if isinstance(args[0], PlanTerm) else None
+    if trig is None:
+        raise wrong_arg("first argument must be a trigger term")
+
+    def gen():
+        for p in ctx.ag.pl.relevant(trig):
+            if p.trigger.op != trig.op or p.trigger.type != trig.type:
+                continue
+            if not unify(p.trigger.literal, trig.literal, {}):
+                continue
+            s2 = dict(ctx.s)
+            if unify(args[1], rename_vars(p.as_term(), {}), s2):
+                yield s2
+    return gen()
+
+
+@internal_action(".get_src_info")
+def get_src_info(ctx: Any, args: list) -> bool:
+    """``.get_src_info(Plan|Label, Info)``: ``[code_src(File), code_line(Line)]``."""
+    arg_count(args, 2)
+    p = None
+    if isinstance(args[0], PlanTerm) and args[0].plan is not None:
+        p = args[0].plan
+    elif isinstance(args[0], Literal):
+        p = next((q for q in ctx.ag.pl.plans if q.label_name() == args[0].functor), None)
+    if p is None:
+        return False
+    info = [Literal("code_src", (p.src,)), Literal("code_line", (float(p.line),))]
+    return ctx.unify(args[1], make_list(info))
+
+
+# ---------------------------------------------------------------- events
+@internal_action(".drop_event")
+def drop_event(ctx: Any, args: list) -> bool:
+    """``.drop_event(G)``: removes the ``+!G`` events waiting to be handled."""
+    arg_count(args, 1)
+    pattern = args[0]
+    ag = ctx.ag
+    keep = [ev for ev in ag.events if not (ev.trigger.op == ADD and ev.trigger.type == ACHIEVE
+                                          and unify(pattern, ev.trigger.literal, dict(ctx.s)))]
+    ag.events.clear()
+    ag.events.extend(keep)
+    return True
+
+
+@internal_action(".perceive")
+def perceive(ctx: Any, args: list) -> bool:
+    """``.perceive``: perceive now (the next cycle perceives anyway)."""
+    percepts = ctx.ag.arch.perceive()
+    if percepts is not None:
+        ctx.ag.update_percepts(percepts)
+    return True
+
+
+# ---------------------------------------------------------------- agents
+def _runtime(ctx: Any) -> Any:
+    rt = getattr(ctx.ag.arch, "create_agent", None)
+    if rt is None:
+        raise IAError("this agent's host cannot create or kill agents", "internal_action")
+    return ctx.ag.arch
+
+
+@internal_action(".create_agent")
+def create_agent(ctx: Any, args: list) -> bool:
+    """``.create_agent(Name, Source[, Options])``: a new agent in the same host; a free Name
+    gets the name the host chose."""
+    arg_count(args, 1, 2, 3)
+    arch = _runtime(ctx)
+    name = args[0]
+    wanted = None if isinstance(name, (Var, AnnotVar)) else to_print_str(name)
+    source = to_print_str(args[1]) if len(args) > 1 else None
+    try:
+        made = arch.create_agent(ctx.ag, wanted, source)
+    except (OSError, ValueError) as e:
+        raise IAError(f"cannot create agent {wanted}: {e}", "internal_action") from None
+    return ctx.unify(name, Literal(made)) if wanted is None else True
+
+
+@internal_action(".kill_agent")
+def kill_agent(ctx: Any, args: list) -> bool:
+    """``.kill_agent(Name)``: the agent stops and leaves the host."""
+    arg_count(args, 1)
+    return bool(_runtime(ctx).kill_agent(to_print_str(args[0])))
+
+
+@internal_action(".clone")
+def clone(ctx: Any, args: list) -> bool:
+    """``.clone(Name)``: a new agent running this agent's program."""
+    arg_count(args, 1)
+    arch = _runtime(ctx)
+    try:
+        arch.create_agent(ctx.ag, to_print_str(args[0]), ctx.ag.filename)
+    except (OSError, ValueError) as e:
+        raise IAError(f"cannot clone to {to_print_str(args[0])}: {e}", "internal_action") from None
+    return True
+
+
+@internal_action(".save_agent", ".mind_inspector")
+def not_here(ctx: Any, args: list) -> bool:
+    raise IAError("not available in rason: the agent's state lives in the node "
+                  "(see rosservice .../mind)", "internal_action")
+
+
+# ---------------------------------------------------------------- files
+@internal_action(".list_files")
+def list_files(ctx: Any, args: list) -> bool:
+    """``.list_files(Folder, Pattern, Files)`` / ``.list_files(Folder, Files)``: the files under
+    Folder (recursively) whose path matches the regular expression."""
+    arg_count(args, 2, 3)
+    folder = to_print_str(args[0])
+    pattern = to_print_str(args[1]) if len(args) == 3 else ".*"
+    try:
+        rx = re.compile(pattern)
+    except re.error as e:
+        raise wrong_arg(f"bad pattern {pattern}: {e}") from None
+    found = []
+    for root, dirs, files in os.walk(folder):
+        dirs.sort()
+        for f in sorted(files):
+            path = os.path.join(root, f)
+            if rx.fullmatch(f) or rx.fullmatch(path):
+                found.append(path)
+    return ctx.unify(args[-1], make_list(found))
+
+
+# ---------------------------------------------------------------- .at
+_AT_UNITS = {"ms": 1.0, "milliseconds": 1.0, "millisecond": 1.0, "s": 1000.0, "second": 1000.0,
+             "seconds": 1000.0, "m": 60000.0, "minute": 60000.0, "minutes": 60000.0,
+             "h": 3600000.0, "hour": 3600000.0, "hours": 3600000.0, "d": 86400000.0,
+             "day": 86400000.0, "days": 86400000.0}
+_AT_RX = re.compile(r"\s*now\s*\+\s*([0-9]+(?:\.[0-9]+)?)\s*([a-z]*)\s*$")
+
+
+@internal_action(".at")
+def at(ctx: Any, args: list) -> bool:
+    """``.at("now +N unit", {+!g})``: the event happens once, N units from now."""
+    arg_count(args, 2)
+    m = _AT_RX.match(to_print_str(args[0]))
+    if m is None or (m.group(2) and m.group(2) not in _AT_UNITS):
+        raise wrong_arg(f"'{to_print_str(args[0])}' is not a time like \"now +3 s\"")
+    delay_ms = float(m.group(1)) * _AT_UNITS.get(m.group(2) or "ms", 1.0)
+    trig = plan_term_trigger(args[1]) if isinstance(args[1], PlanTerm) else None
+    if trig is None or not isinstance(trig.literal, Literal):
+        raise wrong_arg("the second argument must be an event such as {+!g}")
+    lit = trig.literal
+    if trig.type == ACHIEVE or trig.type == BELIEF:
+        lit = lit.with_self_source()
+    ctx.ag.schedule_event(Trigger(trig.op, trig.type, lit), delay_ms / 1000.0)
+    return True
+
+
+# ---------------------------------------------------------------- namespaces
+def _namespaces(ag: Any) -> list[str]:
+    out = ["default"]
+    for b in ag.bb:
+        head = b.head if isinstance(b, Rule) else b
+        if isinstance(head, Literal) and "::" in head.functor:
+            ns = head.functor.split("::", 1)[0]
+            if ns not in out:
+                out.append(ns)
+    return out
+
+
+@internal_action(".namespace")
+def namespace(ctx: Any, args: list) -> Any:
+    """``.namespace(NS)``: NS is a namespace of this agent (enumerates them when free)."""
+    arg_count(args, 1)
+
+    def gen():
+        for ns in _namespaces(ctx.ag):
+            s2 = dict(ctx.s)
+            if unify(args[0], Literal(ns), s2):
+                yield s2
+    return gen()
+
+
+def _ns_props(ag: Any, ns: Any) -> dict:
+    """The properties of a namespace (``.namespace_set_prop``), kept per agent."""
+    store = ag.__dict__.setdefault("ns_props", {})
+    return store.setdefault(term_str(ns), {})
+
+
+@internal_action(".namespace_set_prop")
+def namespace_set_prop(ctx: Any, args: list) -> bool:
+    """``.namespace_set_prop(NS, Key, Value)``."""
+    arg_count(args, 3)
+    props = _ns_props(ctx.ag, args[0])
+    props[term_str(args[1])] = (args[1], args[2])
+    return True
+
+
+@internal_action(".namespace_get_prop")
+def namespace_get_prop(ctx: Any, args: list) -> Any:
+    """``.namespace_get_prop(NS, Key[, Value[, Default]])``: a free Key enumerates the keys
+    (in the order of Jason's hash map of properties)."""
+    arg_count(args, 2, 3, 4)
+    props = _ns_props(ctx.ag, args[0])
+    key = args[1]
+    if not isinstance(key, (Var, AnnotVar)):
+        entry = props.get(term_str(key))
+        if entry is None:
+            return len(args) == 4 and ctx.unify(args[2], args[3])
+        return len(args) == 2 or ctx.unify(args[2], entry[1])
+
+    def gen():
+        for name in java_map_order(list(props), lambda k: k):
+            k, v = props[name]
+            s2 = dict(ctx.s)
+            if unify(key, k, s2) and (len(args) == 2 or unify(args[2], v, s2)):
+                yield s2
+    return gen()
