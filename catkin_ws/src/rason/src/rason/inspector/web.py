@@ -21,6 +21,8 @@ from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
 
+import cv2
+import numpy as np
 from aiohttp import web
 
 from rason.inspector.store import CameraFrame, InspectorStore
@@ -158,9 +160,6 @@ async def camera(request: web.Request) -> web.Response:
 
 
 def _jpeg(frame: CameraFrame) -> bytes | None:
-    import cv2
-    import numpy as np
-
     channels = {"rgb8": 3, "bgr8": 3, "mono8": 1}.get(frame.encoding)
     if channels is None or len(frame.data) < frame.width * frame.height * channels:
         return None
