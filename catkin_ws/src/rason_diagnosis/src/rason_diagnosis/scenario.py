@@ -71,7 +71,7 @@ def _diff(a: float | None, b: float | None) -> float | None:
 
 #: Helper's motion decomposer turns at 90 deg/s (Kobuki: up to 180) so that its search sweep
 #: (one full turn, cut short at the first sighting) covers the room in about 4 s.
-HELPER_MOTION = {"angular_speed": 90.0, "angular_accel": 180.0, "angular_decel": 120.0}
+HELPER_MOTION: dict[str, object] = {"angular_speed": 90.0, "angular_accel": 180.0, "angular_decel": 120.0}
 
 
 def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, echo: bool = True,

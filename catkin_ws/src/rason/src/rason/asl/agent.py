@@ -271,7 +271,8 @@ class Agent:
     def next_deadline(self) -> float | None:
         """Earliest ``.wait`` deadline (clock seconds), or None."""
         while (self.timers and self.timers[0].kind is not TimerKind.AT
-               and self.timers[0].intention.id not in self.suspended):
+               and (self.timers[0].intention is None
+                    or self.timers[0].intention.id not in self.suspended)):
             heapq.heappop(self.timers)
         return self.timers[0].deadline if self.timers else None
 
@@ -398,7 +399,7 @@ class Agent:
                 self.add_event(Event(timer.data))
                 did = True
                 continue
-            if i.id not in self.suspended or i.dropped:
+            if i is None or i.id not in self.suspended or i.dropped:   # only .at has no intention
                 continue
             if kind is TimerKind.WAIT and i.suspended is Suspension.WAIT:
                 self.resume(i)
@@ -413,15 +414,18 @@ class Agent:
                     continue
                 if not self.resume(i):
                     continue
+                top = i.top()
+                assert top is not None      # a waiting intention has its .wait on top
                 reasoning.fail_intention(self, i, annots=reasoning.error_annots(
-                    self, i.top(), None, "wait_timeout", "timeout in .wait"))
+                    self, top, None, "wait_timeout", "timeout in .wait"))
                 did = True
             elif kind is TimerKind.ASK_TIMEOUT and i.suspended is Suspension.ASK:
-                w = self.ask_waits.pop(timer.msg_id, None)
+                w = self.ask_waits.pop(timer.msg_id, None) if timer.msg_id is not None else None
                 if w is not None:
                     # jason.stdlib.send: ``timeout``, or the answers so far for a list of receivers
                     self.resume(i)
                     im = i.top()
+                    assert im is not None   # the .send that asked is on top
                     s2 = dict(im.u)
                     got = Literal("timeout") if w.receivers is None else make_list(w.answers)
                     if unify(w.answer, got, s2, self):
@@ -928,6 +932,7 @@ class Agent:
         untell of an askOne is ``false``, a literal (each literal of an askAll list) gets the
         sender's source; with a list of receivers ``A`` is the list of all the answers."""
         mid = m.in_reply_to
+        assert mid is not None      # only answers (in_reply_to set) come here
         wait = self.ask_waits[mid]
         i, ans, perf, n, got = wait.intention, wait.answer, wait.performative, wait.receivers, wait.answers
         sender = Literal(m.sender)
@@ -949,9 +954,9 @@ class Agent:
     def _resume_ask(self, i: Intention, ans: Any, content: Any) -> None:
         """Unify the answer with the ``.send``'s fourth argument and resume the intention;
         when they do not unify the intention fails with ``ask_failed`` (resumeSyncAskIntention)."""
-        if i.dropped or i.id not in self.suspended:
-            return
         im = i.top()
+        if i.dropped or i.id not in self.suspended or im is None:
+            return
         s2 = dict(im.u)
         if unify(ans, content, s2, self):
             im.u = s2

@@ -112,7 +112,7 @@ class BeliefBase:
         key = rule.head.key
         lst = [r for r in self._index.get(key, ()) if r is not rule]
         if lst:
-            self._index[key] = lst
+            self._index[key] = deque(lst)
         else:
             self._index.pop(key, None)
 
@@ -122,7 +122,7 @@ class BeliefBase:
         key = (lit.functor, len(lit.args), lit.neg)
         held = self._by_args.get(key)
         b = held.get(lit.args) if held else None
-        if b is None:
+        if b is None or held is None:
             return None
         if b.annots == lit.annots:  # fast path: the whole belief goes
             if self._snapshots:

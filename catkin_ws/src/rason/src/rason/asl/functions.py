@@ -79,7 +79,8 @@ class FunctionHost(Protocol):
     """The agent as the agent-dependent functions see it (Jason binds them to their agent):
     ``math.random`` draws from its generator, ``.count(Q)`` counts the solutions of Q."""
 
-    random: Random
+    @property
+    def random(self) -> Random: ...
 
     def count_solutions(self, query: Any) -> int: ...
 

@@ -269,16 +269,15 @@ def _query_var(ag: Agent, v: Var | AnnotVar, s: dict) -> Iterator[dict]:
 
     ``X[source(A)]`` tries each way its annotations match a belief's (Jason's annotation
     backtracking in ``Literal.logicalConsequence``); X gets the belief without annotations."""
-    annotated = type(v) is AnnotVar
-    backtrack = annotated and v.tail is None
+    backtrack = v if isinstance(v, AnnotVar) and v.tail is None else None
     for b in list(ag.bb):
         if type(b) is Literal:
-            if not backtrack:
+            if backtrack is None:
                 s2 = dict(s)
                 if unify(v, b, s2, ag):
                     yield s2
                 continue
-            for s2 in annot_options(v, b, s, ag):   # each way the annotations match b's
+            for s2 in annot_options(backtrack, b, s, ag):   # each way the annotations match b's
                 s2 = dict(s2)
                 s2[v.name] = b.no_annots()
                 yield s2

@@ -5,6 +5,7 @@ Every error is raised as :class:`AslSyntaxError` (``file:line:col: message``).
 
 from __future__ import annotations
 
+import builtins
 import itertools
 import os
 import sys
@@ -240,13 +241,13 @@ class _ToAst(Transformer):
         self.exact = exact
 
     # ---------------- terms
-    def number(self, meta: Any, c: list) -> float:
+    def number(self, meta: Any, c: builtins.list) -> float:
         return float(c[0])
 
-    def string(self, meta: Any, c: list) -> str:
+    def string(self, meta: Any, c: builtins.list) -> str:
         return _unescape(str(c[0]), self.exact)
 
-    def var(self, meta: Any, c: list) -> Any:
+    def var(self, meta: Any, c: builtins.list) -> Any:
         name = str(c[0])
         v = Var(fresh_name()) if name == "_" else Var(name)
         annots = c[1]
@@ -255,29 +256,29 @@ class _ToAst(Transformer):
             return AnnotVar(v.name, merge_annots((), annots[0]), annots[1])
         return v
 
-    def args(self, meta: Any, c: list) -> tuple:
+    def args(self, meta: Any, c: builtins.list) -> tuple:
         return tuple(c)
 
-    def elems(self, meta: Any, c: list) -> tuple:
+    def elems(self, meta: Any, c: builtins.list) -> tuple:
         # last element is the tail (maybe None)
         return (tuple(c[:-1]), c[-1])
 
-    def annots(self, meta: Any, c: list) -> tuple:
+    def annots(self, meta: Any, c: builtins.list) -> tuple:
         if c[0] is None:
             return ((), None)
         return c[0]
 
-    def annots_tail(self, meta: Any, c: list) -> tuple:
+    def annots_tail(self, meta: Any, c: builtins.list) -> tuple:
         """``p[|T]``: no annotations but a tail (how such a literal prints)."""
         return ((), c[0])
 
-    def list(self, meta: Any, c: list) -> ListTerm:
+    def list(self, meta: Any, c: builtins.list) -> ListTerm:
         if c[0] is None:
             return ListTerm()
         items, tail = c[0]
         return ListTerm(items, tail)
 
-    def literal(self, meta: Any, c: list) -> Literal:
+    def literal(self, meta: Any, c: builtins.list) -> Literal:
         neg, ns, atom, args, annots = c
         if ns is not None and str(ns) != "default::":
             atom = str(ns) + str(atom)   # a namespace is kept as a prefix of the functor
@@ -293,16 +294,16 @@ class _ToAst(Transformer):
         is_constant(lit)  # cache: resolving a constant literal is free
         return lit
 
-    def or_(self, meta: Any, c: list) -> LogExpr:
+    def or_(self, meta: Any, c: builtins.list) -> LogExpr:
         return LogExpr("|", c[0], c[1])
 
-    def and_(self, meta: Any, c: list) -> LogExpr:
+    def and_(self, meta: Any, c: builtins.list) -> LogExpr:
         return LogExpr("&", c[0], c[1])
 
-    def not_(self, meta: Any, c: list) -> LogExpr:
+    def not_(self, meta: Any, c: builtins.list) -> LogExpr:
         return LogExpr("not", c[0])
 
-    def relop(self, meta: Any, c: list) -> str:
+    def relop(self, meta: Any, c: builtins.list) -> str:
         return str(c[0])
 
     addop = relop
@@ -310,25 +311,25 @@ class _ToAst(Transformer):
     goaltype = relop
     mulop = relop
 
-    def rel(self, meta: Any, c: list) -> RelExpr:
+    def rel(self, meta: Any, c: builtins.list) -> RelExpr:
         return RelExpr(str(c[1]), c[0], c[2])
 
-    def arith_bin(self, meta: Any, c: list) -> ArithExpr:
+    def arith_bin(self, meta: Any, c: builtins.list) -> ArithExpr:
         return ArithExpr(str(c[1]), c[0], c[2])
 
-    def pow_(self, meta: Any, c: list) -> ArithExpr:
+    def pow_(self, meta: Any, c: builtins.list) -> ArithExpr:
         return ArithExpr("**", c[0], c[1])
 
-    def neg(self, meta: Any, c: list) -> Any:
+    def neg(self, meta: Any, c: builtins.list) -> Any:
         x = c[0]
         if isinstance(x, float):
             return -x
         return ArithExpr("neg", x)
 
-    def pos(self, meta: Any, c: list) -> Any:
+    def pos(self, meta: Any, c: builtins.list) -> Any:
         return ("+pos", c[0])
 
-    def plan_term(self, meta: Any, c: list) -> PlanTerm:
+    def plan_term(self, meta: Any, c: builtins.list) -> PlanTerm:
         body = tuple(c[0]) if c and c[0] is not None else ()
         return PlanTerm(body, body_str(body))
 
@@ -336,18 +337,18 @@ class _ToAst(Transformer):
         plan = Plan(label, trigger, context, tuple(body or ()), meta.line, self.src, in_file=False)
         return plan.as_term()
 
-    def _goal_plan_term(self, meta: Any, op: str, c: list) -> PlanTerm:
+    def _goal_plan_term(self, meta: Any, op: str, c: builtins.list) -> PlanTerm:
         """``{+!g : c <- b}`` / ``{-?g ...}``: an unlabelled goal plan as a term."""
         gt = ACHIEVE if str(c[0]) == "!" else TEST
         return self._plan_term(meta, None, Trigger(op, gt, _fix(c[1])), c[2], c[3])
 
-    def plan_term_add_goal(self, meta: Any, c: list) -> PlanTerm:
+    def plan_term_add_goal(self, meta: Any, c: builtins.list) -> PlanTerm:
         return self._goal_plan_term(meta, ADD, c)
 
-    def plan_term_state_goal(self, meta: Any, c: list) -> PlanTerm:
+    def plan_term_state_goal(self, meta: Any, c: builtins.list) -> PlanTerm:
         return self._goal_plan_term(meta, GOAL_STATE, c)
 
-    def rule_term(self, meta: Any, c: list) -> PlanTerm:
+    def rule_term(self, meta: Any, c: builtins.list) -> PlanTerm:
         """``{ head :- body }``: a rule as a term (for ``+``, ``.add_plan``, ``.relevant_rules``)."""
         body, cond = c
         if (len(body) != 1 or body[0].kind not in (K_ACTION, K_INTERNAL)
@@ -356,28 +357,28 @@ class _ToAst(Transformer):
         rule = Rule(body[0].term, _fix(cond))
         return PlanTerm((), str(rule), rule=rule)
 
-    def _belief_plan_term(self, meta: Any, body: list, context: Any, plan_body: Any) -> PlanTerm:
+    def _belief_plan_term(self, meta: Any, body: builtins.list, context: Any, plan_body: Any) -> PlanTerm:
         """``{ +b : c <- body }`` / ``{ -b <- body }``: a plan whose trigger is a belief."""
         if len(body) != 1 or body[0].kind not in (K_ADD_BEL, K_DEL_BEL):
             raise _SemErr(meta, "a plan term needs a trigger (+b, -b, +!g...)")
         op = ADD if body[0].kind == K_ADD_BEL else DEL
         return self._plan_term(meta, None, Trigger(op, BELIEF, body[0].term), context, plan_body)
 
-    def plan_term_belief(self, meta: Any, c: list) -> PlanTerm:
+    def plan_term_belief(self, meta: Any, c: builtins.list) -> PlanTerm:
         return self._belief_plan_term(meta, c[0], c[1], c[2])
 
-    def plan_term_belief_noctx(self, meta: Any, c: list) -> PlanTerm:
+    def plan_term_belief_noctx(self, meta: Any, c: builtins.list) -> PlanTerm:
         return self._belief_plan_term(meta, c[0], None, c[1])
 
-    def plan_term_del_goal(self, meta: Any, c: list) -> PlanTerm:
+    def plan_term_del_goal(self, meta: Any, c: builtins.list) -> PlanTerm:
         return self._goal_plan_term(meta, DEL, c)
 
-    def plan_term_labelled(self, meta: Any, c: list) -> PlanTerm:
+    def plan_term_labelled(self, meta: Any, c: builtins.list) -> PlanTerm:
         return self._plan_term(meta, *c)
 
     # ---------------- body
-    def stmt_list(self, meta: Any, c: list) -> list:
-        out: list = []
+    def stmt_list(self, meta: Any, c: builtins.list) -> builtins.list:
+        out: builtins.list = []
         for x in c:
             if isinstance(x, list):
                 out.extend(x)
@@ -385,25 +386,25 @@ class _ToAst(Transformer):
                 out.append(x)
         return out
 
-    def s_achieve(self, meta: Any, c: list) -> Deed:
+    def s_achieve(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_ACHIEVE, c[0], meta.line)
 
-    def s_achieve_new(self, meta: Any, c: list) -> Deed:
+    def s_achieve_new(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_ACHIEVE_NEW, c[0], meta.line)
 
-    def s_test(self, meta: Any, c: list) -> Deed:
+    def s_test(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_TEST, _fix(c[0]), meta.line)
 
-    def s_del_add(self, meta: Any, c: list) -> Deed:
+    def s_del_add(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_DEL_ADD_BEL, c[0], meta.line)
 
-    def s_add_new(self, meta: Any, c: list) -> Deed:
+    def s_add_new(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_ADD_BEL_NEW, c[0], meta.line)
 
-    def s_del_new(self, meta: Any, c: list) -> Deed:
+    def s_del_new(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_DEL_BEL_NEW, c[0], meta.line)
 
-    def s_expr(self, meta: Any, c: list) -> Deed:
+    def s_expr(self, meta: Any, c: builtins.list) -> Deed:
         t = c[0]
         if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], PlanTerm):
             return _plan_term_deed(t[1], ADD, meta.line)
@@ -424,16 +425,16 @@ class _ToAst(Transformer):
             return Deed(K_CONSTRAINT, t, meta.line)
         raise _SemErr(meta, "invalid body formula")
 
-    def block(self, meta: Any, c: list) -> tuple:
+    def block(self, meta: Any, c: builtins.list) -> tuple:
         return tuple(c[0]) if c and c[0] is not None else ()
 
-    def elif_part(self, meta: Any, c: list) -> tuple:
+    def elif_part(self, meta: Any, c: builtins.list) -> tuple:
         return ("elif", _fix(c[0]), c[1])
 
-    def else_part(self, meta: Any, c: list) -> tuple:
+    def else_part(self, meta: Any, c: builtins.list) -> tuple:
         return c[0]
 
-    def s_if(self, meta: Any, c: list) -> Deed:
+    def s_if(self, meta: Any, c: builtins.list) -> Deed:
         branches = [(_fix(c[0]), c[1])]
         els = None
         for x in c[2:]:
@@ -445,52 +446,52 @@ class _ToAst(Transformer):
                 els = x
         return Deed(K_IF, branches[0][0], meta.line, (branches, els))
 
-    def s_while(self, meta: Any, c: list) -> Deed:
+    def s_while(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_WHILE, _fix(c[0]), meta.line, c[1])
 
-    def s_for(self, meta: Any, c: list) -> Deed:
+    def s_for(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_FOR, _fix(c[0]), meta.line, c[1])
 
     # ---------------- top level
-    def belief(self, meta: Any, c: list) -> tuple:
+    def belief(self, meta: Any, c: builtins.list) -> tuple:
         return ("belief", _fix(c[0]), meta)
 
-    def rule(self, meta: Any, c: list) -> tuple:
+    def rule(self, meta: Any, c: builtins.list) -> tuple:
         return ("rule", Rule(_fix(c[0]), _fix(c[1])), meta)
 
-    def init_goal(self, meta: Any, c: list) -> tuple:
+    def init_goal(self, meta: Any, c: builtins.list) -> tuple:
         return ("goal", _fix(c[0]), meta)
 
-    def label(self, meta: Any, c: list) -> Literal:
+    def label(self, meta: Any, c: builtins.list) -> Literal:
         return c[0]
 
-    def label_anon(self, meta: Any, c: list) -> Literal:
+    def label_anon(self, meta: Any, c: builtins.list) -> Literal:
         """``@[atomic]``: a label without a name (the plan library gives it one)."""
         annots, _tail = c[0]
         return Literal(ANON_LABEL, (), merge_annots((), annots))
 
-    def label_var(self, meta: Any, c: list) -> Any:
+    def label_var(self, meta: Any, c: builtins.list) -> Any:
         return c[0]
 
-    def directive(self, meta: Any, c: list) -> tuple:
+    def directive(self, meta: Any, c: builtins.list) -> tuple:
         return ("directive", _fix(c[0]), meta)
 
-    def context(self, meta: Any, c: list) -> Any:
+    def context(self, meta: Any, c: builtins.list) -> Any:
         return _fix(c[0])
 
-    def plan_body(self, meta: Any, c: list) -> tuple:
+    def plan_body(self, meta: Any, c: builtins.list) -> tuple:
         return tuple(c[0])
 
-    def trigger(self, meta: Any, c: list) -> Trigger:
+    def trigger(self, meta: Any, c: builtins.list) -> Trigger:
         op = {"+": ADD, "-": DEL}.get(str(c[0]), GOAL_STATE)
         gt = BELIEF if c[1] is None else (ACHIEVE if str(c[1]) == "!" else TEST)
         return Trigger(op, gt, _fix(c[2]))
 
-    def plan(self, meta: Any, c: list) -> tuple:
+    def plan(self, meta: Any, c: builtins.list) -> tuple:
         label, trigger, context, body = c
         return ("plan", Plan(label, trigger, context, body or (), meta.line, self.src), meta)
 
-    def start(self, meta: Any, c: list) -> list:
+    def start(self, meta: Any, c: builtins.list) -> builtins.list:
         return c
 
 

@@ -47,7 +47,8 @@ class Trigger:
         self.literal = literal
         self.is_goal = type != BELIEF
         if isinstance(literal, Literal):
-            self.key = (op, type, literal.functor, len(literal.args), literal.neg)
+            self.key: tuple[str, str, str | None, int, bool] = (
+                op, type, literal.functor, len(literal.args), literal.neg)
         else:
             self.key = (op, type, None, 0, False)
 

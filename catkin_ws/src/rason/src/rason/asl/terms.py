@@ -200,8 +200,8 @@ class _Expr:
         self.right = right
 
     def __eq__(self, other: object) -> bool:
-        return (type(other) is type(self) and self.op == other.op  # type: ignore[attr-defined]
-                and self.left == other.left and self.right == other.right)  # type: ignore[attr-defined]
+        return (type(other) is type(self) and self.op == other.op
+                and self.left == other.left and self.right == other.right)
 
     def __hash__(self) -> int:
         return hash((self._tag, self.op, self.left, self.right))
@@ -298,7 +298,7 @@ def java_double_str(x: float) -> str:
         return repr(x)
     sign, digits, exp = Decimal(repr(x)).as_tuple()
     ds = "".join(map(str, digits)).rstrip("0") or "0"
-    e10 = len(digits) - 1 + exp
+    e10 = len(digits) - 1 + int(exp)   # a finite number: exp is an int
     mant = ds[0] + "." + (ds[1:] or "0")
     return ("-" if sign else "") + mant + "E" + str(e10)
 

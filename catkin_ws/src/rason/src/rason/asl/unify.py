@@ -608,7 +608,7 @@ def _annots_subset(a_annots: tuple, a_tail: Any, b_annots: tuple, b_tail: Any, s
     return True
 
 
-def annot_options(a: Literal, b: Literal, s: Subst, ag: FunctionHost | None = None):
+def annot_options(a: Literal | AnnotVar, b: Literal, s: Subst, ag: FunctionHost | None = None):
     """All ways a's (tail-less) annotations can match annotations of b (for belief queries)."""
     pa = list(a.annots)
     pb = list(b.annots)

@@ -254,4 +254,5 @@ class RobotsView:
 def _track(track: Track | None) -> dict | None:
     if track is None or track.pose is None:
         return None
-    return {"pose": asdict(track.pose), "first": asdict(track.first), "trail": list(track.trail)}
+    first = asdict(track.first) if track.first is not None else None
+    return {"pose": asdict(track.pose), "first": first, "trail": list(track.trail)}

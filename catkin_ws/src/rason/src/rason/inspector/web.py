@@ -84,8 +84,10 @@ def make_app(store: InspectorStore, clock: Callable[[], float],
 
     async def bind_loop(app: web.Application) -> None:
         loop = asyncio.get_running_loop()
-        store.on_change = lambda kind, payload: loop.call_soon_threadsafe(hub.publish, kind,
-                                                                          payload)
+        def push(kind: str, payload: dict) -> None:
+            loop.call_soon_threadsafe(hub.publish, kind, payload)
+
+        store.on_change = push
         app["robots_task"] = asyncio.create_task(_push_robots(app))
 
     async def stop_tasks(app: web.Application) -> None:
@@ -97,7 +99,10 @@ def make_app(store: InspectorStore, clock: Callable[[], float],
     app.on_startup.append(bind_loop)
     app.on_shutdown.append(stop_tasks)
     static = static_dir()
-    app.router.add_get("/", lambda _request: web.FileResponse(static / "index.html"))
+    async def index(_request: web.Request) -> web.StreamResponse:
+        return web.FileResponse(static / "index.html")
+
+    app.router.add_get("/", index)
     app.router.add_static("/static", static, show_index=False, follow_symlinks=False)
     app.router.add_get("/api/agents", agents)
     app.router.add_get("/api/agents/{name}/mind", mind)
@@ -164,7 +169,7 @@ def _jpeg(frame: CameraFrame) -> bytes | None:
     if channels is None or len(frame.data) < frame.width * frame.height * channels:
         return None
     pixels = np.frombuffer(frame.data, np.uint8)[:frame.width * frame.height * channels]
-    image = pixels.reshape(frame.height, frame.width, channels)
+    image: np.ndarray = pixels.reshape(frame.height, frame.width, channels)
     if frame.encoding == "rgb8":
         image = cv2.cvtColor(image, cv2.COLOR_RGB2BGR)
     ok, encoded = cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, 80])

@@ -79,6 +79,10 @@ class RosAgArch(AgentArch):
         self.pending: dict[int, PendingAction] = {}
         self._lock = threading.Lock()
 
+    def run_at_next_cycle(self, hook: Callable[[], None]) -> None:
+        """Have the agent's thread call `hook` once, at the start of its next reasoning cycle."""
+        self.at_next_cycle = hook
+
     # -- AgentArch --------------------------------------------------------------------------------
     def perceive(self):
         if self.at_next_cycle is not None:

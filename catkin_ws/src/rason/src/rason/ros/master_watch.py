@@ -24,6 +24,7 @@ import threading
 import xmlrpc.client
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from typing import Any
 
 import rosgraph
 import rospy
@@ -39,7 +40,7 @@ CALL_TIMEOUT = 2.0
 class _TimeoutTransport(xmlrpc.client.Transport):
     """XML-RPC over HTTP with a socket timeout (a hung master must not hang the watch)."""
 
-    def make_connection(self, host: str) -> http.client.HTTPConnection:
+    def make_connection(self, host: tuple[str, dict[str, str]] | str) -> http.client.HTTPConnection:
         connection = super().make_connection(host)
         connection.timeout = CALL_TIMEOUT
         return connection
@@ -84,8 +85,8 @@ class MasterWatch:
 
     def check(self) -> Registration | None:
         """Ask the master about this node once; register again if it does not know it."""
-        master = xmlrpc.client.ServerProxy(rosgraph.get_master_uri(),
-                                           transport=_TimeoutTransport())
+        master: Any = xmlrpc.client.ServerProxy(rosgraph.get_master_uri(),   # answers: untyped
+                                                transport=_TimeoutTransport())
         caller_id = rospy.get_caller_id()
         try:
             code, _msg, uri = master.lookupNode(caller_id, caller_id)
@@ -117,7 +118,7 @@ class MasterWatch:
                 rospy.logwarn("after registering again with the master: %s", err)
         return done
 
-    def _register(self, master: xmlrpc.client.ServerProxy, caller_id: str) -> Registration:
+    def _register(self, master: Any, caller_id: str) -> Registration:
         node_uri = rospy.core.get_node_uri()
         topics = registration.get_topic_manager()
         services = registration.get_service_manager()

@@ -181,7 +181,7 @@ class RasonNode:
                 agent, arch.pending_actions,
                 latched_publisher(mind_state_topic(self.base_ns, name)),
                 rospy.get_name(), self.base_ns,
-                schedule=lambda hook, a=arch: setattr(a, "at_next_cycle", hook))
+                schedule=arch.run_at_next_cycle)
         self.agents[name] = hosted
         return hosted
 

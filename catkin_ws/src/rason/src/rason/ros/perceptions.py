@@ -161,7 +161,7 @@ class PerceptionTable(Generic[L]):
             return False
         ttl = self._ttl_of(source) if now is not None else 0.0
         with self._lock:
-            if ttl > 0:
+            if ttl > 0 and now is not None:
                 self._heard[source] = SourceClock(ttl, now)
             if self.mode == REPLACE:
                 self._raw[source] = perceptions
