@@ -75,13 +75,13 @@ def _start_graph(ros, tmp_path: Path):
     (tmp_path / "alice.asl").write_text(ALICE)
     (tmp_path / "bob.asl").write_text(BOB)
     inspector = ros.rosrun("rason", "mind_inspector", params={"port": 0, "history": 5})
-    url = inspector.wait_for_line(r"mind inspector: (http://127\.0\.0\.1:\d+/)", 60).group(1)
+    url = inspector.wait_for_line(r"mind inspector: (http://127\.0\.0\.1:\d+/)", 120).group(1)
     bob = ros.rosrun("rason", "agent", "bob", str(tmp_path / "bob.asl"), ns="/insp_b")
     alice = ros.rosrun("rason", "agent", "alice", str(tmp_path / "alice.asl"), ns="/insp_a",
                        params={"ack_timeout": 0, "action_timeout": 0})
     _until("both agents with their mind_state topics", lambda: all(
         a.get("topic") and a.get("last") is not None
-        for a in _agents(url).values()) and {"alice", "bob"} <= set(_agents(url)))
+        for a in _agents(url).values()) and {"alice", "bob"} <= set(_agents(url)), timeout=150)
     return url, inspector, alice, bob
 
 
