@@ -227,12 +227,16 @@ def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
             again = start_robot(ros, newcomer, asl)
             again.wait_for_line(r"hosting rnew", timeout=120)
             rejoined = log_times(again, "hosting rnew")[0]
-            wait_all(agents, "agent rnew present", rejoined - 0.5, 30)
-            time.sleep(2)
-            lan.cut("rnew")
-            cut = time.time()
-            vanish = wait_all(agents, "agent rnew not heard", cut, 30) - cut
-            lan.restore("rnew")
+            try:
+                wait_all(agents, "agent rnew present", rejoined - 0.5, 60)
+                time.sleep(2)
+                lan.cut("rnew")
+                cut = time.time()
+                vanish = wait_all(agents, "agent rnew not heard", cut, 30) - cut
+                lan.restore("rnew")
+            except RuntimeError as err:   # reported as not measured, the rest is kept
+                print(f"vanish not measured: {err}", file=sys.stderr)
+                vanish = float("nan")
     return FleetResult(
         n=n, messages=len(latencies), p50_ms=round(percentile(latencies, 50), 2),
         p99_ms=round(percentile(latencies, 99), 2), max_ms=round(max(latencies, default=0), 2),
@@ -242,7 +246,7 @@ def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
 
 
 def table(results: list[FleetResult]) -> str:
-    lines = ["| N robots | messages | latency p50 | p99 | max | join | leave (goodbye) | "
+    lines = ["| N robots | messages | latency p50 | p99 | max | join | leave (Ctrl-C) | "
              "vanish (link cut) | CPU per agent | rosmaster CPU | rosmaster CPU for the start | "
              "nodes | load |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
@@ -266,7 +270,7 @@ def plot(results: list[FleetResult], path: Path) -> None:
     ax.set_ylabel("ms")
     ax = axes[1]
     ax.plot(ns, [r.join_s for r in results], "o-", label="join")
-    ax.plot(ns, [r.leave_s for r in results], "s-", label="leave (goodbye)")
+    ax.plot(ns, [r.leave_s for r in results], "s-", label="leave (Ctrl-C: goodbye)")
     ax.plot(ns, [r.vanish_s for r in results], "^-", label="vanish (link cut)")
     ax.axhline(2 * PRESENCE_PERIOD, ls="--", color="k", label="two presence periods")
     ax.axhline(PRESENCE_TIMEOUT, ls=":", color="grey", label="presence timeout")
