@@ -164,6 +164,11 @@ class RobotArch(LocalArch):
         self._last = p
         return p
 
+    def action_abandoned(self, agent, action_id: int) -> None:
+        """The agent gave the action up (e.g. a sweep ended by a sighting): stop it, as the
+        motion decomposer does on jason/cancel."""
+        self._running = [e for e in self._running if e[2] != action_id]
+
     def act(self, agent, action: Literal, action_id: int) -> None:
         w = self.world
         turn = 0.0

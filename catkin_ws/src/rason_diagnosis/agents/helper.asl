@@ -128,10 +128,11 @@ currTerm(lost, currLost) :- true.
       .fail(not_found(Robot)).
 
 +!findRobot(Robot, Sweeps, Steps)
-   : searchSide(Robot, Dir)
+   : searchSide(Robot, Dir) & settleTime(S)
    <- .print("Searching ", Robot, ": sweeping ", Dir * 360, " degrees");
       !sweep(Robot, Dir);
-      !findRobot(Robot, Sweeps + 1, Steps).
+      .wait(S);       // stopped at a sighting: centre on a frame taken at rest, not on the
+      !findRobot(Robot, Sweeps + 1, Steps).   // one that stopped the sweep (Helper was turning)
 
 +!sweep(Robot, Dir)
    <- -+lastSweep(Robot, Dir);
