@@ -193,3 +193,14 @@ def test_an_answer_found_by_test_goal_recursion_reaches_the_asker() -> None:
         "!go.\n+!go <- .send(b, askOne, count(N), A); .print(A).",
         "c(0).\n+?count(N) : c(C) & C < 40 <- -+c(C+1); ?count(N).\n+?count(N) : c(N).")
     assert out == ["count(40)[source(b)]"]
+
+
+def test_the_warning_of_a_dropped_deep_intention_stays_short() -> None:
+    arch = RecordingArch()
+    ag = Agent("a", "!deep(0).\n+!deep(N) <- !deep(N+1); .print(never).", arch,
+               options=AgentOptions(max_intention_depth=5000))
+    while ag.step():
+        pass
+    text = "\n".join(arch.out)
+    assert "depth limit of 5000" in text and "more intended means" in text
+    assert len(text.splitlines()) < 130

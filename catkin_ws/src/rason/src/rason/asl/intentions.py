@@ -135,11 +135,17 @@ class Intention:
     def empty(self) -> bool:
         return not self.ims
 
-    def dump(self) -> str:
-        """Jason-like intention dump (used in warnings)."""
+    def dump(self, limit: int = 100) -> str:
+        """Jason-like intention dump (used in warnings); of a stack deeper than ``limit``, only
+        the top and bottom intended means are shown."""
         lines = [f"intention {self.id}: "]
-        for im in reversed(self.ims):
-            lines.append("    " + str(im))
+        ims = list(reversed(self.ims))
+        if len(ims) > limit:
+            keep = limit // 2
+            hidden = len(ims) - 2 * keep
+            ims = [*ims[:keep], None, *ims[-keep:]]
+        for im in ims:
+            lines.append("    " + (str(im) if im is not None else f"... {hidden} more intended means ..."))
         return "\n".join(lines) + "\n"
 
     def __repr__(self) -> str:
