@@ -140,11 +140,12 @@ class Intention:
         the top and bottom intended means are shown."""
         lines = [f"intention {self.id}: "]
         ims = list(reversed(self.ims))
+        shown: list[IntendedMeans | None] = list(ims)
         if len(ims) > limit:
             keep = limit // 2
             hidden = len(ims) - 2 * keep
-            ims = [*ims[:keep], None, *ims[-keep:]]
-        for im in ims:
+            shown = [*ims[:keep], None, *ims[-keep:]]
+        for im in shown:
             lines.append("    " + (str(im) if im is not None else f"... {hidden} more intended means ..."))
         return "\n".join(lines) + "\n"
 
