@@ -36,7 +36,10 @@ def test_an_askone_reply_with_hard_text_arrives_equal(ros, tmp_path):
         !go.
         +!go : .all_names(L) & .member(teller, L)
            <- .send(teller, askOne, info(A, B, C, D, E), R);
-              if (R == {INFO}[source(teller)]) {{ .print("equal") }} else {{ .print("differs: ", R) }};
+              // the reply's tail variable is renamed apart (as Jason copies messages), so the
+              // ground parts are compared by unification: each must arrive exactly as sent
+              if (R = {INFO}[source(teller)] & not .ground(T)) {{
+                  .print("equal") }} else {{ .print("differs: ", R) }};
               .send(teller, askOne, big, Big);
               .length(Big, N); .nth(19999, Big, Last);
               if (Last == v(20000, "k\\\\", 'K')) {{ .print("big ", N) }} else {{ .print("bad ", Last) }}.
