@@ -54,7 +54,6 @@ import sys
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, ClassVar
 
 import rospy
@@ -73,7 +72,7 @@ from rason.ros.badinput import shorten
 from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.master_watch import watch_master
-from rason.ros.params import exit_on_help, load_or_exit, param
+from rason.ros.params import load_or_exit, param, start_node
 from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE
 
 __all__ = ["OK", "Decomposer", "DecomposerParams", "Goal", "Verdict", "run"]
@@ -302,15 +301,10 @@ def run(decomposer: type[Decomposer], node_name: str, argv: list[str] | None = N
     decomposer and spin; the exit status (2 for a bad parameter)."""
     argv = argv if argv is not None else sys.argv
     summary = (decomposer.__doc__ or "").strip().split("\n")[0]
-    exit_on_help(argv, decomposer.Params,
-                 usage or f"{Path(argv[0]).name} [__ns:=/robot] [_name:=value ...]",
-                 f"{node_name}: {summary} (actions: {', '.join(decomposer.actions) or 'see ~actions'})")
-    rospy.init_node(node_name, argv=argv)
-    try:
-        node = decomposer()
-    except ValueError as err:            # parameters that do not fit together
-        rospy.logfatal(f"{node_name}: {err}")
-        print(f"{node_name}: {err}", file=sys.stderr)
+    node = start_node(decomposer, decomposer.Params, node_name, argv, usage,
+                      f"{node_name}: {summary} (actions: "
+                      f"{', '.join(decomposer.actions) or 'see ~actions'})")
+    if node is None:
         return 2
     watch_master()
     rospy.loginfo(f"{node_name}: handling {', '.join(node.actions)} in namespace "

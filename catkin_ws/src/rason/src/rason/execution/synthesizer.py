@@ -42,7 +42,6 @@ import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, ClassVar
 
 import rospy
@@ -51,7 +50,7 @@ from jason_msgs.msg import Perception
 from rason.ros.badinput import shorten
 from rason.ros.guard import RateLimitedWarnings
 from rason.ros.master_watch import watch_master
-from rason.ros.params import exit_on_help, load_or_exit, param
+from rason.ros.params import load_or_exit, param, start_node
 
 __all__ = ["BadFrame", "Synthesizer", "SynthesizerParams", "run"]
 
@@ -188,15 +187,9 @@ def run(synthesizer: type[Synthesizer], node_name: str, argv: list[str] | None =
     synthesizer and spin; the exit status (2 for a bad parameter)."""
     argv = argv if argv is not None else sys.argv
     summary = (synthesizer.__doc__ or "").strip().split("\n")[0]
-    exit_on_help(argv, synthesizer.Params,
-                 usage or f"{Path(argv[0]).name} [__ns:=/robot] [_name:=value ...]",
-                 f"{node_name}: {summary}")
-    rospy.init_node(node_name, argv=argv)
-    try:
-        node = synthesizer()
-    except ValueError as err:            # parameters that do not fit together
-        rospy.logfatal(f"{node_name}: {err}")
-        print(f"{node_name}: {err}", file=sys.stderr)
+    node = start_node(synthesizer, synthesizer.Params, node_name, argv, usage,
+                      f"{node_name}: {summary}")
+    if node is None:
         return 2
     watch_master(on_registered=[node.declare_ttl])
     rospy.loginfo(f"{node_name}: publishing {rospy.resolve_name('jason/perception')} "

@@ -25,7 +25,8 @@ import math
 import sys
 import types
 import typing
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any, TypeVar
 
 import rospy
@@ -183,3 +184,19 @@ def load_or_exit(cls: type[T], node: str) -> T:
         rospy.logfatal("%s: %s", node, error)
         print(f"{node}: {error}", file=sys.stderr)
         raise SystemExit(2) from None
+
+
+def start_node(build: Callable[[], T], params: type, node_name: str, argv: Sequence[str],
+               usage: str | None, summary: str) -> T | None:
+    """The common start of a node: ``--help`` prints the parameter table of ``params`` and exits;
+    otherwise ``rospy.init_node(node_name)`` and ``build()``. Returns None (after a clear
+    message) when ``build`` rejects its parameters with a ValueError: the caller exits 2."""
+    exit_on_help(argv, params, usage or f"{Path(argv[0]).name} [__ns:=/robot] [_name:=value ...]",
+                 summary)
+    rospy.init_node(node_name, argv=list(argv))
+    try:
+        return build()
+    except ValueError as err:            # parameters that do not fit together
+        rospy.logfatal(f"{node_name}: {err}")
+        print(f"{node_name}: {err}", file=sys.stderr)
+        return None
