@@ -15,12 +15,12 @@ sent, parsed and kept). Runs are interleaved, best of ``--repeat``.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import tempfile
 from pathlib import Path
 
 from rason.testing.harness import RosHarness
+from rason.testing.procstat import cpu_seconds
 
 LISTING_5_4 = """
 value(0).
@@ -42,17 +42,12 @@ def measure(ros: RosHarness, asl: Path, rate: float, ns: str, count: int) -> tup
         agent = ros.rosrun("rason", "agent", "bench", str(asl), ns=ns,
                            params={"mind_state_rate": rate}, echo=False)
         agent.wait_for_line(r"hosting bench", timeout=120)
-        start = _cpu_seconds(agent.pid)
+        start = cpu_seconds(agent.pid)
         ms = float(agent.wait_for_line(r"ms_per_cycle (\S+)", timeout=900).group(1))
-        return (_cpu_seconds(agent.pid) - start) / count * 1e6, ms * 1000
+        return (cpu_seconds(agent.pid) - start) / count * 1e6, ms * 1000
     finally:
         ros.stop_started_since(mark)
 
-
-def _cpu_seconds(pid: int) -> float:
-    """User + system CPU seconds of a process (rosrun execs the node, so this is the node)."""
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def main() -> int:

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import statistics
 import sys
 import tempfile
@@ -25,6 +24,7 @@ import time
 from pathlib import Path
 
 from rason.testing.harness import RosHarness
+from rason.testing.procstat import cpu_seconds
 
 N_VALUES = (1, 3, 5, 10)
 F_VALUES = (1, 3, 5, 10, 30, 50)
@@ -67,18 +67,13 @@ def measure(ros: RosHarness, asl: Path, n: int, f: int, mode: str, ns: str,
         match = agent.wait_for_line(r"ms_per_cycle (\S+)", timeout=300)
         cpu = math.nan
         if idle_s > 0:
-            start_cpu, start = _cpu_seconds(agent.pid), time.monotonic()
+            start_cpu, start = cpu_seconds(agent.pid), time.monotonic()
             time.sleep(idle_s)
-            cpu = 100.0 * (_cpu_seconds(agent.pid) - start_cpu) / (time.monotonic() - start)
+            cpu = 100.0 * (cpu_seconds(agent.pid) - start_cpu) / (time.monotonic() - start)
         return float(match.group(1)), cpu
     finally:
         ros.stop_started_since(mark)
 
-
-def _cpu_seconds(pid: int) -> float:
-    """User + system CPU seconds of a process (rosrun execs the node, so this is the node)."""
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def main() -> int:

@@ -84,20 +84,12 @@ def node_latency(frames: list[tuple[np.ndarray, np.ndarray]],
     """End-to-end, transport-in and in-node latencies (ms) of the robot_synthesizer node."""
     import rospy
     from jason_msgs.msg import Perception
-    from sensor_msgs.msg import Image, PointCloud2, PointField
+    from sensor_msgs.msg import Image, PointCloud2
 
     from rason.testing.harness import RosHarness
+    from rason_vision_tools.messages import frame_messages
 
-    def ros_messages(rgb: np.ndarray, xyz: np.ndarray) -> tuple[Image, PointCloud2]:
-        img = image_fields(rgb)
-        img["data"] = img["data"].tobytes()
-        values = cloud_fields(xyz, rgb)
-        values["fields"] = [PointField(name=n, offset=o, datatype=d, count=c)
-                            for n, o, d, c in values["fields"]]
-        values["data"] = values["data"].tobytes()
-        return Image(**img), PointCloud2(**values)
-
-    pairs = [ros_messages(*f) for f in frames]
+    pairs = [frame_messages(*f) for f in frames]
     latencies: list[float] = []
     with RosHarness() as ros:
         node = ros.rosrun("rason_vision", "robot_synthesizer", ns="/bench",

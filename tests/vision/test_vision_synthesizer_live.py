@@ -71,20 +71,14 @@ def test_synthesizer_sees_faulty_in_the_case_study_from_the_live_sim(ros, tmp_pa
 def test_private_params_name_source_and_colours(ros):
     """``__name`` sets the source, ``~robot_name`` the literal; colour ranges are params."""
     import rospy
-    from sensor_msgs.msg import Image, PointCloud2, PointField
+    from sensor_msgs.msg import Image, PointCloud2
 
-    from rason_vision.convert import cloud_fields, image_fields
+    from rason_vision_tools.messages import frame_messages
     from rason_vision_tools.synthetic import faulty_scene
 
     ros.init_rospy()
     rgb, xyz = faulty_scene(2.0, -10.0, 30.0).render(np.random.default_rng(3))
-    img = image_fields(rgb)
-    img["data"] = img["data"].tobytes()
-    values = cloud_fields(xyz, rgb)
-    values["fields"] = [PointField(name=n, offset=o, datatype=d, count=c)
-                        for n, o, d, c in values["fields"]]
-    values["data"] = values["data"].tobytes()
-    image, cloud = Image(**img), PointCloud2(**values)
+    image, cloud = frame_messages(rgb, xyz)
     image.header.stamp = cloud.header.stamp = rospy.Time(1.0)
 
     eye = ros.rosrun("rason_vision", "robot_synthesizer", ns="/p1", name="eye",

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import yaml
 
+from rason.inspector.main import InspectorParams
 from rason_diagnosis import thesis
 from rason_diagnosis.hosts import LinkCut
 from rason_diagnosis.scenario import FAULTS, default_fault, run_scenario
@@ -59,7 +60,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--timeout", type=float, default=300.0, help="simulated seconds allowed")
     parser.add_argument("--inspector", action=argparse.BooleanOptionalAction, default=True,
                         help="watch the run in the mind inspector (web page; default: on)")
-    parser.add_argument("--inspector-port", type=int, default=3272,
+    parser.add_argument("--inspector-port", type=int, default=InspectorParams().port,
                         help="the inspector's port on 127.0.0.1 (0: any free port)")
     parser.add_argument("--hosts", action="store_true",
                         help="world, helper and faulty on hosts of their own (network namespaces "

@@ -34,16 +34,17 @@ from .intentions import (
 )
 from .kqml import KQML_SRC, kqml_plans
 from .logic import solve
-from .parser import AgentSource, AslSyntaxError, Rule, parse_source, parse_term, path_include_resolver
+from .parser import AgentSource, AslSyntaxError, parse_source, parse_term, path_include_resolver
 from .plans import ACHIEVE, ADD, BELIEF, DEL, GOAL_STATE, K_INTERNAL, PlanLibrary, Trigger, body_deeds
 from .stdlib import IA_REGISTRY, IAError
-from .stdlib.comm import _set_source as nested_source
+from .stdlib.comm import with_nested_source
 from .terms import (
     FALSE,
     SOURCE_PERCEPT,
     SOURCE_SELF,
     ListTerm,
     Literal,
+    Rule,
     is_ground,
     make_list,
     merge_annots,
@@ -135,6 +136,7 @@ class Agent:
         # called (from any thread) whenever input arrives; a runner may use it to wake up
         self.on_wake: Any = None
         self.load(parsed)
+        arch.attach(self)
 
     # ================================================================ loading
     def load(self, parsed: AgentSource) -> None:
@@ -898,7 +900,7 @@ class Agent:
         if (perf in ("tell", "achieve", "signal") and type(content) is Literal
                 and not self._user_kqml_plans()):
             # TransitionSystem.applyProcMsg: the content's sources are nested in the sender's
-            lit = nested_source(content, src.args[0])
+            lit = with_nested_source(content, src.args[0])
             if perf == "tell":
                 self.add_belief(lit, front=True)
             elif perf == "achieve":
@@ -919,7 +921,7 @@ class Agent:
         items: Any = content
         while type(items) is ListTerm:
             for item in items.items:
-                if type(item) is Literal and (item._g or is_ground(item)):
+                if type(item) is Literal and (item.known_ground or is_ground(item)):
                     self.add_belief(item.add_annots([src]), front=True)
             items = items.tail
 
@@ -942,7 +944,7 @@ class Agent:
             content = FALSE
         elif isinstance(content, Literal) or (perf == "askAll" and isinstance(content, ListTerm)):
             # TransitionSystem: the answer's sources are nested in source(Sender)
-            content = nested_source(content, sender)
+            content = with_nested_source(content, sender)
         if n is not None:
             got.append(content)
             if len(got) < n:

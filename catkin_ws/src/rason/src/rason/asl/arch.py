@@ -111,6 +111,15 @@ class AgentArch:
 
     def __init__(self, clock: Clock | None = None) -> None:
         self.clock: Clock = clock if clock is not None else WallClock()
+        #: the agent this architecture serves, once its constructor has finished
+        self.agent: Agent | None = None
+
+    def attach(self, agent: Agent) -> None:
+        """Serve ``agent``: called by the agent's constructor once it is built (Jason's
+        ``AgArch.setTS``). An architecture serves one agent."""
+        if self.agent is not None and self.agent is not agent:
+            raise ValueError(f"architecture already serves agent {self.agent.name}")
+        self.agent = agent
 
     def perceive(self) -> list[Literal] | None:
         """Current percepts; None means unchanged since the last call."""

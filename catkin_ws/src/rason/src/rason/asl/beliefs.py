@@ -5,8 +5,7 @@ from __future__ import annotations
 from collections import deque
 from typing import Any
 
-from .parser import Rule
-from .terms import Literal, merge_annots, sort_key
+from .terms import Literal, Rule, merge_annots, sort_key
 from .unify import unify
 
 

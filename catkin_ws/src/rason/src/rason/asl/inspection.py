@@ -16,9 +16,8 @@ from enum import StrEnum
 from typing import TYPE_CHECKING
 
 from .intentions import Event, IntendedMeans
-from .parser import Rule
 from .plans import ADD, K_LOOP, Deed, body_deeds, deed_str
-from .terms import Literal, term_str
+from .terms import Literal, Rule, term_str
 
 if TYPE_CHECKING:
     from .agent import Agent

@@ -7,7 +7,6 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any
 
 from .functions import FunctionHost
-from .parser import Rule
 from .stdlib import call_ia
 from .terms import (
     AnnotVar,
@@ -16,6 +15,7 @@ from .terms import (
     Literal,
     LogExpr,
     RelExpr,
+    Rule,
     Var,
     is_constant,
     is_internal_action,
@@ -61,7 +61,13 @@ class IAContext:
         return False
 
     def solve(self, f: Any, s: dict | None = None) -> Iterator[dict]:
+        """Every substitution under which the formula ``f`` follows from the agent's state."""
         return solve(self.ag, f, self.s if s is None else s, self.intention)
+
+    def query_beliefs(self, lit: Literal) -> Iterator[dict]:
+        """Every substitution under which ``lit`` matches a belief (facts and rules), without
+        the rest of :meth:`solve` (no internal actions, no arithmetic)."""
+        return query_bb(self.ag, lit, self.s)
 
 
 def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Iterator[dict]:

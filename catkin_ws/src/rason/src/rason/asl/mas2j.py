@@ -16,7 +16,7 @@ from typing import Any
 from lark import Lark, Transformer, v_args
 from lark.exceptions import LarkError, UnexpectedInput
 
-from .parser import AslSyntaxError, _describe
+from .parser import LEXICON, AslSyntaxError, describe_syntax_error
 
 
 @dataclass
@@ -76,15 +76,7 @@ param_list: "[" param ("," param)* "]"
 
 PATH: /(\.\/|\/|\\|[A-Za-z]:)([A-Za-z0-9_\-.]*[\/\\])*/
 ID: /[A-Za-z_][A-Za-z0-9_]*/
-NUMBER: /[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?/
-STRING: /"(\\.|[^"\\])*"/
-COMMENT: /\/\/[^\n]*/
-BLOCK_COMMENT: /\/\*(.|\n)*?\*\//
-%import common.WS
-%ignore WS
-%ignore COMMENT
-%ignore BLOCK_COMMENT
-"""
+""" + LEXICON
 
 _lark: Lark | None = None
 
@@ -191,7 +183,7 @@ def parse_mas2j(text: str, path: str = "<mas2j>") -> MasProject:
         col = getattr(e, "column", -1)
         if line is None or line < 1:
             line, col = text.count("\n") + 1, len(text) - (text.rfind("\n") + 1) + 1
-        raise AslSyntaxError(path, line, col, _describe(e)) from None
+        raise AslSyntaxError(path, line, col, describe_syntax_error(e)) from None
     except LarkError as e:
         raise AslSyntaxError(path, 1, 1, str(e).splitlines()[0] if str(e) else "invalid project") from None
     base_dir = os.path.dirname(os.path.abspath(path)) if path != "<mas2j>" else os.getcwd()

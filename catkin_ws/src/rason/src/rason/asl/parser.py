@@ -51,6 +51,7 @@ from .terms import (
     LogExpr,
     PlanTerm,
     RelExpr,
+    Rule,
     Var,
     fresh_name,
     is_constant,
@@ -70,6 +71,19 @@ class AslSyntaxError(Exception):
         self.message = message
         super().__init__(f"{file}:{line}:{col}: {message}")
 
+
+#: The lexical rules that Jason's ``.asl`` and ``.mas2j`` languages share: numbers, strings,
+#: comments and white space (appended to both grammars).
+LEXICON = r"""
+NUMBER: /[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?/
+STRING: /"(\\.|[^"\\])*"/
+COMMENT: /\/\/[^\n]*/
+BLOCK_COMMENT: /\/\*(.|\n)*?\*\//
+%import common.WS
+%ignore WS
+%ignore COMMENT
+%ignore BLOCK_COMMENT
+"""
 
 GRAMMAR = r"""
 start: item*
@@ -159,16 +173,7 @@ elems: log_and ("," log_and)* ["|" log_and]
 
 ATOM: /\.?[a-z][A-Za-z0-9_]*(\.[a-zA-Z][A-Za-z0-9_]*)*/ | /'(\\.|[^'\\\n])*'/
 VAR: /[A-Z_][A-Za-z0-9_]*/
-NUMBER: /[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?/
-STRING: /"(\\.|[^"\\])*"/
-
-COMMENT: /\/\/[^\n]*/
-BLOCK_COMMENT: /\/\*(.|\n)*?\*\//
-%import common.WS
-%ignore WS
-%ignore COMMENT
-%ignore BLOCK_COMMENT
-"""
+""" + LEXICON
 
 _lark: Lark | None = None
 
@@ -214,17 +219,6 @@ class AgentSource:
     goals: list = field(default_factory=list)       # Literal
     plans: list = field(default_factory=list)       # Plan
     filename: str = "<string>"
-
-
-@dataclass(eq=False)
-class Rule:
-    """``head :- body.``"""
-
-    head: Literal
-    body: Any
-
-    def __str__(self) -> str:
-        return term_str(self.head) + " :- " + term_str(self.body)
 
 
 class _Anon:
@@ -545,7 +539,8 @@ def _fix(t: Any) -> Any:
     return t
 
 
-def _describe(e: UnexpectedInput) -> str:
+def describe_syntax_error(e: UnexpectedInput) -> str:
+    """One line saying what lark found unexpected (and what it expected)."""
     if isinstance(e, UnexpectedCharacters):
         return f"unexpected character {e.char!r}"
     if isinstance(e, UnexpectedEOF):
@@ -568,7 +563,7 @@ def _parse_tree(text: str, filename: str, start: str = "start") -> Any:
         if line is None or line < 1:
             line = text.count("\n") + 1
             col = len(text) - (text.rfind("\n") + 1) + 1
-        raise AslSyntaxError(filename, line, col, _describe(e)) from None
+        raise AslSyntaxError(filename, line, col, describe_syntax_error(e)) from None
     except LarkError as e:
         raise AslSyntaxError(filename, 1, 1, str(e).splitlines()[0] if str(e) else "syntax error") from None
     except RecursionError:
@@ -703,7 +698,6 @@ def parse_literal(text: str) -> Literal:
 __all__ = [
     "AgentSource",
     "AslSyntaxError",
-    "Rule",
     "Token",
     "parse_literal",
     "parse_source",

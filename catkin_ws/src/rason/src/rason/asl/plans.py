@@ -89,10 +89,22 @@ class Deed:
         # ``!!g`` of a constant goal posts the same trigger every time
         self.self_trigger = (Trigger(ADD, ACHIEVE, self.self_term)
                              if kind == K_ACHIEVE_NEW and self.self_term is not None
-                             and self.self_term._c else None)
+                             and self.self_term.known_constant else None)
 
     def __repr__(self) -> str:
         return deed_str(self)
+
+    def map_terms(self, fn: Any) -> Deed:
+        """This deed with ``fn`` applied to every term in it (blocks included)."""
+        if self.kind == K_IF:
+            branches, els = self.extra
+            extra = ([(fn(c), map_deeds(b, fn)) for c, b in branches],
+                     None if els is None else map_deeds(els, fn))
+        elif self.kind in (K_WHILE, K_FOR):
+            extra = map_deeds(self.extra, fn)
+        else:
+            extra = self.extra
+        return Deed(self.kind, fn(self.term), self.line, extra)
 
 
 def _with_self_source(term: Any) -> Literal | None:
@@ -186,6 +198,14 @@ class Plan:
     def body_text(self) -> str:
         return body_str(self.body)
 
+    def map_terms(self, fn: Any) -> Plan:
+        """A copy of this plan with ``fn`` applied to every term in it."""
+        label = self.label if self.label is None else fn(self.label)
+        trigger = Trigger(self.trigger.op, self.trigger.type, fn(self.trigger.literal))
+        context = self.context if self.context is None else fn(self.context)
+        return Plan(label, trigger, context, map_deeds(self.body, fn), self.line, self.src,
+                    in_file=self.in_file)
+
     def as_text(self, label: bool = True) -> str:
         s = ""
         if self.label is not None and label:
@@ -200,41 +220,7 @@ class Plan:
 
 def map_deeds(body: tuple, fn: Any) -> tuple:
     """The deeds of a body with ``fn`` applied to every term (blocks included)."""
-    out = []
-    for d in body:
-        if d.kind == K_IF:
-            branches, els = d.extra
-            extra = ([(fn(c), map_deeds(b, fn)) for c, b in branches],
-                     None if els is None else map_deeds(els, fn))
-        elif d.kind in (K_WHILE, K_FOR):
-            extra = map_deeds(d.extra, fn)
-        else:
-            extra = d.extra
-        out.append(Deed(d.kind, fn(d.term), d.line, extra))
-    return tuple(out)
-
-
-def map_plan_term(t: PlanTerm, fn: Any) -> PlanTerm:
-    """``t`` with ``fn`` applied to every term in it (``resolve``, renaming); ``t`` itself
-    when nothing changed."""
-    if t.rule is not None:
-        from .parser import Rule
-        head, body = fn(t.rule.head), fn(t.rule.body)
-        if head == t.rule.head and body == t.rule.body:
-            return t
-        rule = Rule(head, body)
-        return PlanTerm((), str(rule), rule=rule)
-    p = t.plan
-    if p is None:
-        body = map_deeds(t.body, fn)
-        text = body_str(body)
-        return t if text == t.text else PlanTerm(body, text, braces=t.braces)
-    label = p.label if p.label is None else fn(p.label)
-    trigger = Trigger(p.trigger.op, p.trigger.type, fn(p.trigger.literal))
-    context = p.context if p.context is None else fn(p.context)
-    q = Plan(label, trigger, context, map_deeds(p.body, fn), p.line, p.src, in_file=p.in_file)
-    text = q.as_text()
-    return t if text == t.text else PlanTerm(q.body, text, q)
+    return tuple(d.map_terms(fn) for d in body)
 
 
 def body_deeds(body: tuple) -> Iterator[Deed]:

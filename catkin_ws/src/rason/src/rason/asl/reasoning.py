@@ -11,7 +11,6 @@ from typing import TYPE_CHECKING, Any
 
 from .intentions import Event, IntendedMeans, Intention, Suspension
 from .logic import IAContext, compile_context, eval_rel, first_solution, query_bb, solve
-from .parser import Rule
 from .plans import (
     ACHIEVE,
     ADD,
@@ -38,7 +37,7 @@ from .plans import (
     Trigger,
 )
 from .stdlib import SUSPEND, FailGoal, IAError, call_ia
-from .terms import ListTerm, Literal, PlanTerm, RelExpr, is_ground, is_internal_action, term_str
+from .terms import ListTerm, Literal, PlanTerm, RelExpr, Rule, is_ground, is_internal_action, term_str
 from .unify import ArithError, rename_vars, resolve, unify
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -185,7 +184,7 @@ def handle_event(ag: Agent, ev: Event) -> bool:
             return True
         return _no_plan(ag, trig, i, "relevant")
     lit = trig.literal
-    ground = (type(lit) is Literal and lit._g) or is_ground(lit)
+    ground = (type(lit) is Literal and lit.known_ground) or is_ground(lit)
     if not ground:
         lit = rename_vars(lit, {})
         ev = Event(Trigger(trig.op, trig.type, lit), i, ev.fail_target, ev.reply)
@@ -244,7 +243,7 @@ def _tail_call(ag: Agent, i: Intention, im: IntendedMeans) -> None:
 
 def _renamed_pair(a: Any, b: Any) -> tuple[Any, Any]:
     """``a`` and ``b`` with their variables renamed apart from every other term (one mapping)."""
-    if (type(a) is Literal and a._g) or is_ground(a):
+    if (type(a) is Literal and a.known_ground) or is_ground(a):
         return a, b
     mapping: dict = {}
     return rename_vars(a, mapping), rename_vars(b, mapping)
@@ -475,7 +474,7 @@ def _exec_achieve(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``!g``: post the subgoal's event; the intention waits for it."""
     u = im.u
     lit = _self_sourced(ag, d, u, "invalid goal {}")
-    if not (lit._g or is_ground(lit)):
+    if not (lit.known_ground or is_ground(lit)):
         lit = rename_vars(lit, {})
     i.suspended = Suspension.SUBGOAL
     trig = Trigger(ADD, ACHIEVE, lit)
@@ -564,7 +563,7 @@ def _belief_to_remove(ag: Agent, im: IntendedMeans, d: Deed) -> Literal | None:
     """The belief a ``-b``/``--b`` deed removes: the literal itself when ground, else the first
     belief it unifies with (its bindings kept in ``im.u``); None when there is none."""
     lit = _self_sourced(ag, d, im.u, "cannot remove {}")
-    if lit._g or is_ground(lit):
+    if lit.known_ground or is_ground(lit):
         return lit
     for sol in query_bb(ag, lit, im.u):
         im.u = sol

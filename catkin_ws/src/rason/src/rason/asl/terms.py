@@ -75,7 +75,7 @@ class AnnotVar:
 class Literal:
     """An atom or structure, possibly negated (``~``) and annotated (``[a|T]``)."""
 
-    __slots__ = ("_c", "_g", "_h", "annots", "args", "functor", "neg", "tail")
+    __slots__ = ("_h", "annots", "args", "functor", "known_constant", "known_ground", "neg", "tail")
 
     def __init__(self, functor: str, args: tuple = (), annots: tuple = (),
                  tail: Any = None, neg: bool = False) -> None:
@@ -85,8 +85,10 @@ class Literal:
         self.tail = tail
         self.neg = neg
         self._h: int | None = None
-        self._g: bool | None = None
-        self._c: bool | None = None  # constant: no variables and nothing to evaluate
+        #: caches filled on first use by :func:`is_ground` and :func:`is_constant` (None: not
+        #: yet known); the parser and plan compilation fill them for program literals
+        self.known_ground: bool | None = None
+        self.known_constant: bool | None = None
 
     @property
     def arity(self) -> int:
@@ -235,9 +237,13 @@ class PlanTerm:
     """A plan/plan-body term in braces, e.g. ``{ p(1) }``, ``{+stop}`` or a whole plan
     ``{ @l +!g : c <- .print(a) }`` (then ``plan`` is the :class:`~.plans.Plan`; a plan with
     neither label, context nor body is Jason's trigger term ``{+!g}``), or a rule
-    ``{ p(X) :- q(X) }`` (then ``rule`` is the :class:`~.parser.Rule`)."""
+    ``{ p(X) :- q(X) }`` (then ``rule`` is the :class:`Rule`).
 
-    __slots__ = ("_g", "body", "braces", "plan", "rule", "text")
+    The plan and the deeds of ``body`` are objects of :mod:`.plans`; this class only uses
+    what every one of them offers: ``map_terms(fn)`` and ``str()``.
+    """
+
+    __slots__ = ("body", "braces", "known_ground", "plan", "rule", "text")
 
     def __init__(self, body: tuple, text: str, plan: Any = None, rule: Any = None,
                  braces: bool = True) -> None:
@@ -248,7 +254,7 @@ class PlanTerm:
         self.text = text
         self.plan = plan
         self.rule = rule
-        self._g: bool | None = None   # ground (no variable inside), computed on first use
+        self.known_ground: bool | None = None   # ground (no variable inside), computed on first use
 
     def same_key(self) -> str:
         """What makes two plan terms equal: as Jason's ``Plan.equals``, a plan's trigger,
@@ -266,6 +272,44 @@ class PlanTerm:
 
     def __repr__(self) -> str:
         return term_str(self)
+
+    @classmethod
+    def of_body(cls, deeds: tuple) -> PlanTerm:
+        """A body part as a term, printed without braces (a tail taken by ``{ A; _ }``)."""
+        return cls(deeds, "; ".join(str(d) for d in deeds), braces=False)
+
+    def map_terms(self, fn: Any) -> PlanTerm:
+        """This term with ``fn`` applied to every term inside (resolving, renaming); itself
+        when nothing changed."""
+        if self.rule is not None:
+            head, body = fn(self.rule.head), fn(self.rule.body)
+            if head == self.rule.head and body == self.rule.body:
+                return self
+            rule = Rule(head, body)
+            return PlanTerm((), str(rule), rule=rule)
+        if self.plan is None:
+            deeds = tuple(d.map_terms(fn) for d in self.body)
+            text = "; ".join(str(d) for d in deeds)
+            return self if text == self.text else PlanTerm(deeds, text, braces=self.braces)
+        plan = self.plan.map_terms(fn)
+        text = plan.as_text()
+        return self if text == self.text else PlanTerm(plan.body, text, plan)
+
+
+class Rule:
+    """``head :- body.``"""
+
+    __slots__ = ("body", "head")
+
+    def __init__(self, head: Literal, body: Any) -> None:
+        self.head = head
+        self.body = body
+
+    def __str__(self) -> str:
+        return term_str(self.head) + " :- " + term_str(self.body)
+
+    def __repr__(self) -> str:
+        return f"Rule({self.head!r}, {self.body!r})"
 
 
 # ---------------------------------------------------------------- printing
@@ -472,9 +516,9 @@ def is_constant(t: Any) -> bool:
     if tt is float or tt is str:
         return True
     if tt is Literal:
-        c = t._c
+        c = t.known_constant
         if c is None:
-            c = t._c = (t.tail is None and t.functor not in ARITH_NAMES
+            c = t.known_constant = (t.tail is None and t.functor not in ARITH_NAMES
                         and all(is_constant(a) for a in t.args) and all(is_constant(a) for a in t.annots))
         return c
     if tt is ListTerm:
@@ -489,9 +533,9 @@ def is_ground(t: Any) -> bool:
     if isinstance(t, Var):
         return False
     if isinstance(t, Literal):
-        g = t._g
+        g = t.known_ground
         if g is None:
-            g = t._g = (t.tail is None and all(is_ground(a) for a in t.args)
+            g = t.known_ground = (t.tail is None and all(is_ground(a) for a in t.args)
                         and all(is_ground(a) for a in t.annots))
         return g
     if isinstance(t, ListTerm):
@@ -499,12 +543,16 @@ def is_ground(t: Any) -> bool:
     if isinstance(t, (ArithExpr, RelExpr, LogExpr)):
         return is_ground(t.left) and (t.right is None or is_ground(t.right))
     if isinstance(t, PlanTerm):
-        if t._g is None:
-            from .unify import rename_vars
-            found: dict = {}
-            rename_vars(t, found)
-            t._g = not found
-        return t._g
+        if t.known_ground is None:
+            all_ground = True
+
+            def note(x: Any) -> Any:
+                nonlocal all_ground
+                all_ground = all_ground and is_ground(x)
+                return x
+            t.map_terms(note)
+            t.known_ground = all_ground
+        return t.known_ground
     return not isinstance(t, AnnotVar)
 
 

@@ -171,7 +171,7 @@ def _all_constant(annots: tuple) -> bool:
     """True when every annotation is a number, a string or a known-constant literal."""
     for a in annots:
         ta = type(a)
-        if not (ta is float or ta is str or (ta is Literal and a._c)):
+        if not (ta is float or ta is str or (ta is Literal and a.known_constant)):
             return False
     return True
 
@@ -191,7 +191,7 @@ def resolve(t: Any, s: Subst, ag: FunctionHost | None = None) -> Any:
             return b
         return resolve(b, s, ag)
     if tt is Literal:
-        if t._c:  # known constant (computed by the parser for program literals)
+        if t.known_constant:  # known constant (computed by the parser for program literals)
             return t
         if t.functor in ARITH_NAMES:
             try:
@@ -252,8 +252,7 @@ def resolve(t: Any, s: Subst, ag: FunctionHost | None = None) -> Any:
         r = t.right
         return LogExpr(t.op, resolve(t.left, s, ag), None if r is None else resolve(r, s, ag))
     if tt is PlanTerm and s:
-        from .plans import map_plan_term
-        return map_plan_term(t, lambda x: resolve(x, s, ag))
+        return t.map_terms(lambda x: resolve(x, s, ag))
     return t
 
 
@@ -288,7 +287,7 @@ def compile_resolve(t: Any) -> Callable[..., Any] | None:
     The function computes numbers directly and hands anything else (an unbound variable,
     a structure) to :func:`resolve`, so both always give the same term.
     """
-    if (type(t) is not Literal or t.tail is not None or t._c or t.functor in ARITH_NAMES
+    if (type(t) is not Literal or t.tail is not None or t.known_constant or t.functor in ARITH_NAMES
             or not _all_constant(t.annots)):
         return None
     env: dict[str, Any] = {"Literal": Literal, "resolve": resolve, "float": float,
@@ -442,11 +441,6 @@ def _body_var(d: Any, s: Subst) -> Var | None:
     return v if type(v) is Var else None
 
 
-def _body_term(deeds: tuple) -> PlanTerm:
-    from .plans import body_str
-    return PlanTerm(tuple(deeds), body_str(deeds), braces=False)
-
-
 def _unify_bodies(da: tuple, db: tuple, s: Subst) -> bool:
     """Jason's plan-body unification: formula by formula; a variable formula takes one
     formula, or, when it is the last one, the rest of the other body (``{ T; _ }``)."""
@@ -456,23 +450,22 @@ def _unify_bodies(da: tuple, db: tuple, s: Subst) -> bool:
             if not rest:
                 return True
             if len(rest) == 1 and _body_var(rest[0], s) is not None:
-                return unify(rest[0].term, _body_term(()), s)
+                return unify(rest[0].term, PlanTerm.of_body(()), s)
             return False
         x, y = da[0], db[0]
         vx, vy = _body_var(x, s), _body_var(y, s)
         if vx is not None and len(da) == 1:
-            return unify(vx, _body_term(db), s)
+            return unify(vx, PlanTerm.of_body(db), s)
         if vy is not None and len(db) == 1:
-            return unify(vy, _body_term(da), s)
+            return unify(vy, PlanTerm.of_body(da), s)
         if vx is not None:
-            ok = unify(vx, _body_term((y,)), s)
+            ok = unify(vx, PlanTerm.of_body((y,)), s)
         elif vy is not None:
-            ok = unify(vy, _body_term((x,)), s)
+            ok = unify(vy, PlanTerm.of_body((x,)), s)
         elif x.kind != y.kind:
             return False
         elif x.kind in ("if", "while", "for"):
-            from .plans import deed_str
-            ok = deed_str(x) == deed_str(y)
+            ok = str(x) == str(y)
         else:
             ok = unify(x.term, y.term, s)
         if not ok:
@@ -688,8 +681,7 @@ def rename_vars(t: Any, mapping: dict) -> Any:
     if isinstance(t, RelExpr):
         return RelExpr(t.op, rename_vars(t.left, mapping), rename_vars(t.right, mapping))
     if isinstance(t, PlanTerm):
-        from .plans import map_plan_term
-        return map_plan_term(t, lambda x: rename_vars(x, mapping))
+        return t.map_terms(lambda x: rename_vars(x, mapping))
     return t
 
 

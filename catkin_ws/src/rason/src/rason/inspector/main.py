@@ -5,11 +5,7 @@ with a history to step back through) and for the robots (poses, what Helper's sy
 the camera, the fault injector's diagnostics). It listens on the loopback interface unless
 ``_host:=0.0.0.0`` opens it to other machines.
 
-Private parameters:
-  ~host (127.0.0.1)        address to listen on
-  ~port (3272)             TCP port; 0 picks a free one (the address is logged either way)
-  ~history (300)           mind states kept per agent for the page's history
-  ~presence_timeout (3.5)  s (ROS time) after which a silent agent leaves the page
+Its private parameters: ``rosrun rason mind_inspector --help``.
 """
 
 from __future__ import annotations
@@ -17,6 +13,7 @@ from __future__ import annotations
 import asyncio
 import signal
 import sys
+from dataclasses import dataclass
 
 import rospy
 from aiohttp import web
@@ -24,9 +21,21 @@ from aiohttp import web
 from rason.inspector.graph import GraphWatcher
 from rason.inspector.store import InspectorStore
 from rason.inspector.web import make_app
+from rason.ros.params import exit_on_help, load_or_exit, param
 
-DEFAULT_PORT = 3272
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
+
+
+@dataclass(frozen=True)
+class InspectorParams:
+    """The mind inspector's private parameters."""
+
+    host: str = param("127.0.0.1", "address to listen on (0.0.0.0: every interface)")
+    port: int = param(3272, "TCP port; 0 picks a free one (the address is logged either way)",
+                      minimum=0, maximum=65535)
+    history: int = param(300, "mind states kept per agent for the page's history", minimum=1)
+    presence_timeout: float = param(3.5, "s (ROS time) after which a silent agent leaves the page",
+                                    minimum=0.01)
 
 
 async def serve(app: web.Application, host: str, port: int) -> int:
@@ -56,25 +65,16 @@ async def serve(app: web.Application, host: str, port: int) -> int:
 
 
 def main() -> int:
+    exit_on_help(sys.argv, InspectorParams, "rosrun rason mind_inspector [_name:=value ...]",
+                 "A web page for every agent on the ROS graph and for the robots.")
     rospy.init_node("mind_inspector", disable_signals=True)
-    host = str(rospy.get_param("~host", "127.0.0.1"))
-    try:
-        port = int(rospy.get_param("~port", DEFAULT_PORT))
-        history = int(rospy.get_param("~history", 300))
-        presence_timeout = float(rospy.get_param("~presence_timeout", 3.5))
-    except (TypeError, ValueError) as err:
-        rospy.logerr("mind inspector: bad parameter: %s", err)
-        return 2
-    if not 0 <= port <= 65535 or history < 1 or presence_timeout <= 0:
-        rospy.logerr("mind inspector: ~port must be 0-65535, ~history >= 1 and "
-                     "~presence_timeout > 0 (got %s, %s, %s)", port, history, presence_timeout)
-        return 2
-    store = InspectorStore(history)
-    watcher = GraphWatcher(store, presence_timeout)
+    params = load_or_exit(InspectorParams, "mind_inspector")
+    store = InspectorStore(params.history)
+    watcher = GraphWatcher(store, params.presence_timeout)
     watcher.start()
     app = make_app(store, rospy.get_time, lambda pages: watcher.want_camera(pages > 0))
     try:
-        return asyncio.run(serve(app, host, port))
+        return asyncio.run(serve(app, params.host, params.port))
     finally:
         rospy.signal_shutdown("mind inspector stopped")
 

@@ -68,7 +68,6 @@ class RosAgArch(AgentArch):
         self.node = node
         self.name = name
         self.trust = trust or TrustPolicy()
-        self.agent: Agent | None = None
         # a function the agent's thread calls once, at the start of its next reasoning cycle
         # (see rason.ros.mind_state); None costs the cycle one attribute test
         self.at_next_cycle: Callable[[], None] | None = None

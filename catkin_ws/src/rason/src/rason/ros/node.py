@@ -170,7 +170,6 @@ class RasonNode:
                          _agent_trust(options or {}, self.trust))
         agent = Agent(name, source, arch, filename=filename,
                       options=AgentOptions.from_options(options or {}, self.agent_options))
-        arch.agent = agent
         self.directory.add_local(name)
         rospy.Service(self.topic(f"jason/{name}/mind"), Mind, lambda _req, a=agent, r=arch: self.mind(a, r))
         thread = threading.Thread(target=self._run_agent, args=(agent,), name=f"agent-{name}",

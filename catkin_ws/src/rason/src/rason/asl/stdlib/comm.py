@@ -70,11 +70,11 @@ def send(ctx: Any, args: list) -> Any:
     return SUSPEND if sync_ask else True
 
 
-def _set_source(t: Any, sender: Any) -> Any:
+def with_nested_source(t: Any, sender: Any) -> Any:
     """jason.stdlib.add_nested_source: the literal's sources go inside ``source(Sender)``:
     ``v[source(a)]`` from b is ``v[source(b)[source(a)]]`` (each literal of a list too)."""
     if isinstance(t, ListTerm):
-        return ListTerm(tuple(_set_source(x, sender) for x in t.items), t.tail)
+        return ListTerm(tuple(with_nested_source(x, sender) for x in t.items), t.tail)
     if isinstance(t, Literal):
         old = [a for a in t.annots if isinstance(a, Literal) and a.functor == "source"]
         rest = tuple(a for a in t.annots if not (isinstance(a, Literal) and a.functor == "source"))
@@ -96,7 +96,7 @@ def _strip(t: Any) -> Any:
 def add_nested_source(ctx: Any, args: list) -> bool:
     """``.add_nested_source(Content, Source, Result)``: adds ``source(Source)``."""
     arg_count(args, 3)
-    return ctx.unify(args[2], _set_source(args[0], args[1]))
+    return ctx.unify(args[2], with_nested_source(args[0], args[1]))
 
 
 @internal_action(".kqml_belief_answer")
@@ -104,7 +104,6 @@ def kqml_belief_answer(ctx: Any, args: list) -> Any:
     """rason's form of Jason 3.3's ``kqml::bel_no_source_self`` rule (askOne/askAll
     answers): each belief matching Content, with every annotation but ``source(self)``."""
     arg_count(args, 2)
-    from ..logic import query_bb
     content = args[0]
     if not isinstance(content, Literal):
         return False
@@ -113,7 +112,7 @@ def kqml_belief_answer(ctx: Any, args: list) -> Any:
     self_src = Literal("source", (Literal("self"),))
 
     def gen():
-        for sol in query_bb(ctx.ag, pattern, ctx.s):
+        for sol in ctx.query_beliefs(pattern):
             b = resolve(pattern, sol)
             ans = b.with_annots(tuple(a for a in b.annots if a != self_src), None)
             s2 = dict(ctx.s)

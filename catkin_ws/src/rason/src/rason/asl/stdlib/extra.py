@@ -8,12 +8,13 @@ import re
 from typing import Any
 
 from ..intentions import java_map_order
-from ..parser import Rule
+from ..kqml import KQML_SRC
 from ..plans import ACHIEVE, ADD, BELIEF, PlanTerm, Trigger, plan_term_trigger
 from ..terms import (
     AnnotVar,
     ListTerm,
     Literal,
+    Rule,
     Var,
     is_ground,
     make_list,
@@ -166,7 +167,6 @@ def list_rules(ctx: Any, args: list) -> bool:
 def list_plans(ctx: Any, args: list) -> bool:
     """``.list_plans`` prints the plans (those of the KQML protocol aside); with a trigger
     term, only the plans relevant for it."""
-    from ..kqml import KQML_SRC
     trig = None
     if args:
         trig = plan_term_trigger(args[0]) if isinstance(args[0], PlanTerm) else None
