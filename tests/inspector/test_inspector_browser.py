@@ -1,6 +1,6 @@
 """The mind inspector in a real browser, during a real demo run.
 
-``./run.sh demo`` (left actuator fault) starts the inspector on a free port and prints its
+``./run.sh demo`` (both actuators faulty) starts the inspector on a free port and prints its
 address; headless Chromium (Debian's ``chromium`` and ``chromium-driver``, driven by selenium)
 opens the page once and never reloads it. The page must list both agents, follow Faulty live
 until its ``diagnosis(D)`` belief appears, step back through the history, and show the robots;
@@ -44,7 +44,7 @@ class DemoProcess:
         self.lines: list[str] = []
         self._queue: queue.Queue[str | None] = queue.Queue()
         self.proc = subprocess.Popen(
-            [sys.executable, "-m", "rason_diagnosis", "--fault", "left_actuator", "--seed", "13",
+            [sys.executable, "-m", "rason_diagnosis", "--fault", "both_actuators", "--seed", "11",
              "--inspector-port", "0", "--quiet", "--out", str(out)],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         threading.Thread(target=self._read, daemon=True).start()
@@ -146,12 +146,12 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
 
         # Faulty's diagnosis appears without a reload; intentions and the robots are on the page
         WebDriverWait(driver, 150, poll_frequency=0.2).until(_diagnosis)
-        assert _diagnosis(driver) == "diagnosis(left_actuator)"
+        assert _diagnosis(driver) == "diagnosis(both_actuators)"
         assert driver.execute_script("return window.loadedOnce;") == "yes"
         shot = tmp_path / "inspector.png"
         driver.save_screenshot(str(shot))
         robots = driver.find_element(By.ID, "robots").text
-        assert "faulty: fault_injector: fault injected: left_actuator" in robots, robots
+        assert "faulty: fault_injector: fault injected: both_actuators" in robots, robots
         assert "helper sees faulty" in robots or "no perception" not in robots, robots
         drawn = driver.execute_script("""
             const c = document.getElementById('map'), ctx = c.getContext('2d');

@@ -45,12 +45,12 @@ def test_demo_runs_from_the_install_space(tmp_path):
     script = " && ".join([
         f"source {shlex.quote(str(venv_bin / 'activate'))}",
         f"source {shlex.quote(str(install / 'setup.bash'))}",
-        "rosrun rason_diagnosis demo --fault right_actuator --seed 4 --quiet "
+        "rosrun rason_diagnosis demo --fault odometry --seed 12 --quiet "
         f"--inspector-port 0 --out {shlex.quote(str(out))}",
     ])
     run = subprocess.run(["bash", "-c", script], cwd=tmp_path, env=_clean_env(),
                          capture_output=True, text=True, timeout=400)
-    assert "diagnosis      : right_actuator" in run.stdout and "CORRECT" in run.stdout, \
+    assert "diagnosis      : odometry" in run.stdout and "CORRECT" in run.stdout, \
         run.stdout[-3000:] + run.stderr[-3000:]
     assert run.returncode == 0
     # the mind inspector ran from the install space too (it serves its page from the package)

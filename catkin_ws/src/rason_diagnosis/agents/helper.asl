@@ -276,6 +276,7 @@ currTerm(lost, currLost) :- true.
 +!giveFeedback[source(R)]
    : helping(R)
    <- !observe(R, curr);
+      !recheck(R);
       ?obs(R, init, I);
       ?obs(R, curr, C);
       ?initTerm(I, Init);
@@ -283,6 +284,16 @@ currTerm(lost, currLost) :- true.
       .print("reporting to ", R, " -> ", Init, " / ", Curr);
       .send(R, achieve, feedback(Init, Curr)).
 
+
+// A current observation with too few sightings gets one more look from the same viewpoint
+// (Helper does not turn: the two positions must share its camera's frame). Frames can come
+// late while the machine is busy, and a percept that outlived its time to live is cleared;
+// only a second miss is reported as currLost / currPart.
++!recheck(R)
+   : obs(R, curr, C) & (C = lost | C = part(_, _, _))
+   <- .print("too few sightings of ", R, " after its move (", C, "), looking again");
+      !observe(R, curr).
++!recheck(_).
 
 +!thanks[source(R)]
    : helping(R)
