@@ -77,7 +77,7 @@ def test_events_for_another_agent_are_ignored(ros, tmp_path):
     assert "lifted" not in agent.output()
     events.publish(Event(agent="worker", event_type="action_feedback",
                          parameters=["OK", action_id]))
-    agent.wait_for_line(r"\[worker\] lifted", timeout=10)
+    agent.wait_for_line(r"\[worker\] lifted", timeout=60)
 
 
 def test_malformed_perception_does_not_stop_the_agent(ros, tmp_path):
@@ -92,7 +92,7 @@ def test_malformed_perception_does_not_stop_the_agent(ros, tmp_path):
         """, ns="/b4")
     ros.wait_for_subscriber("/b4/jason/perception")
     pub.publish(Perception(source="test_cam", perception=["robot(faulty,1", "ok(1)"]))
-    agent.wait_for_line(r"\[seer\] ok 1", timeout=15)
+    agent.wait_for_line(r"\[seer\] ok 1", timeout=60)
     agent.wait_for_line(r"malformed perception.*robot\(faulty,1", timeout=5)
     pub.publish(Perception(source="test_cam", perception=["ok(2)"]))
     agent.wait_for_line(r"\[seer\] lost 1", timeout=10)
@@ -124,7 +124,7 @@ def test_two_agents_in_two_processes_talk_and_forget_each_other(ros, tmp_path):
     alice = start_agent(ros, tmp_path, "alice", ALICE, ns="/r1", presence_period=0.5,
                         presence_timeout=2.0)
     assert alice.wait_for_line(r"\[alice\] bob says (\d+)", timeout=30).group(1) == "42"
-    bob.wait_for_line(r"\[bob\] hello from alice", timeout=10)
+    bob.wait_for_line(r"\[bob\] hello from alice", timeout=60)
     bob.wait_for_line(r"\[bob\] greeted by alice", timeout=10)
     alice.wait_for_line(r"\[alice\] names \[alice,bob\]", timeout=10)
 

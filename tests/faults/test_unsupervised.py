@@ -313,7 +313,7 @@ def test_an_agent_sending_move_1e9_gets_bad_parameters(rig: Rig, log: Log):
         +!go <- move(1000000000).
         -!go[error(R)] <- .print("failed: ", R).
         """)
-    assert agent.wait_for_line(r"\[bold\] failed: (\w+)", timeout=10).group(1) == \
+    assert agent.wait_for_line(r"\[bold\] failed: (\w+)", timeout=60).group(1) == \
         "bad_parameters"
     with log.lock:
         assert not [m for _, m in log.cmd if m]
