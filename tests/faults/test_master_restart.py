@@ -1,12 +1,16 @@
 """The graph can restart: a rason node registers again with a restarted roscore (same port),
-keeping the agent's mind, and messages, perceptions and actions flow again."""
+keeping the agent's mind, and messages, perceptions and actions flow again; so do the simulator
+and the fault injector (the functional layer)."""
 
 from __future__ import annotations
 
 import time
 
 import pytest
+import yaml
 from agent_nodes_kit import mind, start_agent, wait_until
+
+from rason.testing.harness import HarnessError, RosHarness
 
 pytestmark = pytest.mark.ros
 
@@ -62,3 +66,59 @@ def test_nodes_register_again_with_a_restarted_master_and_keep_the_mind(fresh_ro
     assert {"kept(1)[source(self)]", "kept(2)[source(self)]"} <= set(beliefs), beliefs
     assert "kept(2)[source(self)]" in mind(ros, "/restart_crew", "mate")["beliefs"]
     assert keeper.alive() and decomposer.alive() and crew.alive()
+
+
+SIM_WORLD = """\
+robots:
+  - {name: rebot, kind: faulty, x: 0.0, y: 0.0, yaw: 0.0}
+"""
+
+
+def _odom_speed(ros: RosHarness, topic: str) -> float:
+    """The forward speed in the next message on `topic`, heard by a new process (it finds
+    the publisher through the master)."""
+    out = ros.check_output(["rostopic", "echo", "-n", "1", f"{topic}/twist/twist/linear/x"],
+                           timeout=15)
+    return float(yaml.safe_load(out.split("---")[0]))
+
+
+def test_simulator_and_fault_injector_register_again(fresh_ros, tmp_path):
+    ros = fresh_ros
+    world = tmp_path / "world.yaml"
+    world.write_text(SIM_WORLD)
+    sim = ros.rosrun("turtlebot_sim", "sim", f"_world:={world}", "_camera_rate:=0")
+    injector = ros.rosrun("kobuki_fault_injector", "fault_injector", ns="/rebot")
+    ros.wait_for_service("/rebot/fault_injector", watch=[sim, injector])
+    ros.wait_for_topic("/rebot/mobile_base/odom", watch=[sim, injector])
+    ros.wait_for_topic("/rebot/odom", watch=[sim, injector])
+    before = ros.nodes()
+    assert {"/turtlebot_sim", "/rebot/fault_injector"} <= before, before
+
+    back = ros.restart_master(down=1.0)
+    wait_until(lambda: "/rebot/fault_injector" in ros.services(), 15,
+               "the injector's service on the restarted master")
+    wait_until(lambda: before <= ros.nodes(), 15, "the simulator and the injector back")
+    print(f"simulator and injector back {time.monotonic() - back:.2f} s after the new master "
+          "answered")
+    topics = ros.topics()
+    assert "/turtlebot_sim" in topics.get("/rebot/mobile_base/odom", []), topics
+    assert "/rebot/fault_injector" in topics.get("/rebot/odom", []), topics
+
+    # The service answers; a velocity command from a publisher started after the restart goes
+    # through the injector (its subscription is known again) to the simulator, whose odometry
+    # a new subscriber hears, directly and through the injector.
+    answer = ros.check_output(["rosservice", "call", "/rebot/fault_injector", "odometry"])
+    assert "odometry" in answer.lower(), answer
+    answer = ros.check_output(["rosservice", "call", "/rebot/fault_injector", "cancel"])
+    assert "cancel" in answer.lower(), answer
+    ros.run(["rostopic", "pub", "-r", "10", "/rebot/cmd_vel", "geometry_msgs/Twist",
+             "{linear: {x: 0.1}}"], label="rostopic_pub")
+
+    def driving(topic: str) -> bool:
+        try:
+            return _odom_speed(ros, topic) > 0.05
+        except HarnessError:
+            return False
+    wait_until(lambda: driving("/rebot/mobile_base/odom"), 30, "odometry of a driving robot")
+    wait_until(lambda: driving("/rebot/odom"), 15, "that odometry through the injector")
+    assert sim.alive() and injector.alive()

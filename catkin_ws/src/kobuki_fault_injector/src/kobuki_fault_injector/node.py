@@ -11,6 +11,8 @@ Service ``fault_injector`` (``kobuki_fault_injector/FaultInjector``): ``left_act
 is published latched on ``fault_injector/status`` (std_msgs/String) and, once a second and on
 every change, on ``/diagnostics`` (level WARN while a fault is active, OK otherwise). A velocity
 command with a non-finite component is replaced by a stop (with a rate-limited warning).
+After a roscore restart the node registers its topics and service again
+(:mod:`rason.ros.master_watch`).
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ from kobuki_fault_injector.srv import (
     FaultInjectorResponse,
 )
 from rason.ros.guard import guarded
+from rason.ros.master_watch import watch_master
 
 
 def twist_to_velocity(msg: Twist) -> Velocity:
@@ -129,6 +132,7 @@ class FaultInjectorNode:
 def main() -> int:
     rospy.init_node("fault_injector")
     FaultInjectorNode()
+    watch_master()              # a restarted roscore gets the topics and the service again
     rospy.loginfo("fault_injector ready in namespace %s", rospy.get_namespace())
     rospy.spin()
     return 0

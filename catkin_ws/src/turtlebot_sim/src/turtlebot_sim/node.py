@@ -11,7 +11,8 @@ Topics (``<r>`` = each robot's name, relative to the node's namespace, so ``__ns
     /<r>/camera/rgb/image_raw                sensor_msgs/Image rgb8      (robots with a Kinect)
     /<r>/camera/depth_registered/points      sensor_msgs/PointCloud2 x y z rgb, organised
 
-The node does not set ``/use_sim_time``: set it before starting the other nodes.
+The node does not set ``/use_sim_time``: set it before starting the other nodes. After a roscore
+restart it registers its topics again (:mod:`rason.ros.master_watch`).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image, PointCloud2
 
+from rason.ros.master_watch import watch_master
 from rason.ros.params import exit_on_help, load_or_exit, param, required
 from turtlebot_sim import msgs
 from turtlebot_sim.render import Frame, RenderPool
@@ -219,6 +221,7 @@ def main(argv: list[str] | None = None) -> int:
                  __doc__.split("\n")[0].split(": ", 1)[-1])
     rospy.init_node("turtlebot_sim", argv=argv)
     node = SimNode(load_or_exit(SimParams, "turtlebot_sim"))
+    watch_master()              # a restarted roscore gets the topics again
     try:
         node.run()
     except (KeyboardInterrupt, rospy.ROSInterruptException):
