@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import io
 import subprocess
 import sys
@@ -10,6 +11,7 @@ from pathlib import Path
 from asl_helpers import RecordingArch, subprocess_env
 
 from rason.asl import Agent, AgentOptions, ListTerm, Literal, LocalMas, Message, Var, VirtualClock, parse_term
+from rason.asl.inspection import BeliefView
 
 LOOP = """n(0).
 !loop.
@@ -204,3 +206,25 @@ def test_the_warning_of_a_dropped_deep_intention_stays_short() -> None:
     text = "\n".join(arch.out)
     assert "depth limit of 5000" in text and "more intended means" in text
     assert len(text.splitlines()) < 130
+
+
+def test_mind_snapshots_of_a_changing_percept_keep_only_the_current_beliefs() -> None:
+    """A mind inspector snapshots an agent whose percept changes every cycle (a robot seen at
+    50 Hz): the views of beliefs long gone must not pile up (they once grew for hours)."""
+    arch = RecordingArch()
+    ag = Agent("a", "b(1).\n", arch)
+
+    def views_alive() -> int:
+        gc.collect()
+        return sum(isinstance(o, BeliefView) for o in gc.get_objects())
+
+    baseline = views_alive()
+    for k in range(3000):
+        arch.percepts = [parse_term(f"robot(faulty,{k % 640},{k * 7 % 480},{k})")]
+        ag.step()
+        state = ag.mind_state()
+        assert state is not None
+        assert [v.text for v in state.beliefs if v.group == "robot/4"] == \
+            [f"robot(faulty,{k % 640},{k * 7 % 480},{k})"]
+    del state
+    assert views_alive() - baseline <= 2

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import os
+import weakref
 from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import TYPE_CHECKING
@@ -90,11 +91,16 @@ class MindState:
 def mind_state(agent: Agent) -> MindState:
     """Read `agent`'s mind (call with the agent's state lock held: see Agent.mind_state)."""
     state = MindState()
+    previous = _BELIEF_VIEWS.get(agent, {})
+    views: dict[Literal, BeliefView] = {}
     for b in agent.bb:
         if isinstance(b, Rule):
             state.rules.append(str(b))
         elif isinstance(b, Literal):
-            state.beliefs.append(_belief(b))
+            view = views.get(b) or previous.get(b) or _new_belief_view(b)
+            views[b] = view
+            state.beliefs.append(view)
+    _BELIEF_VIEWS[agent] = views
     held = [ev for _, ev in agent.pending_events]
     for ev in [*agent.events, *held]:
         state.events.append(_event(ev))
@@ -114,19 +120,12 @@ def to_json(value: object) -> str:
     return json.dumps(value, default=vars, separators=(",", ":"))
 
 
-#: Belief views by belief (a belief is an immutable literal: equal beliefs, equal views), so a
-#: mind snapshot only formats the beliefs that are new since the last one.
-_BELIEF_VIEWS: dict[Literal, BeliefView] = {}
-_BELIEF_VIEWS_MAX = 50000
-
-
-def _belief(b: Literal) -> BeliefView:
-    view = _BELIEF_VIEWS.get(b)
-    if view is None:
-        if len(_BELIEF_VIEWS) >= _BELIEF_VIEWS_MAX:
-            _BELIEF_VIEWS.clear()
-        view = _BELIEF_VIEWS[b] = _new_belief_view(b)
-    return view
+#: Per agent, the views of the beliefs of its last snapshot (a belief is an immutable literal:
+#: equal beliefs, equal views), so a snapshot only formats the beliefs that are new since the
+#: last one. Only the last snapshot's beliefs are kept: the memory follows the belief base (a
+#: belief that changes all the time, such as a percept, must not pile up views of its past).
+_BELIEF_VIEWS: weakref.WeakKeyDictionary[Agent, dict[Literal, BeliefView]] = \
+    weakref.WeakKeyDictionary()
 
 
 def _new_belief_view(b: Literal) -> BeliefView:
