@@ -131,6 +131,11 @@ def test_an_unreadable_or_short_key_is_a_clear_error(ros, tmp_path):
         (tmp_path / "k.asl").write_text("!g.\n+!g <- .print(hi).\n")
         assert proc.wait(30) == 2, proc.output()
         assert reason in proc.output(), proc.output()
+        # A decomposer checks the agents' presence with the same key: the same clear error.
+        proc = ros.rosrun("rason", "echo_decomposer", ns="/trust3",
+                          params={"auth_key_file": path})
+        assert proc.wait(30) == 2, proc.output()
+        assert f"~auth_key_file: {reason}" in proc.output(), proc.output()
 
 
 def test_agents_hosted_together_pass_the_same_acceptance_hook(ros, tmp_path):

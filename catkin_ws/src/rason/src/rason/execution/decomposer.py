@@ -37,7 +37,11 @@ What the base does (names relative, so ``__ns:=/robot`` puts it under the robot)
 * ``/jason/messages`` (jason_msgs/AgentMessage, in): the agents' presence. An agent that said
   ``goodbye``, or was heard before and then not for ``~presence_timeout`` s, has its actions
   halted and ended ``cancelled``: nothing runs for an agent that is gone. (An issuer never heard,
-  such as ``rosrun rason act``, is not supervised this way.)
+  such as ``rosrun rason act``, is not supervised this way.) With ``~auth_key_file`` (the
+  agents' shared key, :mod:`rason.ros.auth`) only messages with a valid signature count as
+  hearing an agent: a forged, unsigned, stale or replayed presence beat cannot keep a robot
+  driving after its agent died. A ``goodbye`` stops the agent's actions signed or not (stopping
+  is always safe, as a cancel on ``jason/cancel`` is).
 * A timer at ``~watchdog_rate`` Hz (ROS time) calls :meth:`Decomposer.step` for every running
   action and ends the ones older than ``~timeout`` s (``timeout``).
 
@@ -68,6 +72,8 @@ from rason.execution.results import (
     TIMEOUT,
     Verdict,
 )
+from rason.ros.auth import SignedFields, message_auth
+from rason.ros.auth import Verdict as Authenticity
 from rason.ros.badinput import shorten
 from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
 from rason.ros.guard import RateLimitedWarnings, guarded
@@ -93,6 +99,12 @@ class DecomposerParams:
                                     minimum=0.0)
     watchdog_rate: float = param(20.0, "Hz (ROS time) of step() and of the checks above",
                                  minimum=0.1, maximum=1000.0)
+    auth_key_file: str = param(
+        "", "the agents' shared key file (their ~auth_key_file): only messages signed with it "
+        "count as an agent's presence; empty = every message counts (no authentication)")
+    auth_window: float = param(
+        10.0, "s (ROS time) a signed message stays acceptable after its stamp (the agents' "
+        "~auth_window)", minimum=0.0)
 
 
 @dataclass
@@ -139,6 +151,8 @@ class Decomposer:
         self.warnings = RateLimitedWarnings()
         self.goals: dict[tuple[str, int], Goal] = {}
         self.heard: dict[str, float] = {}          # agent -> ROS time it was last heard
+        self.auth = message_auth(self.params.auth_key_file, self.params.auth_window,
+                                 warn=rospy.logwarn)
         self.events = rospy.Publisher("jason/event", Event, queue_size=100)
         self.setup()
         self.subscribe("jason/action", Action, self._on_action, queue_size=100)
@@ -247,8 +261,23 @@ class Decomposer:
             for goal in self.running(msg.sender):
                 self.finish(goal, Verdict(CANCELLED, f"agent {msg.sender} said goodbye"))
             return
-        if msg.sender:
+        if msg.sender and self._authentic(msg):
             self.heard[msg.sender] = rospy.get_time()
+
+    def _authentic(self, msg: AgentMessage) -> bool:
+        """True without a key; with one, True only for a message with a valid signature."""
+        if self.auth is None:
+            return True
+        verdict = self.auth.verify(SignedFields.of(msg), msg.signature,
+                                   rospy.get_rostime().to_nsec())
+        if verdict is Authenticity.OK:
+            return True
+        self.warnings.warn(f"{verdict.value} {shorten(msg.sender, 64)}",
+                           f"{self.name}: ignored a {verdict.value} "
+                           f"{shorten(msg.performative, 32) or '?'} message claiming to be "
+                           f"from '{shorten(msg.sender, 64)}' (it does not count as its "
+                           "presence)")
+        return False
 
     def _on_tick(self, _event: Any) -> None:
         now = rospy.get_time()

@@ -27,6 +27,7 @@ from collections import OrderedDict
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 #: Performatives that change what an agent does: restricted by a TrustPolicy.
 RESTRICTED_PERFORMATIVES = frozenset({"tellHow", "untellHow", "askHow", "achieve", "unachieve"})
@@ -65,6 +66,12 @@ class SignedFields:
     stamp_ns: int
     nonce: str
 
+    @classmethod
+    def of(cls, msg: Any) -> SignedFields:
+        """The signed fields of a jason_msgs/AgentMessage."""
+        return cls(msg.sender, msg.receiver, msg.performative, msg.content, msg.reply_with,
+                   msg.in_reply_to, msg.stamp.to_nsec(), msg.nonce)
+
     def canonical(self) -> bytes:
         """An unambiguous byte string of the fields (JSON array: no field can bleed into
         another, whatever characters it holds)."""
@@ -88,6 +95,18 @@ def load_key(path: str | Path, warn: Callable[[str], None] = print) -> bytes:
     if mode & (stat.S_IRWXG | stat.S_IRWXO):
         warn(f"the key file {path} can be read by other users (chmod 600 {path})")
     return key
+
+
+def message_auth(key_file: str, window: float,
+                 warn: Callable[[str], None] = print) -> MessageAuth | None:
+    """A node's authentication from its ``~auth_key_file`` and ``~auth_window`` parameters:
+    None (open, no authentication) when `key_file` is empty; AuthKeyError for a bad file."""
+    if not key_file:
+        return None
+    try:
+        return MessageAuth(load_key(key_file, warn=warn), window)
+    except AuthKeyError as err:
+        raise AuthKeyError(f"~auth_key_file: {err}") from err
 
 
 def new_nonce() -> str:

@@ -40,7 +40,7 @@ from rason.ros.auth import (
     SignedFields,
     TrustPolicy,
     Verdict,
-    load_key,
+    message_auth,
     new_nonce,
 )
 from rason.ros.badinput import BadInputLog, shorten
@@ -455,12 +455,10 @@ class RasonNode:
 
 def _message_auth(key_file: str, window: float) -> MessageAuth | None:
     """The node's authentication, or None (open) without a key file."""
-    if not key_file:
-        return None
     try:
-        return MessageAuth(load_key(key_file, warn=rospy.logwarn), window)
+        return message_auth(key_file, window, warn=rospy.logwarn)
     except AuthKeyError as err:
-        raise ParamError(f"~auth_key_file: {err}") from err
+        raise ParamError(str(err)) from err
 
 
 def _agent_trust(options: dict, default: TrustPolicy) -> TrustPolicy:
@@ -476,8 +474,7 @@ def _agent_trust(options: dict, default: TrustPolicy) -> TrustPolicy:
 
 
 def _signed_fields(msg: AgentMessage) -> SignedFields:
-    return SignedFields(msg.sender, msg.receiver, msg.performative, msg.content, msg.reply_with,
-                        msg.in_reply_to, msg.stamp.to_nsec(), msg.nonce)
+    return SignedFields.of(msg)
 
 
 def _seconds(name: str, value: object) -> float:
