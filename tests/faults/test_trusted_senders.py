@@ -135,7 +135,7 @@ def test_an_unreadable_or_short_key_is_a_clear_error(ros, tmp_path):
         proc = ros.rosrun("rason", "echo_decomposer", ns="/trust3",
                           params={"auth_key_file": path})
         assert proc.wait(30) == 2, proc.output()
-        assert f"~auth_key_file: {reason}" in proc.output(), proc.output()
+        assert "~auth_key_file: " in proc.output() and reason in proc.output(), proc.output()
 
 
 def test_agents_hosted_together_pass_the_same_acceptance_hook(ros, tmp_path):
