@@ -87,6 +87,32 @@ def test_publisher_sends_only_when_the_mind_changed():
     assert doc["mind"] == json.loads(json.dumps(asdict(agent.mind_state())))
 
 
+def test_publisher_takes_no_snapshot_while_nobody_listens():
+    agent = Agent("t", PROGRAM, HeldActions())
+    sent: list[str] = []
+    listening = [False]
+    snapshots = []
+    real_snapshot = agent.mind_state
+
+    def counted(blocking: bool = True):
+        snapshots.append(blocking)
+        return real_snapshot(blocking)
+
+    agent.mind_state = counted            # type: ignore[method-assign]
+    publisher = MindStatePublisher(agent, lambda: [], sent.append, "/n", "/",
+                                   listened=lambda: listening[0])
+    assert not publisher.tick(1.0) and not publisher.tick(2.0)
+    assert sent == [] and snapshots == []
+    listening[0] = True                   # an inspector subscribed: the next tick serves it
+    assert publisher.tick(3.0) and not publisher.tick(4.0)
+    listening[0] = False
+    assert not publisher.tick(5.0)
+    listening[0] = True                   # the mind did not change: a new listener still gets it
+    assert publisher.tick(6.0)
+    assert [json.loads(text)["stamp"] for text in sent] == [3.0, 6.0]
+    assert len(snapshots) == 3
+
+
 def test_store_keeps_a_bounded_numbered_history():
     events = []
     store = InspectorStore(history=3, on_change=lambda kind, payload: events.append(kind))

@@ -40,6 +40,11 @@ class RosClock(Clock):
         if deadline is None:
             event.wait()
             return
+        if rospy.rostime.is_wallclock():   # ROS time is wall time: one wait, no polling
+            remaining = deadline - self.now()
+            if remaining > 0:
+                event.wait(remaining)
+            return
         # Simulated time may run faster or slower than real time: re-check it often.
         while not event.is_set():
             remaining = deadline - self.now()

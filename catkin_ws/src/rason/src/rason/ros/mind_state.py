@@ -7,6 +7,9 @@ time they were sent and the last messages in and out, and publishes it as JSON i
 ``std_msgs/String`` only when something changed. The topic is latched, so an inspector started
 later gets the current state at once.
 
+Snapshots are taken only while the topic has a subscriber (an inspector, ``rostopic echo``):
+the first one gets the current mind at the next tick, within ``1/~mind_state_rate`` s.
+
 The timer never waits for a busy agent: when a reasoning cycle holds the agent, the snapshot is
 left to the agent's own thread, which takes it at the start of its next cycle
 (:meth:`~MindStatePublisher.at_cycle`, scheduled through ``RosAgArch.at_next_cycle``). So the
@@ -60,27 +63,37 @@ class MessageView:
     content: str
 
 
-def latched_publisher(topic: str) -> Callable[[str], None]:
-    """A function publishing a text on `topic` (std_msgs/String, latched)."""
-    publisher = rospy.Publisher(topic, String, queue_size=1, latch=True)
-    return lambda text: publisher.publish(String(data=text))
+class LatchedTopic:
+    """A latched std_msgs/String topic: publish a text; does anyone subscribe?"""
+
+    def __init__(self, topic: str) -> None:
+        self._publisher = rospy.Publisher(topic, String, queue_size=1, latch=True)
+
+    def publish(self, text: str) -> None:
+        self._publisher.publish(String(data=text))
+
+    def listened(self) -> bool:
+        return self._publisher.get_num_connections() > 0
 
 
 class MindStatePublisher:
     """Publishes one agent's mind on change (see the module's docstring).
 
     `pending_actions` gives the agent's actions waiting for feedback (RosAgArch.pending_actions),
-    `publish` sends the JSON text (latched_publisher), `node` names the hosting node,
+    `publish` sends the JSON text (LatchedTopic.publish), `node` names the hosting node,
     `schedule` has a function called by the agent's thread at its next cycle (sets
     ``RosAgArch.at_next_cycle``), `warn` reports a publication that failed (default: the node's
-    rate-limited warnings).
+    rate-limited warnings), `listened` tells whether anyone subscribes (LatchedTopic.listened;
+    default: always): nobody listening, no snapshot is taken.
     """
 
     def __init__(self, agent: Agent, pending_actions: Callable[[], list[PendingAction]],
                  publish: Callable[[str], None], node: str, namespace: str,
                  schedule: Callable[[Callable[[], None]], None] | None = None,
-                 warn: Callable[[str], object] | None = None) -> None:
+                 warn: Callable[[str], object] | None = None,
+                 listened: Callable[[], bool] | None = None) -> None:
         self.agent = agent
+        self.listened = listened or (lambda: True)
         self.schedule = schedule or (lambda fn: None)
         self.warn = warn or (lambda text: WARNINGS.warn("mind_state", text))
         self.pending_actions = pending_actions
@@ -114,7 +127,12 @@ class MindStatePublisher:
 
     def tick(self, now: float) -> bool:
         """The timer: publish the mind if it changed; True if published. A busy agent's mind is
-        published by its own thread at its next cycle instead (:meth:`at_cycle`)."""
+        published by its own thread at its next cycle instead (:meth:`at_cycle`). While nobody
+        subscribes no snapshot is taken (an agent in a fleet of agents would spend more on its
+        snapshots than on its messages); the first subscriber gets one at the next tick."""
+        if not self.listened():
+            self._last = ""
+            return False
         mind = self.agent.mind_state(blocking=False)
         if mind is None:
             self._due = now

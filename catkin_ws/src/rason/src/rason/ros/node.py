@@ -12,7 +12,8 @@ Topics (relative names, so one robot per namespace works; un-namespaced it is th
 Services:
   jason/NAME/mind     jason_msgs/Mind   the agent's beliefs, desires, intentions, pending actions
 Topic jason/NAME/mind_state (std_msgs/String, latched): the mind as JSON for the mind inspector
-  (rason.ros.mind_state), published on change at most ~mind_state_rate times a second.
+  (rason.ros.mind_state), published on change at most ~mind_state_rate times a second while
+  someone subscribes.
 
 Private parameters: :class:`AgentNodeParams` (``rosrun rason agent --help`` prints them).
 """
@@ -46,10 +47,13 @@ from rason.ros.auth import (
 from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.guard import RateLimitedWarnings, guarded
-from rason.ros.mind_state import MindStatePublisher, latched_publisher, mind_state_topic
+from rason.ros.mind_state import LatchedTopic, MindStatePublisher, mind_state_topic
 from rason.ros.params import ParamError, param
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
+
+#: s (ROS time) between two checks of action timeouts and perception TTLs
+CHECK_PERIOD = 0.05
 
 
 @dataclass(frozen=True)
@@ -176,11 +180,10 @@ class RasonNode:
                                   daemon=True)
         hosted = HostedAgent(agent, arch, thread)
         if self.mind_state_rate > 0:
+            topic = LatchedTopic(mind_state_topic(self.base_ns, name))
             hosted.mind_state = MindStatePublisher(
-                agent, arch.pending_actions,
-                latched_publisher(mind_state_topic(self.base_ns, name)),
-                rospy.get_name(), self.base_ns,
-                schedule=arch.run_at_next_cycle)
+                agent, arch.pending_actions, topic.publish, rospy.get_name(), self.base_ns,
+                schedule=arch.run_at_next_cycle, listened=topic.listened)
         self.agents[name] = hosted
         return hosted
 
@@ -194,12 +197,27 @@ class RasonNode:
                          queue_size=100, tcp_nodelay=True)
         rospy.Subscriber(MESSAGES_TOPIC, AgentMessage, guarded(MESSAGES_TOPIC)(self.on_message),
                          queue_size=200, tcp_nodelay=True)
-        rospy.Timer(rospy.Duration(0.05), guarded("action timeouts")(self.on_check_actions))
-        rospy.Timer(rospy.Duration(0.05), guarded("perception TTLs")(self.on_check_perceptions))
+        # One timer thread for the frequent checks (each guarded on its own): every rospy.Timer
+        # is a thread waking on its own, which an idle agent in a fleet pays for.
+        checks = [guarded("action timeouts")(self.on_check_actions),
+                  guarded("perception TTLs")(self.on_check_perceptions)]
+        mind_state = guarded("mind_state")(self.on_mind_state)
+        mind_state_period = 1.0 / self.mind_state_rate if self.mind_state_rate > 0 else None
+        period = min(CHECK_PERIOD, mind_state_period or CHECK_PERIOD)
+        last_mind_state = [-math.inf]
+
+        def on_checks(event: rospy.timer.TimerEvent) -> None:
+            for check in checks:
+                check(event)
+            now = event.current_real.to_sec()
+            if mind_state_period is not None and (
+                    now - last_mind_state[0] >= mind_state_period - period / 2
+                    or now < last_mind_state[0]):      # < : simulated time restarted
+                last_mind_state[0] = now
+                mind_state(event)
+
+        rospy.Timer(rospy.Duration(period), on_checks)
         rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
-        if self.mind_state_rate > 0:
-            rospy.Timer(rospy.Duration(1.0 / self.mind_state_rate),
-                        guarded("mind_state")(self.on_mind_state))
         for name in self.agents:
             self._announce(name, HELLO)
         for hosted in self.agents.values():
