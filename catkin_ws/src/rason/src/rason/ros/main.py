@@ -51,8 +51,10 @@ def _run(node_name: str, argv: list[str],
     from rason.ros.master_watch import watch_master
     from rason.ros.node import AgentNodeParams, RasonNode
     from rason.ros.params import ParamError, load
+    from rason.ros.rosout import cache_rosout_setting
 
     rospy.init_node(node_name)
+    cache_rosout_setting()
     try:
         params = load(AgentNodeParams)
     except ParamError as err:

@@ -32,6 +32,8 @@ from typing import Any, TypeVar
 import rospy
 import yaml
 
+from rason.ros.rosout import cache_rosout_setting
+
 T = TypeVar("T")
 
 _REQUIRED = object()
@@ -194,6 +196,7 @@ def start_node(build: Callable[[], T], params: type, node_name: str, argv: Seque
     exit_on_help(argv, params, usage or f"{Path(argv[0]).name} [__ns:=/robot] [_name:=value ...]",
                  summary)
     rospy.init_node(node_name, argv=list(argv))
+    cache_rosout_setting()
     try:
         return build()
     except ValueError as err:            # parameters that do not fit together
