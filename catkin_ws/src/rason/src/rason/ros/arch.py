@@ -10,6 +10,7 @@ percepts come from the node's perception table; messages to other agents travel 
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
@@ -31,9 +32,13 @@ class RosClock(Clock):
     """ROS time (``rospy.get_time``): wall time, or the simulator's ``/clock`` with use_sim_time."""
 
     def now(self) -> float:
+        if rospy.rostime.is_wallclock():   # what rospy.get_time() returns, without its objects
+            return time.time()
         return rospy.get_time()
 
     def now_ns(self) -> int:
+        if rospy.rostime.is_wallclock():
+            return time.time_ns()
         return rospy.get_rostime().to_nsec()
 
     def wait(self, event: threading.Event, deadline: float | None) -> None:
