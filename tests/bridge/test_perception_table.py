@@ -52,9 +52,9 @@ def test_queue_mode_parses_every_message():
 def test_malformed_perception_is_dropped_and_warned_once_the_rest_counts():
     warnings: list[str] = []
     table = PerceptionTable(parse, warn=warnings.append)
-    for _ in range(3):
-        table.update("cam", ["robot(faulty,1", "ok(1)"])
-        assert table.percepts() == ["ok(1)"]
+    for i in range(3):      # the malformed text again and again, with other news each time
+        table.update("cam", ["robot(faulty,1", f"ok({i})"])
+        assert table.percepts() == [f"ok({i})"]
     assert len(warnings) == 1
     assert "cam" in warnings[0] and "robot(faulty,1" in warnings[0]
     table.update("other", ["robot(faulty,1"])
@@ -157,3 +157,17 @@ def test_bad_input_log_warns_once_per_input_and_once_per_period_per_group():
     for k in range(10):
         log.warn("c", str(k), "w")
     assert len(log._seen) == 3 and len(log._groups) <= 3
+
+
+def test_a_repeated_list_is_nothing_new_for_the_agent():
+    table = PerceptionTable(parse=parse_percept, ttl=lambda _source: 1.0)
+    assert table.update("cam", ["p(1)", "q"], now=0.0)
+    assert table.percepts() is not None
+    assert not table.update("cam", ["p(1)", "q"], now=0.5)     # the same list again
+    assert not table.changed() and table.percepts() is None
+    assert table.expire(1.2) == []                             # still heard: the TTL restarted
+    assert table.update("cam", ["q", "p(1)"], now=0.6)         # another list
+    assert [str(p) for p in table.percepts()] == ["q", "p(1)"]
+    assert table.expire(2.0) == ["cam"] and table.percepts() == []
+    assert table.update("cam", ["q", "p(1)"], now=2.1)         # back after its expiry: new
+    assert [str(p) for p in table.percepts()] == ["q", "p(1)"]

@@ -141,6 +141,7 @@ class PerceptionTable(Generic[L]):
             raise ValueError(f"perception mode must be {REPLACE!r} or {QUEUE!r}, not {self.mode!r}")
         self._lock = threading.Lock()
         self._raw: dict[str, Sequence[str]] = {}      # newest unparsed list per source
+        self._texts: dict[str, list[str]] = {}        # the list in effect per source (replace)
         self._queue: list[tuple[str, Sequence[str]]] = []
         self._parsed: dict[str, list[L]] = {}         # current parsed list per source
         self.bad_input = BadInputLog(self.warn, self.now)
@@ -153,7 +154,9 @@ class PerceptionTable(Generic[L]):
     def update(self, source: str, perceptions: Sequence[str], now: float | None = None) -> bool:
         """Store one message (thread-safe) received at time `now` (needed for TTLs).
 
-        Returns False if the filter drops the whole source.
+        Returns False when the agent has nothing new: the filter drops the whole source, or (in
+        ``replace`` mode) the list is the one already in effect for the source (a synthesizer
+        repeating itself at 20 Hz costs the agent no reasoning cycle).
         """
         self.stats.messages += 1
         if not self.filter.wants_source(source):
@@ -164,6 +167,10 @@ class PerceptionTable(Generic[L]):
             if ttl > 0 and now is not None:
                 self._heard[source] = SourceClock(ttl, now)
             if self.mode == REPLACE:
+                texts = list(perceptions)
+                if self._texts.get(source) == texts:
+                    return False
+                self._texts[source] = texts
                 self._raw[source] = perceptions
             else:
                 self._queue.append((source, perceptions))
@@ -199,6 +206,7 @@ class PerceptionTable(Generic[L]):
                     expired.append(source)
                     del self._heard[source]
                     self._raw.pop(source, None)
+                    self._texts.pop(source, None)
                     self._queue = [(s, texts) for s, texts in self._queue if s != source]
                     self._expired.add(source)
                     self._changed = True
