@@ -45,6 +45,7 @@ import matplotlib.pyplot as plt
 
 from rason.testing import netns
 from rason.testing.harness import Process, RosHarness
+from rason.testing.procstat import cpu_seconds
 
 ROOT = Path(__file__).resolve().parent.parent
 PRESENCE_PERIOD = 1.0
@@ -87,13 +88,6 @@ class FleetResult:
 def percentile(values: list[float], q: float) -> float:
     ordered = sorted(values)
     return ordered[min(len(ordered) - 1, round(q / 100 * (len(ordered) - 1)))] if ordered else 0.0
-
-
-def cpu_seconds(pid: int) -> float:
-    """utime + stime of a process, in seconds."""
-    with open(f"/proc/{pid}/stat") as f:
-        parts = f.read().rsplit(")", 1)[1].split()
-    return (int(parts[11]) + int(parts[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def rosmaster_pid(roscore: Process) -> int:
