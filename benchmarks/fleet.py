@@ -12,7 +12,7 @@ prints the latency of every ping it receives. Measured:
 * message latency p50/p99 between hosts (agent broadcast -> another host's agent's plan runs);
 * presence convergence: a host joins (its agent starts: until every other agent logged it
   ``present``), leaves (SIGINT: it says goodbye; until every agent forgot it) and vanishes (its
-  link cut: until every agent forgot it; bounded below by ``~presence_timeout``, 3.5 s);
+  link cut: until every agent forgot it, ``~presence_timeout`` (3.5 s) after it was last heard);
 * CPU per agent (% of one core, over the measuring window) and the master's load (rosmaster's
   CPU over the window and over the fleet's start, and its number of registered nodes).
 
