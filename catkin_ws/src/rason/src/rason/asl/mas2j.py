@@ -16,7 +16,7 @@ from typing import Any
 from lark import Lark, Transformer, v_args
 from lark.exceptions import LarkError, UnexpectedInput
 
-from .parser import LEXICON, AslSyntaxError, describe_syntax_error
+from .parser import LEXICON, AslSyntaxError, cached_lark, describe_syntax_error
 
 
 @dataclass
@@ -84,7 +84,7 @@ _lark: Lark | None = None
 def _get_lark() -> Lark:
     global _lark
     if _lark is None:
-        _lark = Lark(MAS2J_GRAMMAR, parser="lalr", propagate_positions=True, maybe_placeholders=True)
+        _lark = cached_lark(MAS2J_GRAMMAR)
     return _lark
 
 

@@ -274,9 +274,15 @@ class PlanLibrary:
         plan = named_plan(plan)
         if front:
             self.plans.insert(0, plan)
+            self._rebuild()
+            return
+        self.plans.append(plan)     # at the end: the index grows in place (loading stays linear)
+        if isinstance(plan.trigger.literal, (Var, AnnotVar)):
+            self._var_plans.append(plan)
         else:
-            self.plans.append(plan)
-        self._rebuild()
+            self._index.setdefault(plan.trigger.key, []).append(plan)
+        if plan.trigger.op == GOAL_STATE:
+            self.goal_state_plans = True
 
     def replace(self, k: int, plan: Plan) -> None:
         """Put ``plan`` in place of the ``k``-th plan (same position)."""
