@@ -6,7 +6,16 @@ a ``+!kqml_received(Sender, Performative, Content, MsgId)`` event handled by the
 program's own).
 """
 
-from .parser import parse_source
+import hashlib
+import os
+import pickle
+import re
+
+from . import parser, plans, terms
+from .parser import parse_source, user_cache_folder
+from .plans import Plan
+from .terms import Var
+from .unify import rename_vars
 
 KQML_PLANS = r"""
 @kqmlReceivedTellStructure[atomic]
@@ -115,7 +124,57 @@ _cache: list = []
 
 
 def kqml_plans() -> list:
-    """The parsed default plans (parsed once)."""
+    """The parsed default plans (parsed once per process; kept between runs, see
+    :func:`_stored_plans`)."""
     if not _cache:
-        _cache.extend(parse_source(KQML_PLANS, "kqmlPlans.asl", src=KQML_SRC).plans)
+        _cache.extend(_stored_plans())
     return list(_cache)
+
+
+#: how the parser names an anonymous variable ``_`` (:func:`~rason.asl.terms.fresh_name`)
+_ANONYMOUS = re.compile(r"_[0-9]+")
+
+
+class _FreshAnonymous(dict):
+    """A renaming for :func:`~rason.asl.unify.rename_vars` that keeps every named variable
+    and gives each anonymous one (named by another process) a name fresh in this one."""
+
+    def get(self, name: str, default: object = None) -> object:
+        if name in self:
+            return self[name]
+        return None if _ANONYMOUS.fullmatch(name) else Var(name)
+
+
+def _with_fresh_anonymous(plan: Plan) -> Plan:
+    """``plan`` (read from another process) with its anonymous variables named anew."""
+    renaming = _FreshAnonymous()
+    return plan.map_terms(lambda t: rename_vars(t, renaming))
+
+
+def _stored_plans() -> list[Plan]:
+    """The default plans parsed by an earlier run (a pickle in the user's cache folder, about
+    100x faster than parsing them), else parsed now and stored. The file's name holds the
+    digest of the plans' text and of the term, plan and parser modules, so any change parses
+    again; anonymous variables get names fresh in this process."""
+    stamp = hashlib.sha256(KQML_PLANS.encode("utf-8"))
+    for module in (parser, plans, terms):
+        stat = os.stat(module.__file__ or "")
+        stamp.update(f"{stat.st_size}:{stat.st_mtime_ns}".encode())
+    folder = user_cache_folder()
+    path = None if folder is None else os.path.join(folder, f"kqml-{stamp.hexdigest()[:16]}.pickle")
+    if path is not None and os.path.isfile(path):
+        try:
+            with open(path, "rb") as f:
+                stored = pickle.load(f)
+            return [_with_fresh_anonymous(p) for p in stored]
+        except (OSError, pickle.UnpicklingError, EOFError, AttributeError, TypeError):
+            pass                               # unreadable: parse again and store anew
+    parsed = parse_source(KQML_PLANS, "kqmlPlans.asl", src=KQML_SRC).plans
+    if path is not None:
+        try:
+            with open(path + ".tmp", "wb") as f:
+                pickle.dump(parsed, f, protocol=pickle.HIGHEST_PROTOCOL)
+            os.replace(path + ".tmp", path)
+        except OSError:
+            pass                               # a read-only cache folder: parse every time
+    return parsed

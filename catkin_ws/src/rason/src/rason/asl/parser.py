@@ -181,15 +181,23 @@ VAR: /[A-Z_][A-Za-z0-9_]*/
 _lark: Lark | None = None
 
 
-def grammar_cache_path(grammar: str) -> str | None:
-    """Where the LALR tables built from ``grammar`` are kept between runs: the user's cache
-    folder (``$XDG_CACHE_HOME/rason``, else ``~/.cache/rason``), or None when it cannot be
-    made. Lark checks the grammar's digest stored inside, so a stale file is rebuilt."""
+def user_cache_folder() -> str | None:
+    """The folder where what is costly to make is kept between runs (``$XDG_CACHE_HOME/rason``,
+    else ``~/.cache/rason``), or None when it cannot be made."""
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     folder = os.path.join(base, "rason")
     try:
         os.makedirs(folder, exist_ok=True)
     except OSError:
+        return None
+    return folder
+
+
+def grammar_cache_path(grammar: str) -> str | None:
+    """Where the LALR tables built from ``grammar`` are kept between runs (None: nowhere).
+    Lark checks the grammar's digest stored inside, so a stale file is rebuilt."""
+    folder = user_cache_folder()
+    if folder is None:
         return None
     digest = hashlib.sha256(grammar.encode("utf-8")).hexdigest()[:16]
     return os.path.join(folder, f"lark-{digest}-py{sys.version_info[0]}{sys.version_info[1]}.cache")
