@@ -123,7 +123,8 @@ class Agent:
         self._seq = itertools.count()
         self._action_ids = itertools.count(1)
         self.intention_ids = itertools.count(1)
-        self._inbox: deque[Message | ActionResult | None] = deque()   # None: a wake-up
+        self._inbox: deque[ActionResult | None] = deque()   # action feedback; None: a wake-up
+        self._mail: deque[Message] = deque()                # messages, one taken per cycle
         self._inbox_lock = threading.Lock()
         self._wake_event = threading.Event()
         self._state_lock = threading.RLock()
@@ -181,7 +182,7 @@ class Agent:
     def receive(self, message: Message) -> None:
         """Thread-safe: queue an incoming message and wake the agent."""
         with self._inbox_lock:
-            self._inbox.append(message)
+            self._mail.append(message)
         self._wake_event.set()
         if self.on_wake is not None:
             self.on_wake()
@@ -259,7 +260,7 @@ class Agent:
     def is_idle(self) -> bool:
         """No events, no runnable intention, nothing in the inbox."""
         with self._inbox_lock:
-            inbox = bool(self._inbox)
+            inbox = bool(self._inbox or self._mail)
         return not self.events and not self.running and not inbox and not self.action_results
 
     def has_pending(self) -> bool:
@@ -268,7 +269,7 @@ class Agent:
 
     def has_input(self) -> bool:
         with self._inbox_lock:
-            return bool(self._inbox)
+            return bool(self._inbox or self._mail)
 
     def next_deadline(self) -> float | None:
         """Earliest ``.wait`` deadline (clock seconds), or None."""
@@ -346,26 +347,19 @@ class Agent:
         """Perceive (belief update from the percepts), take mail and feedback, fire timers."""
         percepts = self.arch.perceive()
         did = percepts is not None and self.update_percepts(percepts)
-        if self._inbox:
+        if self._inbox or self._mail:
             # all action feedback and wake-ups, but (like Jason) one message per cycle
             with self._inbox_lock:
-                items = []
-                keep: deque[Message | ActionResult | None] = deque()
-                msg_taken = False
-                for it in self._inbox:
-                    if type(it) is Message:
-                        if msg_taken:
-                            keep.append(it)
-                            continue
-                        msg_taken = True
-                    items.append(it)
-                self._inbox = keep
+                items = list(self._inbox)
+                self._inbox.clear()
+                message = self._mail.popleft() if self._mail else None
             for it in items:
                 did = True
-                if type(it) is Message:
-                    self.process_message(it)
-                elif type(it) is ActionResult:
+                if type(it) is ActionResult:
                     self.action_results.append(it)
+            if message is not None:
+                did = True
+                self.process_message(message)
         if self.timers:
             did = self.check_timers() or did
         return did

@@ -15,11 +15,17 @@ class BeliefBase:
     A belief is stored once per ``(functor, args, negation)`` with all its annotations merged
     (e.g. several ``source(...)``). Each key keeps its entries in a deque (adding at either end
     is O(1)) and its beliefs by arguments (finding one is O(1)), so adding n beliefs is linear.
+    The beliefs of a key are also kept by their first argument (:func:`first_arg_key`), in the
+    same order, so a query whose first argument is a constant looks at those only.
     """
 
     def __init__(self) -> None:
         self._index: dict[tuple, deque] = {}
         self._by_args: dict[tuple, dict[tuple, Literal]] = {}
+        self._by_first: dict[tuple, dict[Any, list]] = {}    # lists: most hold one belief
+        #: per key, how many entries the first-argument index cannot hold (rules, beliefs whose
+        #: first argument is a structure): while any, queries of that key look at all entries
+        self._unindexed: dict[tuple, int] = {}
         self._snapshots: dict[tuple, tuple] = {}
         self._percepts: dict[Literal, Literal] = {}
 
@@ -33,6 +39,17 @@ class BeliefBase:
                 return ()
             snap = self._snapshots[key] = tuple(entries)
         return snap
+
+    def candidates_by_first(self, key: tuple, first: Any) -> tuple:
+        """:meth:`candidates` narrowed to the beliefs whose first argument may unify with
+        ``first`` (the query's first argument, its bindings followed): all of them unless
+        ``first`` is a constant the index holds."""
+        fk = first_arg_key(first)
+        if fk is None or self._unindexed.get(key):
+            return self.candidates(key)
+        by_first = self._by_first.get(key)
+        bucket = None if by_first is None else by_first.get(fk)
+        return tuple(bucket) if bucket else ()
 
     def __iter__(self):
         for key in list(self._index):
@@ -59,12 +76,54 @@ class BeliefBase:
         if entries is None:
             entries = self._index[key] = deque()
             self._by_args[key] = {}
+            self._by_first[key] = {}
         return entries
+
+    def _index_first(self, key: tuple, b: Literal, front: bool) -> None:
+        """Put belief ``b`` (new in ``key``) in the first-argument index."""
+        fk = first_arg_key(b.args[0]) if b.args else None
+        if fk is None:
+            self._unindexed[key] = self._unindexed.get(key, 0) + 1
+            return
+        bucket = self._by_first[key].get(fk)
+        if bucket is None:
+            self._by_first[key][fk] = [b]
+        elif front:
+            bucket.insert(0, b)
+        else:
+            bucket.append(b)
+
+    def _replace_first(self, key: tuple, old: Literal, new: Literal | None) -> None:
+        """Put ``new`` where ``old`` is in the first-argument index (None: remove it)."""
+        fk = first_arg_key(old.args[0]) if old.args else None
+        if fk is None:
+            if new is None:
+                self._unindexed[key] -= 1
+            return
+        bucket = self._by_first[key][fk]
+        pos = _position(bucket, old)
+        if new is not None:
+            bucket[pos] = new
+        elif len(bucket) == 1:
+            del self._by_first[key][fk]
+        else:
+            del bucket[pos]
+
+    def _reindex_first(self, key: tuple) -> None:
+        """Make the first-argument index of ``key`` anew from its entries."""
+        self._by_first[key] = {}
+        self._unindexed[key] = 0
+        for e in self._index.get(key, ()):
+            if type(e) is Literal:
+                self._index_first(key, e, front=False)
+            else:
+                self._unindexed[key] += 1
 
     def _replace(self, key: tuple, old: Literal, new: Literal | None) -> None:
         """Put ``new`` where belief ``old`` is (None: remove it)."""
         entries = self._entries(key)
         pos = _position(entries, old)
+        self._replace_first(key, old, new)
         if new is None:
             del entries[pos]
             del self._by_args[key][old.args]   # (an emptied key stays: it is likely reused)
@@ -83,6 +142,8 @@ class BeliefBase:
         if held is None:
             self._index[key] = deque((lit,))
             self._by_args[key] = {lit.args: lit}
+            self._by_first[key] = {}
+            self._index_first(key, lit, front)
             return lit
         b = held.get(lit.args)
         if b is not None:
@@ -98,6 +159,7 @@ class BeliefBase:
         else:
             self._index[key].append(lit)
         held[lit.args] = lit
+        self._index_first(key, lit, front)
         return lit
 
     def add_rule(self, rule: Rule, front: bool = False) -> None:
@@ -106,14 +168,19 @@ class BeliefBase:
             entries.appendleft(rule)
         else:
             entries.append(rule)
+        self._unindexed[rule.head.key] = self._unindexed.get(rule.head.key, 0) + 1
 
     def remove_rule(self, rule: Rule) -> None:
         key = rule.head.key
         lst = [r for r in self._index.get(key, ()) if r is not rule]
         if lst:
             self._index[key] = deque(lst)
+            self._reindex_first(key)
         else:
             self._index.pop(key, None)
+            self._by_args.pop(key, None)     # no beliefs either: the key is gone
+            self._by_first.pop(key, None)
+            self._unindexed.pop(key, None)
 
     def remove(self, lit: Literal) -> Literal | None:
         """Remove ``lit``'s annotations from the stored belief (whole belief when no source is
@@ -131,6 +198,7 @@ class BeliefBase:
                 entries.popleft()
             else:
                 del entries[_position(entries, b)]
+            self._replace_first(key, b, None)
             del held[lit.args]
             return b
         if not lit.annots:
@@ -170,15 +238,33 @@ class BeliefBase:
         entries.extend(keep)
         for b in gone:
             del self._by_args[key][b.args]
+        self._reindex_first(key)
         return gone
 
     def clear(self) -> None:
         self._index.clear()
         self._by_args.clear()
+        self._by_first.clear()
+        self._unindexed.clear()
         self._snapshots.clear()
 
 
-def _position(entries: deque, b: Literal) -> int:
+def first_arg_key(t: Any) -> Any:
+    """How a belief's first argument is kept in the first-argument index: a number or a string
+    is its own key, a plain atom is ``("atom", name)``; None (not kept) for a variable, a
+    structure, a list, an annotated or negated atom, NaN. Two such terms unify exactly when
+    their keys are equal."""
+    kind = type(t)
+    if kind is float or kind is int:
+        return t if t == t else None
+    if kind is str:
+        return t
+    if kind is Literal and not t.args and not t.annots and t.tail is None and not t.neg:
+        return ("atom", t.functor)
+    return None
+
+
+def _position(entries: deque | list, b: Literal) -> int:
     """Where the very object ``b`` is in ``entries``."""
     for pos, e in enumerate(entries):
         if e is b:

@@ -147,9 +147,17 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
         return None
     env: dict[str, Any] = {"Literal": Literal, "unify": unify, "eval_rel": eval_rel,
                            "first_solution": first_solution, "dict": dict, "float": float,
-                           "F": f, "REL": rel, "KEY": left.key}
-    lines = ["def context(ag, s):",
-             "    for b in ag.bb.candidates(KEY):",
+                           "F": f, "REL": rel, "KEY": left.key, "walk": walk, "A0": left.args[0]}
+    first = left.args[0]
+    if type(first) is Var:     # bound: only the beliefs with that first argument are looked at
+        lines = ["def context(ag, s):",
+                 f"    f0 = s.get({first.name!r})",
+                 "    bb = ag.bb",
+                 "    cands = bb.candidates(KEY) if f0 is None else bb.candidates_by_first(KEY, walk(f0, s))"]
+    else:
+        lines = ["def context(ag, s):",
+                 "    cands = ag.bb.candidates_by_first(KEY, A0)"]
+    lines += ["    for b in cands:",
              "        if type(b) is not Literal:",
              "            return first_solution(ag, F, s)   # rules: the general way",
              "        args = b.args",
@@ -230,10 +238,10 @@ def _univ(f: RelExpr, s: dict, ag: FunctionHost | None) -> dict | None:
 
 def query_bb(ag: Agent, lit: Literal, s: dict) -> Iterator[dict]:
     """Solutions of ``lit`` against the belief base (beliefs and rules, in order)."""
-    cands = ag.bb.candidates(lit.key)
+    args = lit.args
+    cands = ag.bb.candidates_by_first(lit.key, walk(args[0], s)) if args else ag.bb.candidates(lit.key)
     if not cands:
         return
-    args = lit.args
     want_annots = bool(lit.annots) or lit.tail is not None
     for b in cands:
         if type(b) is Literal:
