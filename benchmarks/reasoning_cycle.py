@@ -10,7 +10,12 @@ time per loop iteration (µs) for:
   dialect: no ``.time``/``.puts``), installed by this script into a throwaway venv under a
   temporary directory and run as a subprocess (skipped with --no-agentspeak or when pip
   cannot install it);
-* for scale, real Jason on the JVM: about 2.7 µs per iteration (reference figure).
+* for scale, real Jason on the JVM: about 2.7 µs per iteration (reference figure), or measured
+  in this run with ``--jason-jar CLASSPATH`` (Jason 3's jar and the javax.json jars it needs):
+  the same loop counted to N four times in one agent (``.nano_time``), the best of the last
+  three (warm) passes;
+* as whole processes: ``python -m rason.asl run`` against ``python -m agentspeak`` on the same
+  program counting to 100000, wall and CPU time of the process (best of R; target: 5x).
 
 Then the cost of the mind inspector for the reasoning cycle: the same agent while a thread
 publishes its mind exactly as the agent node does (``rason.ros.mind_state``: a timer thread
@@ -26,7 +31,7 @@ each timed run; the best of ``--repeat`` runs counts (more for small N, the same
 both: about 200000 timed iterations).
 
 Usage: python3 benchmarks/reasoning_cycle.py [--counts 3700 100000] [--repeat 3] [--no-agentspeak]
-       [--no-mind-state]
+       [--no-mind-state] [--jason-jar CLASSPATH] [--whole-count 100000]
 """
 
 from __future__ import annotations
@@ -35,6 +40,7 @@ import argparse
 import gc
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -49,6 +55,27 @@ from rason.asl import Agent, AgentArch, WallClock  # noqa: E402
 JASON_JVM_US = 2.7
 WARM_UP = 2000      # iterations run once, untimed, before measuring (both interpreters)
 TARGET_SPEEDUP = 3.0
+TARGET_WHOLE_SPEEDUP = 5.0
+
+# Jason on the JVM: the loop counted to {n} four times in one agent; each pass prints its µs
+# per iteration (the first pass warms the JIT up).
+JASON_PROGRAM = """
+value(0).
+pass(0).
+!start.
++!start : .nano_time(T) <- -+init(T); !!count.
++!count : value(X) & X < {n} <- -+value(X+1); !!count.
++!count : pass(P) & P < 4 & .nano_time(T) & init(I) & value(X)
+   <- .print("pass ", P, " ", (T - I) / X / 1000); -+pass(P + 1); -+value(0);
+      .nano_time(T2); -+init(T2); !!count.
++!count <- .stopMAS.
+"""
+JASON_LOGGING = """handlers = java.util.logging.ConsoleHandler
+.level = INFO
+java.util.logging.ConsoleHandler.level = INFO
+java.util.logging.ConsoleHandler.formatter = java.util.logging.SimpleFormatter
+java.util.logging.SimpleFormatter.format = %5$s%n
+"""
 
 PERCEPTION_PLANS = "\n".join(f'+perception{k} <- .print("p{k}").' for k in range(1, 11))
 
@@ -220,6 +247,62 @@ def bench_agentspeak(py: str, n: int, tmp: str, repeat: int) -> float | None:
     return json.loads(last)["elapsed"] / n * 1e6
 
 
+def bench_jason_jvm(classpath: str, n: int, tmp: str) -> float | None:
+    """µs per iteration of Jason on the JVM (best warm pass), or None when it cannot run."""
+    folder = os.path.join(tmp, "jason")
+    os.makedirs(folder, exist_ok=True)
+    for name, text in (("count.asl", JASON_PROGRAM.format(n=n)), ("logging.properties", JASON_LOGGING),
+                       ("count.mas2j", "MAS count { agents: bench count.asl; }\n")):
+        with open(os.path.join(folder, name), "w", encoding="utf-8") as f:
+            f.write(text)
+    try:
+        proc = subprocess.run(["java", "-cp", classpath, "jason.infra.local.RunLocalMAS", "count.mas2j",
+                               "--log-conf", "logging.properties"], cwd=folder, capture_output=True,
+                              text=True, timeout=1800)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        print(f"note: Jason could not run ({e})", file=sys.stderr)
+        return None
+    passes = [float(line.split()[-1]) for line in (proc.stdout + proc.stderr).splitlines()
+              if line.startswith("pass ")]
+    if len(passes) < 2:
+        print(f"note: Jason printed no timing: {(proc.stdout + proc.stderr).strip()[-300:]}", file=sys.stderr)
+        return None
+    return min(passes[1:])
+
+
+def whole_process(cmd: list[str], repeat: int, env: dict[str, str] | None = None) -> tuple[float, float]:
+    """Best wall and best CPU seconds (user + system) of ``repeat`` runs of ``cmd``."""
+    wall, cpu = float("inf"), float("inf")
+    for _ in range(repeat):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        subprocess.run(cmd, check=True, capture_output=True, timeout=3600, env=env)
+        wall = min(wall, time.perf_counter() - t0)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = min(cpu, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
+def whole_process_table(py: str | None, n: int, tmp: str, repeat: int) -> None:
+    ours_path = os.path.join(tmp, f"rason_{n}.asl")
+    theirs_path = os.path.join(tmp, f"agentspeak_whole_{n}.asl")
+    with open(ours_path, "w", encoding="utf-8") as f:
+        f.write(LISTING_5_4.format(n=n))
+    with open(theirs_path, "w", encoding="utf-8") as f:
+        f.write(AGENTSPEAK_PROGRAM.format(n=n))
+    src = os.path.abspath(os.path.join(HERE, "..", "catkin_ws", "src", "rason", "src"))
+    env = dict(os.environ, PYTHONPATH=src + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    ours = whole_process([sys.executable, "-m", "rason.asl", "run", ours_path], repeat, env)
+    theirs = None if py is None else whole_process([py, "-m", "agentspeak", theirs_path], repeat)
+    print(f"\nWhole process, Listing 5.4 counting to {n} (start-up included), best of {repeat}")
+    print(f"{'':>10} | {'rason.asl s':>11} | {'agentspeak 0.2.2 s':>18} | {'speedup':>7} | {'target':>6}")
+    print("-" * 64)
+    for k, label in ((0, "wall"), (1, "CPU")):
+        t = "n/a" if theirs is None else f"{theirs[k]:.2f}"
+        r = "n/a" if theirs is None else f"{theirs[k] / ours[k]:.2f}x"
+        print(f"{label:>10} | {ours[k]:11.2f} | {t:>18} | {r:>7} | {TARGET_WHOLE_SPEEDUP:5.1f}x")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--counts", type=int, nargs="+", default=[3700, 100000])
@@ -228,6 +311,11 @@ def main() -> int:
     ap.add_argument("--no-agentspeak", action="store_true")
     ap.add_argument("--no-mind-state", action="store_true",
                     help="skip the cost of publishing the mind (mind inspector)")
+    ap.add_argument("--jason-jar", metavar="CLASSPATH", default=None,
+                    help="measure Jason on the JVM in this run (java -cp CLASSPATH: Jason 3's jar and "
+                         "the javax.json jars)")
+    ap.add_argument("--whole-count", type=int, default=100000,
+                    help="N of the whole-process comparison (0: skip it)")
     args = ap.parse_args()
     sys.setrecursionlimit(max(sys.getrecursionlimit(), 20000))
 
@@ -245,8 +333,13 @@ def main() -> int:
                 ours.append(us)
             theirs = None if py is None else bench_agentspeak(py, n, tmp, repeat)
             rows.append((n, min(ours), own, theirs))
+        jvm = {n: bench_jason_jvm(args.jason_jar, n, tmp) for n in args.counts} if args.jason_jar else {}
+        if args.whole_count:
+            whole_process_table(py, args.whole_count, tmp, args.repeat)
 
-    print(f"Listing 5.4 (count to N, one new intention per iteration); Python {sys.version.split()[0]}")
+    print(f"\nListing 5.4 (count to N, one new intention per iteration); Python {sys.version.split()[0]}; "
+          f"load average {os.getloadavg()[0]:.1f}; Jason JVM: "
+          + ("measured in this run" if jvm else "reference figure (no --jason-jar)"))
     print(f"{'N':>8} | {'rason.asl µs/it':>15} | {'(agent .time)':>13} | {'agentspeak 0.2.2 µs/it':>22} | "
           f"{'speedup':>7} | {'target':>6} | {'Jason JVM µs/it':>15} | {'vs JVM':>7}")
     print("-" * 118)
@@ -257,8 +350,10 @@ def main() -> int:
             ok = False
         own_us = f"{float(own) * 1000:10.2f}" if own else "n/a"
         theirs_s = "n/a" if theirs is None else f"{theirs:.2f}"
+        jason = jvm.get(n) or JASON_JVM_US
+        jason_s = f"{jason:15.2f}" if jvm.get(n) else f"{jason:14.1f}*"
         print(f"{n:>8} | {ours:15.2f} | {own_us:>13} | {theirs_s:>22} | "
-              f"{ratio:>7} | {TARGET_SPEEDUP:5.1f}x | {JASON_JVM_US:15.1f} | {ours / JASON_JVM_US:6.1f}x")
+              f"{ratio:>7} | {TARGET_SPEEDUP:5.1f}x | {jason_s} | {ours / jason:6.1f}x")
     print("target (>= 3x faster than agentspeak per iteration):", "met" if ok else "NOT met")
     if not args.no_mind_state:
         mind_state_table(args.repeat)

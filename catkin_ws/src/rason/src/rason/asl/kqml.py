@@ -175,6 +175,6 @@ def _stored_plans() -> list[Plan]:
             with open(path + ".tmp", "wb") as f:
                 pickle.dump(parsed, f, protocol=pickle.HIGHEST_PROTOCOL)
             os.replace(path + ".tmp", path)
-        except OSError:
+        except (OSError, pickle.PicklingError, TypeError, AttributeError):
             pass                               # a read-only cache folder: parse every time
     return parsed

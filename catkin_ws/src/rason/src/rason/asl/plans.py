@@ -94,6 +94,10 @@ class Deed:
     def __repr__(self) -> str:
         return deed_str(self)
 
+    def __reduce__(self) -> tuple:
+        """Pickled as what it is made from (the compiled ``build`` is made anew)."""
+        return (Deed, (self.kind, self.term, self.line, self.extra))
+
     def map_terms(self, fn: Any) -> Deed:
         """This deed with ``fn`` applied to every term in it (blocks included)."""
         if self.kind == K_IF:
