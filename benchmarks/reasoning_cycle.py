@@ -26,9 +26,10 @@ best of R; also with 200 more beliefs in the mind (a snapshot costs more for a l
 The cost is compared in CPU time of the process (both threads) per iteration, which other
 processes on a busy machine do not inflate; wall time is shown beside it.
 
-Both interpreters run a 2000-iteration warm-up first, and a garbage collection precedes
-each timed run; the best of ``--repeat`` runs counts (more for small N, the same number for
-both: about 200000 timed iterations).
+Both interpreters are timed in CPU time of their process (wall time on a machine shared with
+other work mostly measures waiting for a core); both run a 2000-iteration warm-up first, and a
+garbage collection precedes each timed run; the best of ``--repeat`` runs counts (more for
+small N, the same number for both: about 200000 timed iterations).
 
 Usage: python3 benchmarks/reasoning_cycle.py [--counts 3700 100000] [--repeat 3] [--no-agentspeak]
        [--no-mind-state] [--jason-jar CLASSPATH] [--whole-count 100000]
@@ -105,9 +106,9 @@ def timed(path):
     with open(path) as f:
         agent = env.build_agent(f, agentspeak.stdlib.actions)
     gc.collect()
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     env.run()
-    return time.perf_counter() - t0
+    return time.process_time() - t0
 timed(sys.argv[1])                      # warm-up, as for rason.asl
 print(json.dumps({"elapsed": min(timed(sys.argv[2]) for _ in range(int(sys.argv[3])))}))
 """
@@ -125,15 +126,16 @@ class QuietArch(AgentArch):
 
 
 def bench_rason(n: int) -> tuple[float, str]:
-    """µs per iteration (wall time of the whole run / n) and the agent's own figure (ms)."""
+    """µs per iteration (CPU time of the whole run / n: other work on a busy machine inflates
+    it less than wall time) and the agent's own figure (ms, wall)."""
     arch = QuietArch()
     ag = Agent("bench", LISTING_5_4.format(n=n), arch)
     gc.collect()
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     step = ag.step
     while step():
         pass
-    t1 = time.perf_counter()
+    t1 = time.process_time()
     assert arch.lines and arch.lines[0] == "Done", arch.lines
     return (t1 - t0) / n * 1e6, arch.lines[-1]
 
@@ -337,7 +339,8 @@ def main() -> int:
         if args.whole_count:
             whole_process_table(py, args.whole_count, tmp, args.repeat)
 
-    print(f"\nListing 5.4 (count to N, one new intention per iteration); Python {sys.version.split()[0]}; "
+    print(f"\nListing 5.4 (count to N, one new intention per iteration), CPU µs per iteration (Jason: "
+          f"its own .nano_time); Python {sys.version.split()[0]}; "
           f"load average {os.getloadavg()[0]:.1f}; Jason JVM: "
           + ("measured in this run" if jvm else "reference figure (no --jason-jar)"))
     print(f"{'N':>8} | {'rason.asl µs/it':>15} | {'(agent .time)':>13} | {'agentspeak 0.2.2 µs/it':>22} | "
