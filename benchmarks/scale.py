@@ -235,7 +235,7 @@ def bytes_per_frame(depth: int) -> float:
 
     def held(d: int) -> int:
         ag = Agent("scale", program.replace(f"!down({depth}).", f"!down({d})."), QuietArch(),
-                   options=AgentOptions(tro=False))
+                   options=AgentOptions(tro=False, max_intention_depth=depth + 10))
         gc.collect()
         tracemalloc.start()
         before = tracemalloc.get_traced_memory()[0]
