@@ -249,7 +249,7 @@ def bytes_per_frame(depth: int) -> float:
 
 
 RSS_CHILD = r"""
-import resource, sys
+import sys
 sys.path[:0] = sys.argv[2:]
 from rason.asl import Agent
 from rason.asl.terms import Literal
@@ -259,7 +259,9 @@ for k in range(int(sys.argv[1])):
     ag.bb.add(Literal("fact", (float(k), "a belief of the mind", float(k + 1))))
 while ag.step():
     pass
-print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+# VmHWM: this process's own peak (ru_maxrss would include the parent's peak before exec)
+with open("/proc/self/status") as f:
+    print(next(int(line.split()[1]) for line in f if line.startswith("VmHWM:")) / 1024)
 """
 
 
