@@ -293,12 +293,18 @@ def plot(rows: list[dict], axis: str, xlabel: str, series: list[str], path: str)
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(6, 4))
+    values = []
     for name in series:
         pts = [(r["size"], r[name]) for r in rows if r["axis"] == axis and r.get(name) is not None]
         if pts:
             ax.plot(*zip(*pts, strict=False), marker="o", label=name)
+            values += [v for _, v in pts]
     ax.set_xscale("log")
     ax.set_yscale("log")
+    if values:   # at least two decades: a flat line looks flat
+        low, high = min(values), max(values)
+        pad = max(1.0, (100 * low / high) ** 0.5)
+        ax.set_ylim(low / pad, high * pad)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("µs")
     ax.grid(True, which="both", alpha=0.3)
