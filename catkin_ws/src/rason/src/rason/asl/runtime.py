@@ -162,6 +162,7 @@ class LocalMas:
         clock = self.clock
         t_end = None if timeout is None else clock.now() + timeout
         rounds = 0
+        busy = False
         while True:
             rounds += 1
             if max_cycles is not None and rounds > max_cycles:
@@ -170,8 +171,11 @@ class LocalMas:
                 return False
             if any(ag.stop_requested for ag in self.agents.values()):
                 return True
-            self._wake.clear()
-            if self.step_all():
+            if not busy:
+                # a wake-up during a busy round stays set: the wait below returns at once then
+                self._wake.clear()
+            busy = self.step_all()
+            if busy:
                 if t_end is not None and clock.now() >= t_end:
                     return False
                 continue
