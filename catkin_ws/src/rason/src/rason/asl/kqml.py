@@ -10,8 +10,9 @@ import hashlib
 import os
 import pickle
 import re
+from pathlib import Path
 
-from . import parser, plans, terms
+from . import terms
 from .parser import parse_source, user_cache_folder
 from .plans import Plan
 from .terms import Var
@@ -154,12 +155,13 @@ def _with_fresh_anonymous(plan: Plan) -> Plan:
 def _stored_plans() -> list[Plan]:
     """The default plans parsed by an earlier run (a pickle in the user's cache folder, about
     100x faster than parsing them), else parsed now and stored. The file's name holds the
-    digest of the plans' text and of the term, plan and parser modules, so any change parses
+    digest of the plans' text and of the stamps of every rason.asl module, so any change parses
     again; anonymous variables get names fresh in this process."""
     stamp = hashlib.sha256(KQML_PLANS.encode("utf-8"))
-    for module in (parser, plans, terms):
-        stat = os.stat(module.__file__ or "")
-        stamp.update(f"{stat.st_size}:{stat.st_mtime_ns}".encode())
+    package = Path(terms.__file__ or "").parent      # every module of rason.asl: a pickled
+    for module in sorted(package.rglob("*.py")):      # class may live in any of them
+        stat = module.stat()
+        stamp.update(f"{module.name}:{stat.st_size}:{stat.st_mtime_ns}".encode())
     folder = user_cache_folder()
     path = None if folder is None else os.path.join(folder, f"kqml-{stamp.hexdigest()[:16]}.pickle")
     if path is not None and os.path.isfile(path):
@@ -172,9 +174,10 @@ def _stored_plans() -> list[Plan]:
     parsed = parse_source(KQML_PLANS, "kqmlPlans.asl", src=KQML_SRC).plans
     if path is not None:
         try:
-            with open(path + ".tmp", "wb") as f:
+            partial = f"{path}.{os.getpid()}.tmp"    # agents often start together
+            with open(partial, "wb") as f:
                 pickle.dump(parsed, f, protocol=pickle.HIGHEST_PROTOCOL)
-            os.replace(path + ".tmp", path)
+            os.replace(partial, path)
         except (OSError, pickle.PicklingError, TypeError, AttributeError):
             pass                               # a read-only cache folder: parse every time
     return parsed
