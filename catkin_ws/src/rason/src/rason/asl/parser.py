@@ -784,7 +784,7 @@ class _NotPlain(Exception):
 
 
 def _plain_tokens(text: str) -> list[tuple[str, str]]:
-    tokens = []
+    tokens: list[tuple[str, str]] = []
     pos, end = 0, len(text)
     match = _PLAIN_TOKEN.match
     while True:
