@@ -69,10 +69,13 @@ def test_sim_node_drives_publishes_odometry_clock_and_kinect(ros):
 
         twist = Twist()
         twist.linear.x = 0.3
-        deadline = time.monotonic() + 2.5
-        while time.monotonic() < deadline:
+        # 1.5 s of simulated time (a busy machine runs the simulator slower than the wall clock)
+        deadline = time.monotonic() + 60
+        while clock.last().clock.to_sec() < t0 + 1.5 and time.monotonic() < deadline:
             cmd.publish(twist)
             time.sleep(0.1)
+        cmd.publish(twist)
+        time.sleep(0.1)
         moving = odom.last()
         assert moving.pose.pose.position.x > 0.2, moving.pose.pose.position
         assert moving.twist.twist.linear.x == pytest.approx(0.3, abs=0.05)
@@ -84,8 +87,11 @@ def test_sim_node_drives_publishes_odometry_clock_and_kinect(ros):
         assert t1 - t0 > 1.0                     # sim time advances (about real time)
         assert moving.header.stamp.to_sec() == pytest.approx(t1, abs=0.2)
 
-        # No more commands: the 0.6 s command timeout stops the robot.
-        time.sleep(1.5)
+        # No more commands: the 0.6 s (simulated) command timeout stops the robot.
+        deadline = time.monotonic() + 60
+        while clock.last().clock.to_sec() < t1 + 1.0 and time.monotonic() < deadline:
+            time.sleep(0.1)
+        time.sleep(0.2)
         assert abs(odom.last().twist.twist.linear.x) < 0.01
 
         imgs = images.wait(3)

@@ -13,7 +13,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import rospy
 
@@ -66,6 +66,9 @@ class PendingAction:
     text: str
     sent_at: float
     accepted_at: float | None = None
+    #: the action term, kept until a decomposer was connected when it was published (an agent
+    #: acting as soon as it starts may publish before the decomposer's connection is made)
+    unheard: Any = None
 
 
 class RosAgArch(AgentArch):
@@ -101,8 +104,10 @@ class RosAgArch(AgentArch):
 
     def act(self, agent: Agent, action, action_id: int) -> None:
         with self._lock:
-            self.pending[action_id] = PendingAction(action_id, str(action), self.clock.now())
-        self.node.publish_action(self.name, action_id, action)
+            pending = PendingAction(action_id, str(action), self.clock.now())
+            self.pending[action_id] = pending
+        if not self.node.publish_action(self.name, action_id, action):
+            pending.unheard = action
 
     def action_abandoned(self, agent: Agent, action_id: int) -> None:
         with self._lock:
@@ -177,6 +182,12 @@ class RosAgArch(AgentArch):
     def check_timeouts(self, now: float, ack_timeout: float, action_timeout: float) -> None:
         """Fail actions no decomposer acknowledged, and accepted ones that never finished."""
         failed: list[tuple[PendingAction, str, str]] = []
+        with self._lock:
+            unheard = [p for p in self.pending.values() if p.unheard is not None]
+        if unheard and self.node.action_listeners() > 0:
+            for pending in unheard:      # nobody heard them: a decomposer is there now
+                action, pending.unheard = pending.unheard, None
+                self.node.publish_action(self.name, pending.action_id, action)
         with self._lock:
             for pending in list(self.pending.values()):
                 if pending.accepted_at is None and ack_timeout > 0 \

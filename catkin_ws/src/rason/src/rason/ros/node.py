@@ -255,10 +255,18 @@ class RasonNode:
             hosted.thread.join(2.0)
 
     # -- output -----------------------------------------------------------------------------------------
-    def publish_action(self, agent: str, action_id: int, action) -> None:
+    def publish_action(self, agent: str, action_id: int, action) -> bool:
+        """Publish an action on jason/action; False when no subscriber was connected (nothing
+        received it: the caller publishes it again once a decomposer connects)."""
         name, args = action.functor, [term_str(arg) for arg in action.args]
+        heard = self.action_pub.get_num_connections() > 0
         self.action_pub.publish(Action(agent=agent, action_id=action_id, action=name,
                                        parameters=args))
+        return heard
+
+    def action_listeners(self) -> int:
+        """How many subscribers (decomposers) jason/action has now."""
+        return self.action_pub.get_num_connections()
 
     def publish_cancel(self, agent: str, action_id: int, reason: str) -> None:
         """Tell the decomposers that `agent` gave action `action_id` up."""
