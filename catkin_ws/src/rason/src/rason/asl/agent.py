@@ -497,7 +497,7 @@ class Agent:
     def suspend_timer(self, i: Intention, deadline: float, ms: float = 0.0) -> None:
         self.suspend(i, Suspension.WAIT)
         i.pi_key = f"{i.id}/time{int(ms)}"
-        i.wait_reason = Literal("wait", (float(ms),), (Literal("time", (float(ms),)),))
+        i.wait_reason = Literal("wait", (float(i.id),), (Literal("time", (float(ms),)),))
         heapq.heappush(self.timers, Timer(deadline, next(self._seq), TimerKind.WAIT, i))
         self._goal_waiting(i, i.wait_reason)
 
@@ -521,8 +521,8 @@ class Agent:
                            deadline: float | None) -> None:
         self.suspend(i, Suspension.EVENT_WAIT)
         i.pi_key = f"{i.id}/{trig if trig is not None else term_str(cond)}"
-        what = Literal(str(trig)) if trig is not None else cond
-        i.wait_reason = Literal("wait", (what,))
+        what = trig.literal if trig is not None else cond
+        i.wait_reason = Literal("wait", (float(i.id),), (what,))
         self._goal_waiting(i, i.wait_reason)
         self.event_waits.append(EventWait(trig, cond, i, i.top()))
         if deadline is not None:

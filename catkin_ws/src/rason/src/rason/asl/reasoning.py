@@ -648,7 +648,7 @@ def _exec_for(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     stack = im.stack
     stack.pop()
     base = u
-    sols = iter(list(solve(ag, d.term, base, i)))
+    sols = solve(ag, d.term, base, i)   # lazy, as Jason: each solution after the last pass
     return _for_next(stack, im, d, base, sols)
 
 
@@ -729,8 +729,8 @@ def clr_int(ag: Agent, i: Intention) -> None:
                 ag.intention_finished(i, im)
                 return
             caller = ims[-1]
-            if caller.stack:
-                caller.stack.pop()
+            if caller.stack and caller.stack[-1] is caller.current:
+                caller.stack.pop()   # the deed that failed (an internal action is gone already)
             continue
         caller = ims[-1]
         if caller.stack:
@@ -747,28 +747,33 @@ def clr_int(ag: Agent, i: Intention) -> None:
 
 def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = "",
                    code: Any = None, annots: list | None = None, from_event: Trigger | None = None) -> None:
-    """generateGoalDeletion: post ``-!g`` for the nearest goal with a failure plan, else drop."""
+    """generateGoalDeletion (Jason's Intention.findEventForFailure): walking down the stack
+    from the top means, post ``-!g`` for the first goal with a failure plan, else drop.
+
+    When a failure plan itself failed, the walk starts below the goal it handled. A failure
+    plan met further down (a subgoal of ``-!g`` failed without a plan of its own) is tried
+    again: its ``-!g`` is posted anew, and when that finishes the goal's means goes on after
+    the deed that failed, as Jason does."""
     if annots is None:
         im = i.top()
         d = im.stack[-1] if im is not None and im.stack else None
         annots = error_annots(ag, im, d, kind or "ia_failed", msg, code=code)
     ims = i.ims
     idx = len(ims) - 1
+    if from_event is None and idx >= 0 and ims[idx].fail_target is not None:
+        target = ims[idx].fail_target
+        if target == 0:
+            # the goal has no caller: its failure plan is tried again
+            tgt = ims[0]
+            i.truncate(1)
+            _post_failure(ag, i, tgt, annots, 0)
+            return
+        idx = target - 1
     while idx >= 0:
         im = ims[idx]
-        if im.fail_target is not None:
-            target = im.fail_target
-            if target == 0:
-                # the goal has no caller: its failure plan is tried again
-                tgt = ims[0]
-                i.truncate(1)
-                _post_failure(ag, i, tgt, annots, 0)
-                return
-            idx = target - 1
-            continue
         t = im.trigger
         if ag.pl.has_candidate(DEL, t.type, t.literal):
-            if t.op == ADD and t.is_goal:
+            if t.is_goal and t.op != GOAL_STATE:
                 _post_failure(ag, i, im, annots, idx)
                 return
             break

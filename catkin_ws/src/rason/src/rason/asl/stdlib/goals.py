@@ -64,10 +64,13 @@ def intention_term(i: Any) -> Literal:
     return Literal("intention", (float(i.id), make_list([im_term(im) for im in reversed(i.ims)])))
 
 
-def _intend_solutions(ctx: Any, pattern: Any, int_term: Any):
+def _intend_solutions(ctx: Any, pattern: Any, int_term: Any, with_suspended: bool):
     """jason.stdlib.intend.allIntentions: one solution per visited intention that has a
-    ``+!G`` means (the topmost one); an intention met at two places answers twice."""
+    ``+!G`` means (the topmost one); an intention met at two places answers twice. An
+    intention held by ``.suspend`` counts for ``.desire`` but not for ``.intend``."""
     for _place, i in _places(ctx.ag):
+        if i.sus_ia and not with_suspended:
+            continue
         s2 = has_goal(i, pattern, ctx.s)
         if s2 is None:
             continue
@@ -79,7 +82,7 @@ def _intend_solutions(ctx: Any, pattern: Any, int_term: Any):
 @internal_action(".intend")
 def intend(ctx: Any, args: list) -> Any:
     arg_count(args, 1, 2)
-    return _intend_solutions(ctx, args[0], args[1] if len(args) == 2 else None)
+    return _intend_solutions(ctx, args[0], args[1] if len(args) == 2 else None, False)
 
 
 @internal_action(".desire")
@@ -99,7 +102,7 @@ def desire(ctx: Any, args: list) -> Any:
                 s2 = dict(ctx.s)
                 if unify(pattern, t.literal, s2):
                     yield s2
-        yield from _intend_solutions(ctx, pattern, args[1] if len(args) == 2 else None)
+        yield from _intend_solutions(ctx, pattern, args[1] if len(args) == 2 else None, True)
     return gen()
 
 
