@@ -82,3 +82,47 @@ def test_for_takes_each_solution_after_the_previous_pass() -> None:
                "for (.member(X, [1,2,3]) & not d(X)) { .print(m(X)); +d(X+1) }; "
                ".findall(Y, d(Y), L); .print(L)", "b(1). b(2). b(3).\n") == [
         "1", "2", "3", "m(1)", "m(3)", "[4,2]"]
+
+
+# ------------------------------------------------------------------ sets, maps, queues
+def test_sets_are_changed_in_place_and_kept_in_the_standard_order() -> None:
+    assert run('.set.create(S); .set.add(S, b); .set.add(S, a); .set.add(S, f(1)); .set.add(S, 3); '
+               '.set.add(S, "x"); .set.add(S, a); .print(S); '
+               ".set.add(T, z); .print(T); .set.union(S, [k, b]); .set.remove(S, k); "
+               ".set.copy(S, C); .set.add(C, new); .print(S, \" \", C); "
+               ".set.intersection(S, [a, b, q]); .set.add_all(S, [y, x]); .set.difference(S, [y]); "
+               ".set.to_list(S, L); .length(S, N); .print(L, N); "
+               "for (.member(M, S)) { .print(m(M)) }; .type(S, set); "
+               "+kept(C); .set.clear(S); ?kept(K); .print(S, \" \", K)") == [
+        '{3,"x",a,b,f(1)}', "{z}", '{3,"x",a,b,f(1)} {3,"x",a,b,f(1),new}', "[a,b,x]3",
+        "m(a)", "m(b)", "m(x)", '{} {3,"x",a,b,f(1),new}']
+
+
+def test_maps_put_get_remove_and_backtrack_over_keys_and_values() -> None:
+    assert run(".map.create(M); .map.put(M, k2, v2); .map.put(M, k1, 10); .map.put(M, f(x), [1,2]); "
+               ".map.put(M, k1, 11); .print(M); .map.get(M, k1, V); .print(V); "
+               "if (.map.get(M, nokey, _)) { .print(got) } else { .print(not_got) }; "
+               ".map.get(M, nokey, D, default); .print(D); "
+               ".findall(K, .map.key(M, K), Ks); .findall(X, .map.value(M, X), Vs); .print(Ks, Vs); "
+               ".map.remove(M, k2, R); .map.copy(M, M2); .map.put(M2, zz, 1); .length(M, N); "
+               ".print(R, \" \", M, \" \", M2, \" \", N); .map.clear(M); .print(M); .type(M, map)") == [
+        "{f(x)->[1,2],k1->11,k2->v2}", "11", "not_got", "default", "[f(x),k1,k2][[1,2],11,v2]",
+        "v2 {f(x)->[1,2],k1->11} {f(x)->[1,2],k1->11,zz->1} 2", "{}"]
+
+
+def test_queues_fifo_and_priority_print_as_java_collections() -> None:
+    assert run(".queue.create(Q); .queue.add(Q, c); .queue.add(Q, a); .queue.add(Q, b); .print(Q); "
+               ".queue.head(Q, H); .queue.remove(Q, H2); .print(H, H2, \" \", Q); "
+               ".queue.add_all(Q, [x, y]); .queue.to_list(Q, L); .length(Q, N); .print(L, N); "
+               ".queue.create(P, priority); .queue.add(P, c); .queue.add(P, a); .queue.add(P, b); "
+               ".print(P); .queue.remove(P, P1); .queue.to_list(P, PL); .print(P1, PL); "
+               ".queue.copy(Q, Q2); .queue.add(Q2, w); .print(Q, \" \", Q2); .queue.clear(Q); "
+               "if (.queue.head(Q, _)) { .print(nonempty) } else { .print(empty) }; .type(Q, queue)") == [
+        "[c, a, b]", "cc [a, b]", "[a,b,x,y]4", "[a, c, b]", "a[b,c]", "[a, b, x, y] [a, b, x, y, w]",
+        "empty"]
+
+
+def test_belief_looks_only_at_stored_beliefs() -> None:
+    assert run("+p(4); .findall(X, .belief(p(X)), L); .findall(X, .belief(q(X)), L2); "
+               ".findall(X, .belief(r(X)), L3); .findall(X, .belief(p(X)[a]), L4); .print(L, L2, L3, L4)",
+               "p(1). p(2)[a]. q(X) :- p(X). r(5) :- true.\n") == ["[4,1,2][][5][2]"]

@@ -7,6 +7,7 @@ import os
 import re
 from typing import Any
 
+from ..containers import MapTerm, QueueTerm, SetTerm
 from ..intentions import java_map_order
 from ..kqml import KQML_SRC
 from ..plans import ACHIEVE, ADD, BELIEF, PlanTerm, Trigger, plan_term_trigger
@@ -57,12 +58,18 @@ def type_names(t: Any) -> list[str]:
         out.append("string")
     if isinstance(t, ListTerm):
         out.append("list")
+    if isinstance(t, SetTerm):
+        out.append("set")
+    if isinstance(t, MapTerm):
+        out.append("map")
     if isinstance(t, (Literal, ListTerm, PlanTerm)):
         out.append("structure")
     if isinstance(t, PlanTerm) and t.rule is not None:
         out.append("rule")
     if isinstance(t, PlanTerm) and t.rule is None:
         out.append("plan")
+    if isinstance(t, QueueTerm):
+        out.append("queue")
     if is_ground(t) and not isinstance(t, (Var, AnnotVar)):
         out.append("ground")
     if isinstance(t, (Var, AnnotVar)):
@@ -395,5 +402,32 @@ def namespace_get_prop(ctx: Any, args: list) -> Any:
             k, v = props[name]
             s2 = dict(ctx.s)
             if unify(key, k, s2) and (len(args) == 2 or unify(args[2], v, s2)):
+                yield s2
+    return gen()
+
+
+@internal_action(".belief")
+def belief(ctx: Any, args: list) -> Any:
+    """``.belief(B)``: backtracks over the beliefs stored in the belief base that unify with B
+    (rules are not used, except those whose body is ``true``)."""
+    arg_count(args, 1)
+    pattern = args[0]
+    bb = ctx.ag.bb
+    if isinstance(pattern, Literal):
+        cands: Any = bb.candidates(pattern.key)
+    elif isinstance(pattern, (Var, AnnotVar)):
+        cands = list(bb)
+    else:
+        raise wrong_arg("first argument must be a literal")
+
+    def gen():
+        for b in cands:
+            if isinstance(b, Rule):
+                if not (isinstance(b.body, Literal) and b.body.functor == "true" and not b.body.args):
+                    continue
+                if isinstance(pattern, Literal):
+                    b = b.head
+            s2 = dict(ctx.s)
+            if unify(pattern, b, s2):
                 yield s2
     return gen()
