@@ -126,3 +126,39 @@ def test_belief_looks_only_at_stored_beliefs() -> None:
     assert run("+p(4); .findall(X, .belief(p(X)), L); .findall(X, .belief(q(X)), L2); "
                ".findall(X, .belief(r(X)), L3); .findall(X, .belief(p(X)[a]), L4); .print(L, L2, L3, L4)",
                "p(1). p(2)[a]. q(X) :- p(X). r(5) :- true.\n") == ["[4,1,2][][5][2]"]
+
+
+# ------------------------------------------------------------------ .fork / .join / .done
+def test_fork_and_waits_for_every_branch_fork_or_for_the_first() -> None:
+    assert run(".print(begin); "
+               ".fork(and, { .wait(100); .print(a1) }, { .print(b1); .wait(50); .print(b2) }); "
+               ".print(after_and); .fork(or, { .wait(100); .print(o1) }, { .wait(30); .print(o2) }); "
+               ".print(after_or); .wait(300); .print(end)") == [
+        "begin", "b1", "b2", "a1", "after_and", "o2", "after_or", "end"]
+
+
+def test_a_failing_and_branch_drops_the_others_and_fails_the_goal() -> None:
+    assert run("!f; .print(after_f)",
+               "+!f <- .fork(and, { .print(x1); .fail }, { .wait(100); .print(x2) }); .print(joined).\n"
+               "-!f <- .print(f_failed).\n") == ["x1", "f_failed", "after_f"]
+
+
+def test_failure_after_an_or_join_finds_no_failure_plan_below_the_fork() -> None:
+    # as Jason: the intention that went on from an 'or' fork is still a branch of it
+    out = run("!g; .print(after_g)",
+              "+!g <- .fork(or, { .print(o1) }, { .wait(30); .print(o2) }); .print(joined); .fail.\n"
+              "-!g <- .print(g_failed).\n")
+    assert out[:2] == ["o1", "joined"] and out[2].startswith("No failure event was generated for +!g[")
+    assert "g_failed" not in out and "after_g" not in out and "o2" not in out
+
+
+def test_done_ends_a_goal_of_the_current_intention() -> None:
+    # the bindings of a means ended by .done do not reach its caller; .done(G) for a goal of
+    # another intention leaves the current one suspended (as Jason 3.3)
+    assert run("!g; .print(after_g); !h; .print(after_h); !m(X); .print(m(X)); "
+               "!!k; .wait(50); .done(k); .print(after_done_k)",
+               "+!g <- .print(g1); .done; .print(g2).\n"
+               "+!h <- !h2; .print(h_after_h2).\n+!h2 <- .print(h2a); .done(h); .print(h2b).\n"
+               "+!m(X) <- X = 5; .done; .print(no).\n"
+               "+!k <- .print(k1); .wait(100); .print(k2).\n") == [
+        "g1", "after_g", "h2a", "after_h", "m(X)", "k1", "k2"]

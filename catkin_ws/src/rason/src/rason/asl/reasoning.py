@@ -774,10 +774,14 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
         t = im.trigger
         if ag.pl.has_candidate(DEL, t.type, t.literal):
             if t.is_goal and t.op != GOAL_STATE:
+                if i.fork is not None and idx < i.fork.point and not _end_fork(ag, i):
+                    break
                 _post_failure(ag, i, im, annots, idx)
                 return
             break
         idx -= 1
+    if i.fork is not None:
+        _end_fork(ag, i)
     top = i.top()
     trig = top.trigger if top is not None else None
     if trig is not None:
@@ -790,6 +794,21 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
     else:
         ag.warn_drop(i, f"No failure event was generated for {shown}", shown)
     ag.remove_intention(i)
+
+
+def _end_fork(ag: Agent, i: Intention) -> bool:
+    """A branch of a ``.fork`` failed below its fork point: an ``and`` fork drops its other
+    branches (True: the failure goes on below); an ``or`` fork leaves them running and the
+    failed branch just ends (False)."""
+    fk = i.fork.fork
+    if not fk.is_and:
+        return False
+    for other in fk.branches:
+        if other is not i:
+            ag.remove_intention(other)
+    fk.branches = [i]
+    i.fork = None
+    return True
 
 
 def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx: int) -> None:
