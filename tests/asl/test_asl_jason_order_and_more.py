@@ -4,7 +4,11 @@ management corner cases, the ``.set``/``.map``/``.queue`` families, ``.fork``/``
 
 from __future__ import annotations
 
+import io
+
 from asl_helpers import lines, run_source
+
+from rason.asl import LocalMas, VirtualClock
 
 
 def run(body: str, extra: str = "", timeout: float = 10.0) -> list[str]:
@@ -162,3 +166,30 @@ def test_done_ends_a_goal_of_the_current_intention() -> None:
                "+!m(X) <- X = 5; .done; .print(no).\n"
                "+!k <- .print(k1); .wait(100); .print(k2).\n") == [
         "g1", "after_g", "h2a", "after_h", "m(X)", "k1", "k2"]
+
+
+# ------------------------------------------------------------------ directory facilitator
+def run_agents(sources: dict[str, str], timeout: float = 10.0) -> str:
+    out = io.StringIO()
+    mas = LocalMas(clock=VirtualClock(), out=out)
+    for name, src in sources.items():
+        mas.add_agent(name, src, f"{name}.asl")
+    mas.run(timeout=timeout)
+    return out.getvalue()
+
+
+def test_directory_facilitator_in_one_process() -> None:
+    out = run_agents({
+        "bob": '!s.\n+!s <- .df_register("sell(book)"); .df_register(buy(pen), "shop"); .wait(300); '
+               '.df_search("sell(book)", L); .print(L); .df_search(buy(pen), "other", L2); .print(L2); '
+               ".df_search(nothing, L3); .print(L3); "
+               '.df_deregister("sell(book)"); .df_search("sell(book)", L4); .print(L4).\n',
+        "alice": '!s.\n+!s <- .wait(10); .df_register("sell(book)"); .df_subscribe("sell(book)"); '
+                 ".df_subscribe(buy(pen)).\n"
+                 "+provider(A, S)[source(Src)] <- .print(A, \" \", S, \" \", Src).\n",
+        "carol": '!s.\n+!s <- .wait(100); .df_register("sell(book)").\n'})
+    # the search lists names in the order of Jason's HashSet of names
+    assert lines(out, "bob") == ["[carol,bob,alice]", "[bob]", "[]", "[carol,alice]"]
+    told = lines(out, "alice")
+    assert sorted(told[:3]) == ["alice sell(book) df", "bob buy(pen) df", "bob sell(book) df"]
+    assert told[3:] == ["carol sell(book) df"]

@@ -431,3 +431,51 @@ def belief(ctx: Any, args: list) -> Any:
             if unify(pattern, b, s2):
                 yield s2
     return gen()
+
+
+# ---------------------------------------------------------------- directory facilitator
+def _directory(ctx: Any) -> Any:
+    df = ctx.ag.arch.service_directory()
+    if df is None:
+        raise IAError("this agent's host has no directory facilitator", "internal_action")
+    return df
+
+
+def _service(args: list) -> str:
+    """The service named by the first argument: a string's text, else the term's text."""
+    if isinstance(args[0], (Var, AnnotVar)):
+        raise wrong_arg("first argument must be a service (a string or a ground term)")
+    return to_print_str(args[0])
+
+
+@internal_action(".df_register")
+def df_register(ctx: Any, args: list) -> bool:
+    """``.df_register(S[, Type])``: this agent provides service S (Type is not used to match,
+    as in Jason's local infrastructure)."""
+    arg_count(args, 1, 2)
+    _directory(ctx).register(ctx.ag.name, _service(args))
+    return True
+
+
+@internal_action(".df_deregister")
+def df_deregister(ctx: Any, args: list) -> bool:
+    arg_count(args, 1, 2)
+    _directory(ctx).deregister(ctx.ag.name, _service(args))
+    return True
+
+
+@internal_action(".df_search")
+def df_search(ctx: Any, args: list) -> bool:
+    """``.df_search(S[, Type], L)``: L lists the agents providing S."""
+    arg_count(args, 2, 3)
+    names = _directory(ctx).search(_service(args), ctx.ag.arch.service_alive)
+    return ctx.unify(args[-1], make_list([Literal(n) for n in names]))
+
+
+@internal_action(".df_subscribe")
+def df_subscribe(ctx: Any, args: list) -> bool:
+    """``.df_subscribe(S[, Type])``: ``df`` tells this agent ``provider(Agent, "S")`` for each
+    provider of S, now and later."""
+    arg_count(args, 1, 2)
+    _directory(ctx).subscribe(ctx.ag.name, _service(args))
+    return True
