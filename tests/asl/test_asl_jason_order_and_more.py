@@ -193,3 +193,21 @@ def test_directory_facilitator_in_one_process() -> None:
     told = lines(out, "alice")
     assert sorted(told[:3]) == ["alice sell(book) df", "bob buy(pen) df", "bob sell(book) df"]
     assert told[3:] == ["carol sell(book) df"]
+
+
+# ------------------------------------------------------------------ namespaces
+def test_a_namespace_block_puts_its_beliefs_plans_and_body_literals_in_the_namespace() -> None:
+    src = ("{ begin namespace(ns1) }\nb(k(z)).\nc(1) :- b(_).\n"
+           "+!g : b(Y) <- .print(in_ns1, \" \", foo(bar), \" \", Y); ?c(X); .print(X); +e(q); "
+           ".findall(W, e(W), L); .print(L); !h.\n+!h <- .print(h_in_ns1).\n{ end }\n"
+           "ns2::c(3).\ndefault::d(4).\n!s.\n"
+           "+!s <- !ns1::g; .findall(B, ns1::b(B), L); .findall(E, ns1::e(E), L2); .print(L, L2); "
+           "?ns2::c(Z); ?d(D); .print(Z, D); +ns3::e(5); .findall(N, .namespace(N), NS); .print(NS); "
+           "if (ns1::b(k(z)) == b(k(z))) { .print(eq) } else { .print(neq) }; "
+           ".sort([ns2::a, z, ns1::q, default::b, c], S); .print(S).\n")
+    # arguments of internal actions stay in the default namespace (the findall inside finds
+    # nothing); namespaces list in Jason's hash-map order; the order of terms compares the
+    # namespace first
+    assert lines(run_source(src)) == [
+        "in_ns1 foo(bar) k(z)", "1", "[]", "h_in_ns1", "[k(z)][q]", "34",
+        "[kqml,default,ns1,ns3,ns2]", "neq", "[b,c,z,ns1::q,ns2::a]"]

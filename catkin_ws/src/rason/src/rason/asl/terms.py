@@ -497,7 +497,7 @@ def merge_annots(annots: tuple, extra: list | tuple) -> tuple:
 def sort_key(t: Any) -> tuple:
     """Jason's standard order of terms: numbers, strings, lists, literals, then variables.
 
-    Lists compare item by item (a shorter prefix first); literals by functor, then ``~``
+    Lists compare item by item (a shorter prefix first); literals by namespace, functor, ``~``
     (plain first), then arguments one by one (so ``f(a,a) < f(z)``: arity decides only when
     one argument list is a prefix of the other), then annotations the same way. Named
     variables come before unnamed ones; other terms (expressions, plans) by their text."""
@@ -515,7 +515,10 @@ def sort_key(t: Any) -> tuple:
             keys.append(sort_key(tail))
         return (2, tuple(keys))
     if isinstance(t, Literal):
-        return (3, t.functor, t.neg, tuple(sort_key(a) for a in t.args),
+        ns, sep, name = t.functor.partition("::")
+        if not sep:   # the default namespace (namespaces compare first)
+            ns, name = "default", t.functor
+        return (3, ns, name, t.neg, tuple(sort_key(a) for a in t.args),
                 tuple(sort_key(a) for a in t.annots))
     if isinstance(t, (Var, AnnotVar)):
         m = _UNNAMED.fullmatch(t.name)
