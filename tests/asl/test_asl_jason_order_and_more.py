@@ -211,3 +211,13 @@ def test_a_namespace_block_puts_its_beliefs_plans_and_body_literals_in_the_names
     assert lines(run_source(src)) == [
         "in_ns1 foo(bar) k(z)", "1", "[]", "h_in_ns1", "[k(z)][q]", "34",
         "[kqml,default,ns1,ns3,ns2]", "neq", "[b,c,z,ns1::q,ns2::a]"]
+
+
+def test_concurrent_and_or_operators_are_forks() -> None:
+    # |&| binds tighter than |||; a chain of one operator is one fork. As in Jason, the
+    # branches of the inner 'and' fork outlive the 'or' that o2 won: they join and go on too
+    assert run(".print(begin); !a1 |&| !a2 |&| .print(a3); .print(after_and); !o1 ||| !o2; "
+               ".print(after_or); !a1 |&| !a2 ||| !o2; .print(mixed)",
+               "+!a1 <- .wait(100); .print(a1).\n+!a2 <- .wait(50); .print(a2).\n"
+               "+!o1 <- .wait(100); .print(o1).\n+!o2 <- .wait(30); .print(o2).\n") == [
+        "begin", "a3", "a2", "a1", "after_and", "o2", "after_or", "o2", "mixed", "a2", "a1", "mixed"]

@@ -45,6 +45,7 @@ from .plans import (
     Plan,
     Trigger,
     body_str,
+    deed_str,
 )
 from .terms import (
     AnnotVar,
@@ -106,13 +107,18 @@ trigger: top [goaltype] literal_or_var
 !top: "+" | "-" | "^"
 !goaltype: "!" | "?"
 
-stmt_list: simple
-         | simple ";"
-         | simple ";" stmt_list
+stmt_list: par
+         | par ";"
+         | par ";" stmt_list
          | ctrl
          | ctrl ";"
          | ctrl stmt_list
          | ctrl ";" stmt_list
+
+?par: par_and
+    | par_and "|||" par        -> s_fork_or
+?par_and: simple
+        | simple "|&|" par_and -> s_fork_and
 
 simple: "!" literal_or_var     -> s_achieve
       | "!!" literal_or_var    -> s_achieve_new
@@ -432,6 +438,12 @@ class _ToAst:
                 out.append(x)
         return out
 
+    def s_fork_and(self, meta: Any, c: builtins.list) -> Deed:
+        return _fork_deed("and", c[0], c[1], meta.line)
+
+    def s_fork_or(self, meta: Any, c: builtins.list) -> Deed:
+        return _fork_deed("or", c[0], c[1], meta.line)
+
     def s_achieve(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_ACHIEVE, c[0], meta.line)
 
@@ -748,6 +760,21 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
         else:
             out.plans.append(obj)
     return out
+
+
+def _fork_deed(kind: str, left: Deed, right: Deed, line: int) -> Deed:
+    """``A |&| B`` / ``A ||| B``: ``.fork(and|or, {A}, {B})``, as Jason's parser makes it (a
+    chain of the same operator is one fork, each operand one formula)."""
+    def branch(d: Deed) -> PlanTerm:
+        return PlanTerm((d,), deed_str(d))
+    branches = [branch(left)]
+    rt = right.term
+    if (right.kind == K_INTERNAL and isinstance(rt, Literal) and rt.functor == ".fork"
+            and rt.args and rt.args[0] == Literal(kind)):
+        branches.extend(rt.args[1:])
+    else:
+        branches.append(branch(right))
+    return Deed(K_INTERNAL, Literal(".fork", (Literal(kind), *branches)), line)
 
 
 def _block_namespace(d: Any) -> str | None:
