@@ -221,3 +221,24 @@ def test_concurrent_and_or_operators_are_forks() -> None:
                "+!a1 <- .wait(100); .print(a1).\n+!a2 <- .wait(50); .print(a2).\n"
                "+!o1 <- .wait(100); .print(o1).\n+!o2 <- .wait(30); .print(o2).\n") == [
         "begin", "a3", "a2", "a1", "after_and", "o2", "after_or", "o2", "mixed", "a2", "a1", "mixed"]
+
+
+def test_goal_states_through_waits_suspension_resumption_and_failure() -> None:
+    # what Jason 3.3 posts, in its order (states go out at the start of the next cycle)
+    out = run("!!g1; !!g2; .wait(100); .suspend(g1); .wait(50); .resume(g1); !h; .wait(400)",
+              "+!g1 <- .wait(300); .print(g1_done).\n+!g2 <- .wait({+b}, 130).\n"
+              "-!g2 <- .print(g2_failed).\n+!h <- .fail.\n-!h <- .print(h_failed).\n"
+              "^!G[state(S)[reason(R)]] <- .print(G, \" \", S, \" \", R).\n")
+    out = [ln.rstrip() for ln in out]
+    ids = {name: ln.split("wait(")[1].split(")")[0] for ln in out for name in ("s", "g1", "g2")
+           if ln.startswith(f"{name} waiting wait(")}
+    assert out == [
+        "s pending", "s executing", "g1 pending", "g2 pending", f"s waiting wait({ids['s']})[time(100)]",
+        "g1 executing", "g2 executing", f"g1 waiting wait({ids['g1']})[time(300)]",
+        f"g2 waiting wait({ids['g2']})[b]", "s executing", "g1 suspended suspend_ia",
+        f"s waiting wait({ids['s']})[time(50)]", "g2 failed wait_timeout", "g2 executing has_failure_plan",
+        "g2_failed", "g2 achieved", "g2 finished", "s executing", "g1 resumed resume_ia",
+        f"g1 waiting wait({ids['g1']})[time(300)]", "h pending", "h executing", "h failed ia_failed",
+        "h executing has_failure_plan", "h_failed", "h achieved", "h finished",
+        f"s waiting wait({ids['s']})[time(400)]", "g1_done", "g1 executing", "g1 achieved", "g1 finished",
+        "s executing", "s achieved", "s finished"]

@@ -110,6 +110,8 @@ def deliberate(ag: Agent) -> bool:
     """
     did = False
     ag.selected_event = None
+    if ag.goal_state_events:
+        ag.post_goal_states()
     while ag.events:
         ev = sel_ev(ag)
         if ev is None:
@@ -192,6 +194,8 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     if opt is None:
         return _no_plan(ag, trig, i, "applicable")
     plan, u = opt
+    if trig.op == ADD and trig.type == ACHIEVE and ag.pl.goal_state_plans:
+        ag.goal_state(trig, "executing")   # Jason's applyAddIM
     im = IntendedMeans(plan, ev.trigger, u, ev.fail_target)
     im.open_call = not ground
     if i is None:
@@ -776,7 +780,7 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
             if t.is_goal and t.op != GOAL_STATE:
                 if i.fork is not None and idx < i.fork.point and not _end_fork(ag, i):
                     break
-                _post_failure(ag, i, im, annots, idx)
+                _post_failure(ag, i, im, annots, idx, from_event)
                 return
             break
         idx -= 1
@@ -796,6 +800,9 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
     ag.remove_intention(i)
 
 
+_HAS_FAILURE_PLAN = Literal("has_failure_plan")
+
+
 def _end_fork(ag: Agent, i: Intention) -> bool:
     """A branch of a ``.fork`` failed below its fork point: an ``and`` fork drops its other
     branches (True: the failure goes on below); an ``or`` fork leaves them running and the
@@ -811,10 +818,19 @@ def _end_fork(ag: Agent, i: Intention) -> bool:
     return True
 
 
-def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx: int) -> None:
+def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx: int,
+                  failed: Trigger | None = None) -> None:
+    """Post ``-!g`` for the goal of ``im``; ``failed`` is the goal whose failure started it
+    (default: the top means'), whose state becomes ``failed`` (reason: the error) and then
+    ``executing`` (reason: ``has_failure_plan``), as Jason's goal listener posts them."""
     t = im.trigger
     if ag.pl.goal_state_plans:
-        ag.goal_state(t, "failed")
+        top = i.top()
+        ft = failed or (top.trigger if top is not None else t)
+        reason = next((a.args[0] for a in annots if isinstance(a, Literal) and a.functor == "error"
+                       and len(a.args) == 1), "")
+        ag.goal_state(ft, "failed", reason)
+        ag.goal_state(ft, "executing", _HAS_FAILURE_PLAN)
     lit = t.literal.add_annots(annots) if isinstance(t.literal, Literal) else t.literal
     ag.detach(i)
     i.suspended = Suspension.FAILURE
