@@ -60,7 +60,8 @@ def test_wrong_argument_messages() -> None:
         "wrong_arguments | The internal action 'length' has not received the required number of "
         "argument(s). 2 arguments are expected."]
     assert run(".member(a, b)", ERR) == [
-        "wrong_arguments | Wrong argument for internal action 'member': second argument must be a list"]
+        "wrong_arguments | Wrong argument for internal action 'member': "
+        "second argument must be a list or a set"]
 
 
 def test_set_operations_sort_and_remove_duplicates() -> None:

@@ -53,6 +53,13 @@ from .terms import (
 )
 from .unify import rename_vars, resolve, unify
 
+#: goal-state reasons of .suspend / .resume (as Jason's)
+_SUSPEND_IA = Literal("suspend_ia")
+_RESUME_IA = Literal("resume_ia")
+#: an intention back from these waits posts its goal as executing again
+_EXECUTING_AGAIN = frozenset({Suspension.WAIT, Suspension.EVENT_WAIT, Suspension.ASK,
+                              Suspension.SUSPENDED})
+
 
 @dataclass(frozen=True)
 class AgentOptions:
@@ -109,6 +116,9 @@ class Agent:
         self.bb = BeliefBase()
         self.pl = PlanLibrary()
         self.events: deque[Event] = deque()
+        # goal-state meta events waiting for the start of the next deliberation (Jason's
+        # GoalListenerForMetaEvents posts them with runAtBeginOfNextCycle)
+        self.goal_state_events: list[Event] = []
         self.running = IntentionQueue()
         self.action_results: deque[ActionResult] = deque()
         self.current: Intention | None = None
@@ -161,6 +171,8 @@ class Agent:
         for g in parsed.goals:
             lit = g.with_self_source()
             self.events.append(Event(Trigger(ADD, ACHIEVE, lit)))
+            if self.pl.goal_state_plans:
+                self.goal_state(self.events[-1].trigger, "pending")
 
     def add_initial(self, beliefs: str | None = None, goals: str | None = None) -> None:
         """The ``beliefs="..."`` and ``goals="..."`` options of a ``.mas2j`` agent: comma
@@ -261,7 +273,8 @@ class Agent:
         """No events, no runnable intention, nothing in the inbox."""
         with self._inbox_lock:
             inbox = bool(self._inbox or self._mail)
-        return not self.events and not self.running and not inbox and not self.action_results
+        return (not self.events and not self.running and not inbox and not self.action_results
+                and not self.goal_state_events)
 
     def has_pending(self) -> bool:
         """Something may still happen later: actions, timers, awaited events or answers."""
@@ -408,7 +421,7 @@ class Agent:
                     self.resume(i)
                     did = True
                     continue
-                if not self.resume(i):
+                if not self.resume(i, executing=False):
                     continue
                 top = i.top()
                 assert top is not None      # a waiting intention has its .wait on top
@@ -461,20 +474,24 @@ class Agent:
         i.suspended = why
         self.suspended[i.id] = i
 
-    def resume(self, i: Intention) -> bool:
+    def resume(self, i: Intention, executing: bool = True) -> bool:
         """What ``i`` waited for happened: back to the running queue, unless ``.suspend`` holds
         it (then it stays in PI as ``suspended-<id>`` until ``.resume``, as in jason.stdlib.wait).
-        Returns True when ``i`` runs again."""
+        Returns True when ``i`` runs again (its goal then is ``executing`` again, unless
+        ``executing`` is False: it is about to fail)."""
         if i.sus_ia and not i.dropped:
             i.suspended = Suspension.SUSPENDED
             i.pi_key = f"suspended-{i.id}"
             self.suspended[i.id] = i
             return False
         self.suspended.pop(i.id, None)
-        i.suspended = None
+        why, i.suspended = i.suspended, None
         i.pi_key = None
         if not i.dropped and i.ims:
             self.running.append(i)
+            top = i.ims[-1]
+            if executing and why in _EXECUTING_AGAIN and self.pl.goal_state_plans and top.is_goal_add:
+                self.goal_state(top.trigger, "executing")   # Jason's resumeIntention
             return True
         return False
 
@@ -487,7 +504,22 @@ class Agent:
         st = Literal("state", (Literal(state),), (Literal("reason", (reason,)),))
         meta = Trigger(GOAL_STATE, trigger.type, lit.add_annots([st]))
         if self.pl.relevant(meta):
-            self.events.append(Event(meta))
+            self.goal_state_events.append(Event(meta))
+
+    def post_goal_states(self) -> None:
+        """At the start of a deliberation: the goal-state events of the last cycle go before
+        every other event, after the meta events already queued (Jason's insertMetaEvent)."""
+        if not self.goal_state_events:
+            return
+        posted, self.goal_state_events = self.goal_state_events, []
+        pos = 0
+        for ev in self.events:
+            if ev.trigger.op != GOAL_STATE:
+                break
+            pos += 1
+        for ev in posted:
+            self.events.insert(pos, ev)
+            pos += 1
 
     def schedule_event(self, trigger: Trigger, delay: float) -> None:
         """``.at``: post the event ``delay`` clock seconds from now."""
@@ -497,7 +529,7 @@ class Agent:
     def suspend_timer(self, i: Intention, deadline: float, ms: float = 0.0) -> None:
         self.suspend(i, Suspension.WAIT)
         i.pi_key = f"{i.id}/time{int(ms)}"
-        i.wait_reason = Literal("wait", (float(ms),), (Literal("time", (float(ms),)),))
+        i.wait_reason = Literal("wait", (float(i.id),), (Literal("time", (float(ms),)),))
         heapq.heappush(self.timers, Timer(deadline, next(self._seq), TimerKind.WAIT, i))
         self._goal_waiting(i, i.wait_reason)
 
@@ -521,8 +553,8 @@ class Agent:
                            deadline: float | None) -> None:
         self.suspend(i, Suspension.EVENT_WAIT)
         i.pi_key = f"{i.id}/{trig if trig is not None else term_str(cond)}"
-        what = Literal(str(trig)) if trig is not None else cond
-        i.wait_reason = Literal("wait", (what,))
+        what = trig.literal if trig is not None else cond
+        i.wait_reason = Literal("wait", (float(i.id),), (what,))
         self._goal_waiting(i, i.wait_reason)
         self.event_waits.append(EventWait(trig, cond, i, i.top()))
         if deadline is not None:
@@ -705,7 +737,8 @@ class Agent:
         if self.pl.goal_state_plans:
             g = resolve(pattern, s)
             if isinstance(g, Literal):
-                self.goal_state(Trigger(ADD, ACHIEVE, g.with_self_source()), state)
+                self.goal_state(Trigger(ADD, ACHIEVE, g.with_self_source()), state,
+                                _SUSPEND_IA if state == "suspended" else "")
 
     def resume_goal(self, pattern: Any, s: dict) -> dict:
         """``.resume(G)`` (jason.stdlib.resume): intentions held in PI by ``.suspend`` go back
@@ -721,23 +754,30 @@ class Agent:
                 continue
             s = s2
             i.sus_ia = False
+            top = i.top()
+            states = self.pl.goal_state_plans and top is not None and top.is_goal_add
+            if states:
+                self.goal_state(top.trigger, "resumed", _RESUME_IA)
             if (i.pi_key or "").startswith("suspended-"):
                 i.pi_key = None
                 if i.suspended is Suspension.SUSPENDED:
                     self.resume(i)
+            elif states:
+                self.goal_state(top.trigger, "waiting", i.wait_reason or "")   # still waiting
         for held in java_map_order(list(self.pending_events), lambda p: p.key):
             ev = held.event
             s2 = event_has_goal(ev, pattern, s)
             if s2 is None:
                 continue
             s = s2
+            if self.pl.goal_state_plans and ev.trigger.op == ADD and ev.trigger.is_goal:
+                self.goal_state(ev.trigger, "resumed", _RESUME_IA)
             self.pending_events.remove(held)
             if ev.intention is not None:
                 ev.intention.sus_ia = False
             if self.event_waits:
                 self._check_event_waits(ev)
             self.events.append(ev)
-        self._goal_state_of(pattern, s, "resumed")
         return s
 
     def fail_goal(self, pattern: Any, s: dict) -> None:

@@ -13,6 +13,7 @@ from .terms import Literal, term_str
 
 if TYPE_CHECKING:  # pragma: no cover
     from .agent import Agent
+    from .df import ServiceDirectory
 
 
 class Clock:
@@ -146,6 +147,15 @@ class AgentArch:
 
     def agent_names(self) -> list[str]:
         return []
+
+    def service_directory(self) -> ServiceDirectory | None:
+        """The directory facilitator of this agent's host (``.df_*``), or None."""
+        return None
+
+    def service_alive(self, agent: str) -> bool:
+        """Whether a provider ``.df_search`` found is still around (a host that loses agents
+        from sight, as a ROS node does, says no for those)."""
+        return True
 
     def console(self, agent_name: str, text: str) -> None:
         print(f"[{agent_name}] {text}", flush=True)

@@ -72,6 +72,29 @@ class IntendedMeans:
         return f"{self.trigger} <- ... {rest} / {{{unif}}}"
 
 
+@dataclass
+class Fork:
+    """One ``.fork(and|or, ...)``: its branch intentions and how many must still reach the
+    ``.join`` (``and``: all of them; ``or``: the first one goes on, the others are dropped)."""
+
+    is_and: bool
+    branches: list = field(default_factory=list)
+    to_finish: int = 0
+
+    def __str__(self) -> str:
+        ids = " ".join(str(i.id) for i in self.branches)
+        return f"fork({'and' if self.is_and else 'or'}, [{ids}], waiting for {self.to_finish})"
+
+
+@dataclass
+class ForkBranch:
+    """What a branch intention knows of its fork: the fork and the depth of its stack when
+    forked (a failure handled at or below that depth ends the fork)."""
+
+    fork: Fork
+    point: int
+
+
 class Suspension(Enum):
     """Why an intention is not in the running queue (Jason keeps it in PA, PI or an event)."""
 
@@ -89,8 +112,8 @@ class Suspension(Enum):
 class Intention:
     """A stack of intended means; ``ims[-1]`` is the top."""
 
-    __slots__ = ("atomic_count", "dropped", "id", "ims", "pi_key", "reply", "sus_ia", "suspended",
-                 "wait_elapsed", "wait_reason")
+    __slots__ = ("atomic_count", "dropped", "fork", "id", "ims", "pi_key", "reply", "sus_ia",
+                 "suspended", "wait_elapsed", "wait_reason")
 
     def __init__(self, ident: int | None = None) -> None:
         self.id = ident if ident is not None else next(_ids)
@@ -109,6 +132,8 @@ class Intention:
         self.wait_reason: Any = None
         # .wait(E, T, Elapsed): (the Elapsed term, start time); a timeout then does not fail
         self.wait_elapsed: Any = None
+        # a branch of ``.fork``: the fork it belongs to and its depth when forked, else None
+        self.fork: ForkBranch | None = None
 
     def push(self, im: IntendedMeans) -> None:
         self.ims.append(im)

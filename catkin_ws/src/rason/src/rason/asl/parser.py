@@ -45,6 +45,7 @@ from .plans import (
     Plan,
     Trigger,
     body_str,
+    deed_str,
 )
 from .terms import (
     AnnotVar,
@@ -96,6 +97,7 @@ rule: literal ":-" log_expr "."
 init_goal: "!" literal "."
 plan: [label] trigger [context] [plan_body] "."
 directive: "{" literal "}"
+         | "{" ATOM literal "}"    -> directive_block
 label: "@" literal              -> label
      | "@" annots               -> label_anon
      | "@" var                  -> label_var
@@ -105,13 +107,18 @@ trigger: top [goaltype] literal_or_var
 !top: "+" | "-" | "^"
 !goaltype: "!" | "?"
 
-stmt_list: simple
-         | simple ";"
-         | simple ";" stmt_list
+stmt_list: par
+         | par ";"
+         | par ";" stmt_list
          | ctrl
          | ctrl ";"
          | ctrl stmt_list
          | ctrl ";" stmt_list
+
+?par: par_and
+    | par_and "|||" par        -> s_fork_or
+?par_and: simple
+        | simple "|&|" par_and -> s_fork_and
 
 simple: "!" literal_or_var     -> s_achieve
       | "!!" literal_or_var    -> s_achieve_new
@@ -431,6 +438,12 @@ class _ToAst:
                 out.append(x)
         return out
 
+    def s_fork_and(self, meta: Any, c: builtins.list) -> Deed:
+        return _fork_deed("and", c[0], c[1], meta.line)
+
+    def s_fork_or(self, meta: Any, c: builtins.list) -> Deed:
+        return _fork_deed("or", c[0], c[1], meta.line)
+
     def s_achieve(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_ACHIEVE, c[0], meta.line)
 
@@ -520,6 +533,12 @@ class _ToAst:
 
     def directive(self, meta: Any, c: builtins.list) -> tuple:
         return ("directive", _fix(c[0]), meta)
+
+    def directive_block(self, meta: Any, c: builtins.list) -> tuple:
+        """``{ begin namespace(ns) }`` (Jason: a directive opening a block closed by ``{ end }``)."""
+        if str(c[0]) != "begin":
+            raise _SemErr(meta.line, meta.column, f"unexpected '{c[0]}' in a directive")
+        return ("block", _fix(c[1]), meta)
 
     def context(self, meta: Any, c: builtins.list) -> Any:
         return _fix(c[0])
@@ -712,7 +731,18 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
         tr.src = src
     items = _parse_items(text, filename, tr)
     out = AgentSource(filename=filename)
+    blocks: list[str | None] = []     # the namespace of each open { begin ... } block
     for kind, obj, meta in items:
+        ns = next((b for b in reversed(blocks) if b is not None), None)
+        if kind == "block":
+            blocks.append(_block_namespace(obj))
+            continue
+        if kind == "directive" and isinstance(obj, Literal) and obj.functor == "end" and not obj.args:
+            if blocks:
+                blocks.pop()
+            continue
+        if ns is not None and kind != "directive":
+            obj = in_namespace(kind, obj, ns)
         if kind == "belief":
             if not isinstance(obj, Literal):
                 raise AslSyntaxError(filename, meta.line, meta.column, "a belief must be a literal")
@@ -730,6 +760,78 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
         else:
             out.plans.append(obj)
     return out
+
+
+def _fork_deed(kind: str, left: Deed, right: Deed, line: int) -> Deed:
+    """``A |&| B`` / ``A ||| B``: ``.fork(and|or, {A}, {B})``, as Jason's parser makes it (a
+    chain of the same operator is one fork, each operand one formula)."""
+    def branch(d: Deed) -> PlanTerm:
+        return PlanTerm((d,), deed_str(d))
+    branches = [branch(left)]
+    rt = right.term
+    if (right.kind == K_INTERNAL and isinstance(rt, Literal) and rt.functor == ".fork"
+            and rt.args and rt.args[0] == Literal(kind)):
+        branches.extend(rt.args[1:])
+    else:
+        branches.append(branch(right))
+    return Deed(K_INTERNAL, Literal(".fork", (Literal(kind), *branches)), line)
+
+
+def _block_namespace(d: Any) -> str | None:
+    """The namespace a ``{ begin namespace(ns) }`` block puts its literals in (``default``:
+    none), or None for another block."""
+    if (isinstance(d, Literal) and d.functor == "namespace" and d.args
+            and isinstance(d.args[0], Literal) and not d.args[0].args):
+        name = d.args[0].functor
+        return "" if name == "default" else name
+    return None
+
+
+def _ns_formula(t: Any, ns: str) -> Any:
+    """A formula's literals in namespace ``ns`` (those without one of their own; internal
+    actions, their arguments and the terms of relations stay as they are)."""
+    if isinstance(t, Literal):
+        if not ns or "." in t.functor or "::" in t.functor or t.functor in ("true", "false"):
+            return t
+        return Literal(f"{ns}::{t.functor}", t.args, t.annots, t.tail, t.neg)
+    if isinstance(t, LogExpr):
+        return LogExpr(t.op, _ns_formula(t.left, ns), None if t.right is None else _ns_formula(t.right, ns))
+    return t
+
+
+_NS_DEEDS = frozenset({K_ACHIEVE, K_ACHIEVE_NEW, K_TEST, K_ADD_BEL, K_DEL_BEL, K_DEL_ADD_BEL,
+                       K_ADD_BEL_NEW, K_DEL_BEL_NEW, K_WHILE, K_FOR})
+
+
+def _ns_deeds(body: tuple, ns: str) -> tuple:
+    out = []
+    for d in body:
+        if d.kind == K_IF:
+            branches, els = d.extra
+            extra = ([(_ns_formula(c, ns), _ns_deeds(b, ns)) for c, b in branches],
+                     None if els is None else _ns_deeds(els, ns))
+            d = Deed(d.kind, d.term, d.line, extra)
+        elif d.kind in _NS_DEEDS:
+            extra = _ns_deeds(d.extra, ns) if d.kind in (K_WHILE, K_FOR) else d.extra
+            d = Deed(d.kind, _ns_formula(d.term, ns), d.line, extra)
+        out.append(d)
+    return tuple(out)
+
+
+def in_namespace(kind: str, obj: Any, ns: str) -> Any:
+    """A belief, rule, initial goal or plan of a ``{ begin namespace(ns) }`` block: its literals
+    (beliefs, rule heads and bodies, triggers, contexts, goals and belief changes of bodies)
+    in ``ns``, as Jason's parser puts them."""
+    if kind in ("belief", "goal"):
+        return _ns_formula(obj, ns)
+    if kind == "rule":
+        return Rule(_ns_formula(obj.head, ns), _ns_formula(obj.body, ns))
+    if kind == "plan":
+        trig = obj.trigger
+        return Plan(obj.label, Trigger(trig.op, trig.type, _ns_formula(trig.literal, ns)),
+                    _ns_formula(obj.context, ns), _ns_deeds(obj.body, ns), obj.line, obj.src,
+                    atomic=obj.atomic, in_file=obj.in_file)
+    return obj
 
 
 #: Jason's directives that need no action here (namespaces are kept as functor prefixes)

@@ -110,6 +110,8 @@ def deliberate(ag: Agent) -> bool:
     """
     did = False
     ag.selected_event = None
+    if ag.goal_state_events:
+        ag.post_goal_states()
     while ag.events:
         ev = sel_ev(ag)
         if ev is None:
@@ -192,6 +194,8 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     if opt is None:
         return _no_plan(ag, trig, i, "applicable")
     plan, u = opt
+    if trig.op == ADD and trig.type == ACHIEVE and ag.pl.goal_state_plans:
+        ag.goal_state(trig, "executing")   # Jason's applyAddIM
     im = IntendedMeans(plan, ev.trigger, u, ev.fail_target)
     im.open_call = not ground
     if i is None:
@@ -648,7 +652,7 @@ def _exec_for(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     stack = im.stack
     stack.pop()
     base = u
-    sols = iter(list(solve(ag, d.term, base, i)))
+    sols = solve(ag, d.term, base, i)   # lazy, as Jason: each solution after the last pass
     return _for_next(stack, im, d, base, sols)
 
 
@@ -729,8 +733,8 @@ def clr_int(ag: Agent, i: Intention) -> None:
                 ag.intention_finished(i, im)
                 return
             caller = ims[-1]
-            if caller.stack:
-                caller.stack.pop()
+            if caller.stack and caller.stack[-1] is caller.current:
+                caller.stack.pop()   # the deed that failed (an internal action is gone already)
             continue
         caller = ims[-1]
         if caller.stack:
@@ -747,32 +751,41 @@ def clr_int(ag: Agent, i: Intention) -> None:
 
 def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = "",
                    code: Any = None, annots: list | None = None, from_event: Trigger | None = None) -> None:
-    """generateGoalDeletion: post ``-!g`` for the nearest goal with a failure plan, else drop."""
+    """generateGoalDeletion (Jason's Intention.findEventForFailure): walking down the stack
+    from the top means, post ``-!g`` for the first goal with a failure plan, else drop.
+
+    When a failure plan itself failed, the walk starts below the goal it handled. A failure
+    plan met further down (a subgoal of ``-!g`` failed without a plan of its own) is tried
+    again: its ``-!g`` is posted anew, and when that finishes the goal's means goes on after
+    the deed that failed, as Jason does."""
     if annots is None:
         im = i.top()
         d = im.stack[-1] if im is not None and im.stack else None
         annots = error_annots(ag, im, d, kind or "ia_failed", msg, code=code)
     ims = i.ims
     idx = len(ims) - 1
+    if from_event is None and idx >= 0 and ims[idx].fail_target is not None:
+        target = ims[idx].fail_target
+        if target == 0:
+            # the goal has no caller: its failure plan is tried again
+            tgt = ims[0]
+            i.truncate(1)
+            _post_failure(ag, i, tgt, annots, 0)
+            return
+        idx = target - 1
     while idx >= 0:
         im = ims[idx]
-        if im.fail_target is not None:
-            target = im.fail_target
-            if target == 0:
-                # the goal has no caller: its failure plan is tried again
-                tgt = ims[0]
-                i.truncate(1)
-                _post_failure(ag, i, tgt, annots, 0)
-                return
-            idx = target - 1
-            continue
         t = im.trigger
         if ag.pl.has_candidate(DEL, t.type, t.literal):
-            if t.op == ADD and t.is_goal:
-                _post_failure(ag, i, im, annots, idx)
+            if t.is_goal and t.op != GOAL_STATE:
+                if i.fork is not None and idx < i.fork.point and not _end_fork(ag, i):
+                    break
+                _post_failure(ag, i, im, annots, idx, from_event)
                 return
             break
         idx -= 1
+    if i.fork is not None:
+        _end_fork(ag, i)
     top = i.top()
     trig = top.trigger if top is not None else None
     if trig is not None:
@@ -787,10 +800,37 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
     ag.remove_intention(i)
 
 
-def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx: int) -> None:
+_HAS_FAILURE_PLAN = Literal("has_failure_plan")
+
+
+def _end_fork(ag: Agent, i: Intention) -> bool:
+    """A branch of a ``.fork`` failed below its fork point: an ``and`` fork drops its other
+    branches (True: the failure goes on below); an ``or`` fork leaves them running and the
+    failed branch just ends (False)."""
+    fk = i.fork.fork
+    if not fk.is_and:
+        return False
+    for other in fk.branches:
+        if other is not i:
+            ag.remove_intention(other)
+    fk.branches = [i]
+    i.fork = None
+    return True
+
+
+def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx: int,
+                  failed: Trigger | None = None) -> None:
+    """Post ``-!g`` for the goal of ``im``; ``failed`` is the goal whose failure started it
+    (default: the top means'), whose state becomes ``failed`` (reason: the error) and then
+    ``executing`` (reason: ``has_failure_plan``), as Jason's goal listener posts them."""
     t = im.trigger
     if ag.pl.goal_state_plans:
-        ag.goal_state(t, "failed")
+        top = i.top()
+        ft = failed or (top.trigger if top is not None else t)
+        reason = next((a.args[0] for a in annots if isinstance(a, Literal) and a.functor == "error"
+                       and len(a.args) == 1), "")
+        ag.goal_state(ft, "failed", reason)
+        ag.goal_state(ft, "executing", _HAS_FAILURE_PLAN)
     lit = t.literal.add_annots(annots) if isinstance(t.literal, Literal) else t.literal
     ag.detach(i)
     i.suspended = Suspension.FAILURE

@@ -9,6 +9,7 @@ from collections.abc import Callable
 
 from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, WallClock
+from .df import DF_NAME, ProviderNotice, ServiceDirectory
 from .mas2j import MasProject, load_mas2j
 
 
@@ -36,6 +37,9 @@ class LocalArch(AgentArch):
     def kill_agent(self, name: str) -> bool:
         return self.mas.kill_agent(name)
 
+    def service_directory(self) -> ServiceDirectory:
+        return self.mas.df
+
     def console(self, agent_name: str, text: str) -> None:
         self.mas.console(agent_name, text)
 
@@ -61,6 +65,8 @@ class LocalMas:
         self.options = AgentOptions()   # for agents added without options of their own
         #: the project's ``aslSourcePath`` (included files, agents made by ``.create_agent``)
         self.source_path: list[str] = []
+        #: the directory facilitator of this MAS (``.df_register`` ...)
+        self.df = ServiceDirectory(self._tell_provider)
 
     # ------------------------------------------------------------ setup
     def console(self, agent_name: str, text: str) -> None:
@@ -70,6 +76,13 @@ class LocalMas:
 
     def notify(self) -> None:
         self._wake.set()
+
+    def _tell_provider(self, notice: ProviderNotice) -> None:
+        """The directory facilitator tells a subscriber of a provider."""
+        target = self.agents.get(notice.subscriber)
+        if target is not None:
+            target.receive(Message(DF_NAME, notice.subscriber, "tell", notice.content()))
+            self.notify()
 
     def make_arch(self, name: str) -> AgentArch:
         if self.arch_factory is not None:
@@ -136,6 +149,7 @@ class LocalMas:
         ag = self.agents.pop(name, None)
         if ag is None:
             return False
+        self.df.forget_agent(name)
         ag.request_stop()
         self.notify()
         return True

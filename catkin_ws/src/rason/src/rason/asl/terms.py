@@ -495,19 +495,38 @@ def merge_annots(annots: tuple, extra: list | tuple) -> tuple:
 # ---------------------------------------------------------------- ordering
 
 def sort_key(t: Any) -> tuple:
-    """Jason's term order: numbers, strings, lists, then literals (functor, arity, args)."""
+    """Jason's standard order of terms: numbers, strings, lists, literals, then variables.
+
+    Lists compare item by item (a shorter prefix first); literals by namespace, functor, ``~``
+    (plain first), then arguments one by one (so ``f(a,a) < f(z)``: arity decides only when
+    one argument list is a prefix of the other), then annotations the same way. Named
+    variables come before unnamed ones; other terms (expressions, plans) by their text."""
     if isinstance(t, float):
         return (0, t)
     if isinstance(t, str):
         return (1, t)
     if isinstance(t, ListTerm):
-        return (2, len(t.items), tuple(sort_key(a) for a in t.items))
+        keys = [sort_key(a) for a in t.items]
+        tail = t.tail
+        while isinstance(tail, ListTerm):
+            keys.extend(sort_key(a) for a in tail.items)
+            tail = tail.tail
+        if tail is not None:
+            keys.append(sort_key(tail))
+        return (2, tuple(keys))
     if isinstance(t, Literal):
-        return (3, t.neg, t.functor, len(t.args), tuple(sort_key(a) for a in t.args),
+        ns, sep, name = t.functor.partition("::")
+        if not sep:   # the default namespace (namespaces compare first)
+            ns, name = "default", t.functor
+        return (3, ns, name, t.neg, tuple(sort_key(a) for a in t.args),
                 tuple(sort_key(a) for a in t.annots))
     if isinstance(t, (Var, AnnotVar)):
-        return (-1, t.name)
+        m = _UNNAMED.fullmatch(t.name)
+        return (5, 1, int(m.group(1)), "") if m else (5, 0, 0, t.name)
     return (4, term_str(t))
+
+
+_UNNAMED = re.compile(r"_(\d+)")
 
 
 def is_constant(t: Any) -> bool:

@@ -25,6 +25,7 @@ from rason.ros.perceptions import PerceptionFilter, PerceptionTable, parse_perce
 
 if TYPE_CHECKING:
     from rason.asl import Agent
+    from rason.asl.df import ServiceDirectory
     from rason.ros.node import RasonNode
 
 
@@ -132,6 +133,19 @@ class RosAgArch(AgentArch):
 
     def agent_names(self) -> list[str]:
         return self.node.directory.names(self.clock.now())
+
+    def service_directory(self) -> ServiceDirectory:
+        return self.node.services
+
+    def service_alive(self, agent: str) -> bool:
+        return self.node.directory.knows(agent, self.clock.now())
+
+    def create_agent(self, creator: Agent, name: str | None, source: str | None) -> str:
+        """``.create_agent``: a new agent in this node."""
+        return self.node.create_agent(creator, name, source)
+
+    def kill_agent(self, name: str) -> bool:
+        return self.node.kill_agent(name)
 
     def console(self, agent_name: str, text: str) -> None:
         self.node.console(agent_name, text)

@@ -9,6 +9,8 @@ Topics (relative names, so one robot per namespace works; un-namespaced it is th
   jason/event         subscribe jason_msgs/Event       action_accepted / action_feedback
   jason/perception    subscribe jason_msgs/Perception  per-source perception lists
   /jason/messages     both      jason_msgs/AgentMessage  agent communication and presence (global)
+  /jason/directory    both      jason_msgs/AgentMessage  (latched) each node's directory-facilitator
+                                registrations: performative "df", content [provider(Ag,"service"),...]
 Services:
   jason/NAME/mind     jason_msgs/Mind   the agent's beliefs, desires, intentions, pending actions
 Topic jason/NAME/mind_state (std_msgs/String, latched): the mind as JSON for the mind inspector
@@ -21,6 +23,7 @@ Private parameters: :class:`AgentNodeParams` (``rosrun rason agent --help`` prin
 from __future__ import annotations
 
 import math
+import os
 import threading
 import time
 import uuid
@@ -32,8 +35,9 @@ import rospy
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from jason_msgs.srv import Mind, MindResponse
 
-from rason.asl import Agent, AgentOptions, Message, parse_term_text, term_str, term_text
-from rason.asl.terms import non_finite_part
+from rason.asl import Agent, AgentOptions, Message, load_agent_source, parse_term_text, term_str, term_text
+from rason.asl.df import DF_NAME, ProviderNotice, Registration, ServiceDirectory
+from rason.asl.terms import ListTerm, Literal, list_to_python, non_finite_part
 from rason.ros.arch import RosAgArch
 from rason.ros.auth import (
     AuthKeyError,
@@ -50,7 +54,15 @@ from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.mind_state import LatchedTopic, MindStatePublisher, mind_state_topic
 from rason.ros.params import ParamError, param
 from rason.ros.perceptions import PerceptionFilter
-from rason.ros.presence import GOODBYE, HELLO, MESSAGES_TOPIC, PRESENCE, Directory
+from rason.ros.presence import (
+    DF_PERFORMATIVE,
+    DIRECTORY_TOPIC,
+    GOODBYE,
+    HELLO,
+    MESSAGES_TOPIC,
+    PRESENCE,
+    Directory,
+)
 
 #: s (ROS time) between two checks of action timeouts and perception TTLs
 CHECK_PERIOD = 0.05
@@ -124,6 +136,7 @@ class HostedAgent:
     arch: RosAgArch
     thread: threading.Thread
     mind_state: MindStatePublisher | None = None
+    mind_service: Any = None
 
 
 class RasonNode:
@@ -163,6 +176,10 @@ class RasonNode:
         self._presence_period = presence_period
         # ROS time each hosted agent last published on /jason/messages (presence or message)
         self._last_said: dict[str, float] = {}
+        # -- directory facilitator: our agents' services, published latched; the others' heard
+        self.services = ServiceDirectory(self._tell_provider, self._publish_services)
+        self.directory_pub = rospy.Publisher(DIRECTORY_TOPIC, AgentMessage, queue_size=10, latch=True)
+        self._started = False
 
     def topic(self, name: str) -> str:
         """`name` relative to the robot's namespace (the node itself lives in <ns>/jason)."""
@@ -179,10 +196,11 @@ class RasonNode:
         agent = Agent(name, source, arch, filename=filename,
                       options=AgentOptions.from_options(options or {}, self.agent_options))
         self.directory.add_local(name)
-        rospy.Service(self.topic(f"jason/{name}/mind"), Mind, lambda _req, a=agent, r=arch: self.mind(a, r))
+        service = rospy.Service(self.topic(f"jason/{name}/mind"), Mind,
+                                lambda _req, a=agent, r=arch: self.mind(a, r))
         thread = threading.Thread(target=self._run_agent, args=(agent,), name=f"agent-{name}",
                                   daemon=True)
-        hosted = HostedAgent(agent, arch, thread)
+        hosted = HostedAgent(agent, arch, thread, mind_service=service)
         if self.mind_state_rate > 0:
             topic = LatchedTopic(mind_state_topic(self.base_ns, name))
             hosted.mind_state = MindStatePublisher(
@@ -201,6 +219,9 @@ class RasonNode:
                          queue_size=100, tcp_nodelay=True)
         rospy.Subscriber(MESSAGES_TOPIC, AgentMessage, guarded(MESSAGES_TOPIC)(self.on_message),
                          queue_size=200, tcp_nodelay=True)
+        rospy.Subscriber(DIRECTORY_TOPIC, AgentMessage, guarded(DIRECTORY_TOPIC)(self.on_directory),
+                         queue_size=50)
+        self._started = True
         # One timer thread for the frequent checks (each guarded on its own): every rospy.Timer
         # is a thread waking on its own, which an idle agent in a fleet pays for.
         checks = [guarded("action timeouts")(self.on_check_actions),
@@ -222,14 +243,14 @@ class RasonNode:
 
         rospy.Timer(rospy.Duration(period), on_checks)
         rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
-        for name in self.agents:
+        for name in list(self.agents):
             self._announce(name, HELLO)
-        for hosted in self.agents.values():
+        for hosted in list(self.agents.values()):
             hosted.thread.start()
 
     def on_master_restarted(self) -> None:
         """Registered again with a restarted master: ask everyone to announce themselves."""
-        for name in self.agents:
+        for name in list(self.agents):
             self._announce(name, "hello")
 
     def _run_agent(self, agent: Agent) -> None:
@@ -242,7 +263,7 @@ class RasonNode:
         """Stop every reasoning cycle, cancel the pending actions, say goodbye on the network."""
         self.stop.set()
         cancelled = 0
-        for name, hosted in self.agents.items():
+        for name, hosted in list(self.agents.items()):
             hosted.agent.wake()
             cancelled += hosted.arch.cancel_all(CancelReason.SHUTDOWN)
             try:
@@ -251,7 +272,7 @@ class RasonNode:
                 pass
         if cancelled:
             time.sleep(0.1)       # let the cancels leave before the connections close
-        for hosted in self.agents.values():
+        for hosted in list(self.agents.values()):
             hosted.thread.join(2.0)
 
     # -- output -----------------------------------------------------------------------------------------
@@ -284,14 +305,95 @@ class RasonNode:
             reply_with=message.msg_id or uuid.uuid4().hex[:12],
             in_reply_to=message.in_reply_to or ""))
 
-    def _publish(self, msg: AgentMessage) -> None:
-        """Stamp, and sign when this node has a key, then publish on /jason/messages."""
+    def _publish(self, msg: AgentMessage, publisher: rospy.Publisher | None = None) -> None:
+        """Stamp, and sign when this node has a key, then publish on /jason/messages (or on
+        `publisher`)."""
         msg.stamp = rospy.Time.now()
         msg.nonce = new_nonce()
         if self.auth is not None:
             msg.signature = self.auth.sign(_signed_fields(msg))
+        if publisher is not None:
+            publisher.publish(msg)
+            return
         self.message_pub.publish(msg)
         self._last_said[msg.sender] = msg.stamp.to_sec()
+
+    # -- directory facilitator ----------------------------------------------------------------------
+    def _publish_services(self) -> None:
+        """Our agents' registrations changed: publish all of them (latched) for the other nodes."""
+        regs = self.services.local_registrations()
+        content = ListTerm(tuple(Literal("provider", (Literal(r.agent), r.service)) for r in regs))
+        self._publish(AgentMessage(sender=rospy.get_name(), receiver="", performative=DF_PERFORMATIVE,
+                                   content=term_text(content), reply_with="", in_reply_to=""),
+                      self.directory_pub)
+
+    def on_directory(self, msg: AgentMessage) -> None:
+        """Another node's registrations (it replaces what that node published before)."""
+        if msg.sender == rospy.get_name() or msg.performative != DF_PERFORMATIVE:
+            return
+        if self.auth is not None:
+            verdict = self.auth.verify(_signed_fields(msg), msg.signature,
+                                       rospy.get_rostime().to_nsec())
+            if verdict is not Verdict.OK:
+                self.warnings.warn(f"{verdict.value} directory {shorten(msg.sender, 64)}",
+                                   f"dropped {verdict.value} directory registrations from "
+                                   f"'{msg.sender}'")
+                return
+        content = self._read_content(msg)
+        items = list_to_python(content) if content is not None else None
+        if items is None:
+            return
+        regs = [Registration(term_str(p.args[0]), p.args[1]) for p in items
+                if isinstance(p, Literal) and p.functor == "provider" and len(p.args) == 2
+                and isinstance(p.args[1], str)]
+        self.services.set_remote(msg.sender, regs)
+
+    def _tell_provider(self, notice: ProviderNotice) -> None:
+        """The directory facilitator tells a local subscriber of a provider (as Jason's ``df``)."""
+        hosted = self.agents.get(notice.subscriber)
+        if hosted is not None:
+            message = Message(DF_NAME, notice.subscriber, "tell", notice.content())
+            hosted.agent.receive(message)
+            self.note_message(notice.subscriber, message, outgoing=False)
+
+    # -- agents made and killed while the node runs ---------------------------------------------------
+    def create_agent(self, creator: Agent, name: str | None, source: str | None) -> str:
+        """``.create_agent``: a new agent hosted by this node (its mind service, its cycle);
+        a name taken on the network gets a suffix. `source` is found beside the creator's file,
+        then in the current folder."""
+        base = name or "agent"
+        final, k = base, 1
+        now = rospy.get_time()
+        while final in self.agents or self.directory.knows(final, now):
+            final, k = f"{base}_{k}", k + 1
+        if source is None:
+            path, text = "<string>", ""
+        else:
+            path = _find_source(source, creator.filename)
+            text = load_agent_source(path)
+        hosted = self.host(final, text, path)
+        if self._started:
+            self._announce(final, HELLO)
+            hosted.thread.start()
+        return final
+
+    def kill_agent(self, name: str) -> bool:
+        """``.kill_agent``: the agent stops, its actions are cancelled, it says goodbye."""
+        hosted = self.agents.pop(name, None)
+        if hosted is None:
+            return False
+        hosted.agent.request_stop()
+        hosted.agent.wake()
+        hosted.arch.cancel_all(CancelReason.DROPPED)
+        self.directory.remove_local(name)
+        self.services.forget_agent(name)
+        if hosted.mind_service is not None:
+            hosted.mind_service.shutdown("agent killed")
+        try:
+            self._announce(name, GOODBYE)
+        except rospy.ROSException:
+            pass
+        return True
 
     def deliver_local(self, message: Message) -> bool:
         """Hand a message to the agents of this process it is for; True if it was only for them.
@@ -305,7 +407,7 @@ class RasonNode:
                 return False
             self._receive(hosted, message)
             return True
-        for name, hosted in self.agents.items():
+        for name, hosted in list(self.agents.items()):
             if name != message.sender:
                 self._receive(hosted, Message(sender=message.sender, receiver=name,
                                               performative=message.performative,
@@ -352,7 +454,7 @@ class RasonNode:
             rospy.logwarn("unreadable action_feedback for %s: %s", msg.agent, list(msg.parameters))
 
     def on_perception(self, msg: Perception) -> None:
-        for hosted in self.agents.values():
+        for hosted in list(self.agents.values()):
             hosted.arch.on_perception(msg.source, msg.perception)
 
     def on_message(self, msg: AgentMessage) -> None:
@@ -375,13 +477,13 @@ class RasonNode:
             if self.directory.heard(msg.sender, now):   # new, or back after a lapse
                 rospy.loginfo("agent %s present", msg.sender)
             if msg.content == HELLO:           # a newcomer: let it know us at once
-                for name in self.agents:
+                for name in list(self.agents):
                     self._announce(name)
             return
         if self.directory.heard(msg.sender, now):   # known from its message before its presence
             rospy.loginfo("agent %s present", msg.sender)
         receivers = ([msg.receiver] if msg.receiver
-                     else [n for n in self.agents if n != msg.sender])
+                     else [n for n in list(self.agents) if n != msg.sender])
         content = None
         for name in receivers:
             hosted = self.agents.get(name)
@@ -415,12 +517,12 @@ class RasonNode:
 
     def on_check_actions(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()
-        for hosted in self.agents.values():
+        for hosted in list(self.agents.values()):
             hosted.arch.check_timeouts(now, self.ack_timeout, self.action_timeout)
 
     def on_check_perceptions(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()
-        for hosted in self.agents.values():
+        for hosted in list(self.agents.values()):
             hosted.arch.expire_perceptions(now)
 
     def perception_ttl(self, source: str) -> float:
@@ -461,7 +563,7 @@ class RasonNode:
 
     def on_presence(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()
-        for name in self.agents:
+        for name in list(self.agents):
             # everyone hears any message as presence: an agent that spoke within the last half
             # period needs no announcement (a third fewer messages in a chatty fleet)
             last = self._last_said.get(name)
@@ -472,7 +574,7 @@ class RasonNode:
 
     def on_mind_state(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()
-        for hosted in self.agents.values():
+        for hosted in list(self.agents.values()):
             if hosted.mind_state is not None:
                 try:
                     hosted.mind_state.tick(now)
@@ -487,6 +589,19 @@ class RasonNode:
                             desires=mind.get("desires", []),
                             intentions=mind.get("intentions", []),
                             pending_actions=arch.pending_texts())
+
+
+def _find_source(source: str, near: str) -> str:
+    """The path of an agent file for ``.create_agent``: as given, beside `near`, in the
+    current folder (FileNotFoundError otherwise)."""
+    folders = [os.path.dirname(os.path.abspath(near))] if near and not near.startswith("<") else []
+    candidates = [source] + [os.path.join(d, source) for d in folders]
+    if not source.endswith(".asl"):
+        candidates += [c + ".asl" for c in candidates]
+    for cand in candidates:
+        if os.path.isfile(cand):
+            return os.path.abspath(cand)
+    raise FileNotFoundError(source)
 
 
 def _message_auth(key_file: str, window: float) -> MessageAuth | None:

@@ -13,6 +13,10 @@ from collections.abc import Iterable
 
 #: The global topic of agent messages and presence announcements (jason_msgs/AgentMessage).
 MESSAGES_TOPIC = "/jason/messages"
+#: The global latched topic where each node publishes its agents' directory-facilitator
+#: registrations (jason_msgs/AgentMessage, performative DF_PERFORMATIVE).
+DIRECTORY_TOPIC = "/jason/directory"
+DF_PERFORMATIVE = "df"
 #: Performative of a presence announcement; its content is "" (still here), HELLO (a newcomer:
 #: everyone announce yourselves) or GOODBYE (leaving now).
 PRESENCE = "presence"
@@ -33,6 +37,11 @@ class Directory:
         """An agent hosted in this process: always known."""
         with self._lock:
             self._local.add(name)
+
+    def remove_local(self, name: str) -> None:
+        """An agent of this process left it."""
+        with self._lock:
+            self._local.discard(name)
 
     def heard(self, name: str, now: float) -> bool:
         """Record that `name` was heard at `now`; True if it was not known before."""

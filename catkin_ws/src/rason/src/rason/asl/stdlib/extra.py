@@ -7,6 +7,7 @@ import os
 import re
 from typing import Any
 
+from ..containers import MapTerm, QueueTerm, SetTerm
 from ..intentions import java_map_order
 from ..kqml import KQML_SRC
 from ..plans import ACHIEVE, ADD, BELIEF, PlanTerm, Trigger, plan_term_trigger
@@ -57,12 +58,18 @@ def type_names(t: Any) -> list[str]:
         out.append("string")
     if isinstance(t, ListTerm):
         out.append("list")
+    if isinstance(t, SetTerm):
+        out.append("set")
+    if isinstance(t, MapTerm):
+        out.append("map")
     if isinstance(t, (Literal, ListTerm, PlanTerm)):
         out.append("structure")
     if isinstance(t, PlanTerm) and t.rule is not None:
         out.append("rule")
     if isinstance(t, PlanTerm) and t.rule is None:
         out.append("plan")
+    if isinstance(t, QueueTerm):
+        out.append("queue")
     if is_ground(t) and not isinstance(t, (Var, AnnotVar)):
         out.append("ground")
     if isinstance(t, (Var, AnnotVar)):
@@ -338,15 +345,32 @@ def at(ctx: Any, args: list) -> bool:
 
 
 # ---------------------------------------------------------------- namespaces
+def _java_hash(text: str) -> int:
+    h = 0
+    for ch in text:
+        h = (31 * h + ord(ch)) & 0xFFFFFFFF
+    return h
+
+
 def _namespaces(ag: Any) -> list[str]:
-    out = ["default"]
+    """The namespaces of the belief base (``default``, ``kqml`` and those of beliefs), in the
+    order Jason's map of namespace atoms gives them (an atom's hash adds its namespace's)."""
+    out = ["default", "kqml"]
     for b in ag.bb:
         head = b.head if isinstance(b, Rule) else b
         if isinstance(head, Literal) and "::" in head.functor:
             ns = head.functor.split("::", 1)[0]
             if ns not in out:
                 out.append(ns)
-    return out
+    n = 16
+    while len(out) > n * 3 // 4:
+        n *= 2
+    default_hash = _java_hash("default")
+
+    def bucket(ns: str) -> int:
+        h = default_hash if ns == "default" else (_java_hash(ns) + default_hash) & 0xFFFFFFFF
+        return ((h ^ (h >> 16)) & 0x7FFFFFFF) & (n - 1)
+    return sorted(out, key=bucket)
 
 
 @internal_action(".namespace")
@@ -397,3 +421,78 @@ def namespace_get_prop(ctx: Any, args: list) -> Any:
             if unify(key, k, s2) and (len(args) == 2 or unify(args[2], v, s2)):
                 yield s2
     return gen()
+
+
+@internal_action(".belief")
+def belief(ctx: Any, args: list) -> Any:
+    """``.belief(B)``: backtracks over the beliefs stored in the belief base that unify with B
+    (rules are not used, except those whose body is ``true``)."""
+    arg_count(args, 1)
+    pattern = args[0]
+    bb = ctx.ag.bb
+    if isinstance(pattern, Literal):
+        cands: Any = bb.candidates(pattern.key)
+    elif isinstance(pattern, (Var, AnnotVar)):
+        cands = list(bb)
+    else:
+        raise wrong_arg("first argument must be a literal")
+
+    def gen():
+        for b in cands:
+            if isinstance(b, Rule):
+                if not (isinstance(b.body, Literal) and b.body.functor == "true" and not b.body.args):
+                    continue
+                if isinstance(pattern, Literal):
+                    b = b.head
+            s2 = dict(ctx.s)
+            if unify(pattern, b, s2):
+                yield s2
+    return gen()
+
+
+# ---------------------------------------------------------------- directory facilitator
+def _directory(ctx: Any) -> Any:
+    df = ctx.ag.arch.service_directory()
+    if df is None:
+        raise IAError("this agent's host has no directory facilitator", "internal_action")
+    return df
+
+
+def _service(args: list) -> str:
+    """The service named by the first argument: a string's text, else the term's text."""
+    if isinstance(args[0], (Var, AnnotVar)):
+        raise wrong_arg("first argument must be a service (a string or a ground term)")
+    return to_print_str(args[0])
+
+
+@internal_action(".df_register")
+def df_register(ctx: Any, args: list) -> bool:
+    """``.df_register(S[, Type])``: this agent provides service S (Type is not used to match,
+    as in Jason's local infrastructure)."""
+    arg_count(args, 1, 2)
+    _directory(ctx).register(ctx.ag.name, _service(args))
+    return True
+
+
+@internal_action(".df_deregister")
+def df_deregister(ctx: Any, args: list) -> bool:
+    arg_count(args, 1, 2)
+    _directory(ctx).deregister(ctx.ag.name, _service(args))
+    return True
+
+
+@internal_action(".df_search")
+def df_search(ctx: Any, args: list) -> bool:
+    """``.df_search(S[, Type], L)``: L lists the agents providing S."""
+    arg_count(args, 2, 3)
+    names = _directory(ctx).search(_service(args), ctx.ag.arch.service_alive)
+    return ctx.unify(args[-1], make_list([Literal(n) for n in names]))
+
+
+@internal_action(".df_subscribe")
+def df_subscribe(ctx: Any, args: list) -> bool:
+    """``.df_subscribe(S[, Type])``: ``df`` tells this agent ``provider(Agent, "S")`` for each
+    provider of S, now and later."""
+    arg_count(args, 1, 2)
+    _directory(ctx).subscribe(ctx.ag.name, _service(args))
+    return True

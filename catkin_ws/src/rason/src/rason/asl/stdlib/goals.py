@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..intentions import Suspension, has_goal, java_map_order
-from ..plans import ACHIEVE, ADD, Plan, deed_str, map_deeds
+from ..intentions import Fork, ForkBranch, IntendedMeans, Intention, Suspension, has_goal, java_map_order
+from ..plans import ACHIEVE, ADD, K_INTERNAL, Deed, Plan, deed_str, map_deeds
 from ..terms import Literal, PlanTerm, Var, make_list, term_str
 from ..unify import rename_vars, unify
-from . import SUSPEND, arg_count, internal_action, wrong_arg
+from . import SUSPEND, IAError, arg_count, internal_action, wrong_arg
 
 
 def _places(ag: Any) -> list:
@@ -64,10 +64,13 @@ def intention_term(i: Any) -> Literal:
     return Literal("intention", (float(i.id), make_list([im_term(im) for im in reversed(i.ims)])))
 
 
-def _intend_solutions(ctx: Any, pattern: Any, int_term: Any):
+def _intend_solutions(ctx: Any, pattern: Any, int_term: Any, with_suspended: bool):
     """jason.stdlib.intend.allIntentions: one solution per visited intention that has a
-    ``+!G`` means (the topmost one); an intention met at two places answers twice."""
+    ``+!G`` means (the topmost one); an intention met at two places answers twice. An
+    intention held by ``.suspend`` counts for ``.desire`` but not for ``.intend``."""
     for _place, i in _places(ctx.ag):
+        if i.sus_ia and not with_suspended:
+            continue
         s2 = has_goal(i, pattern, ctx.s)
         if s2 is None:
             continue
@@ -79,7 +82,7 @@ def _intend_solutions(ctx: Any, pattern: Any, int_term: Any):
 @internal_action(".intend")
 def intend(ctx: Any, args: list) -> Any:
     arg_count(args, 1, 2)
-    return _intend_solutions(ctx, args[0], args[1] if len(args) == 2 else None)
+    return _intend_solutions(ctx, args[0], args[1] if len(args) == 2 else None, False)
 
 
 @internal_action(".desire")
@@ -99,7 +102,7 @@ def desire(ctx: Any, args: list) -> Any:
                 s2 = dict(ctx.s)
                 if unify(pattern, t.literal, s2):
                     yield s2
-        yield from _intend_solutions(ctx, pattern, args[1] if len(args) == 2 else None)
+        yield from _intend_solutions(ctx, pattern, args[1] if len(args) == 2 else None, True)
     return gen()
 
 
@@ -257,4 +260,103 @@ def succeed_goal(ctx: Any, args: list) -> bool:
 def fail_goal(ctx: Any, args: list) -> bool:
     arg_count(args, 1)
     ctx.ag.fail_goal(args[0], ctx.s)
+    return True
+
+
+@internal_action(".fork")
+def fork(ctx: Any, args: list) -> Any:
+    """``.fork(and|or, {Body1}, {Body2}, ...)`` (what Jason's ``|&|``/``|||`` become): each body
+    runs in an intention of its own that carries on with the rest of the current plan after a
+    ``.join``; the current intention stops here. ``and`` goes on when every branch has joined
+    (with the last one's bindings), ``or`` with the first one (the others are dropped)."""
+    if len(args) < 2:
+        arg_count(args, 2)
+    kind = args[0]
+    if not (isinstance(kind, Literal) and not kind.args and kind.functor in ("and", "or")):
+        raise wrong_arg("first argument must be 'and' or 'or'.")
+    bodies = []
+    for b in args[1:]:
+        if not (isinstance(b, PlanTerm) and b.plan is None and b.rule is None):
+            raise wrong_arg("the branches must be plan bodies ({ ... })")
+        bodies.append(b)
+    ag, cur, im = ctx.ag, ctx.intention, ctx.im
+    if cur is None or im is None:
+        raise IAError("'.fork' runs only in a plan body")
+    fk = Fork(kind.functor == "and")
+    point = len(cur.ims)
+    for body in bodies:
+        i = Intention(next(ag.intention_ids))
+        i.reply = cur.reply
+        i.ims = list(cur.ims[:-1])        # the means below are shared, as in Jason
+        top = IntendedMeans(im.plan, im.trigger, dict(ctx.s), im.fail_target)
+        top.result, top.open_call = im.result, im.open_call
+        top.stack = list(im.stack)
+        top.stack.append(Deed(K_INTERNAL, Literal(".join", (ForkTerm(fk),)), ctx.deed.line))
+        top.stack.extend(reversed(body.body))
+        i.ims.append(top)
+        i.atomic_count = cur.atomic_count
+        i.fork = ForkBranch(fk, point)
+        fk.branches.append(i)
+        fk.to_finish += 1
+        ag.running.append(i)
+    cur.ims.clear()        # the forked intention itself ends: its branches go on for it
+    return SUSPEND
+
+
+@internal_action(".join")
+def join(ctx: Any, args: list) -> Any:
+    """Put by ``.fork`` after each branch: ``and`` waits for every branch, ``or`` goes on with
+    the first branch and drops the others."""
+    if len(args) != 1 or not isinstance(args[0], ForkTerm):
+        raise wrong_arg("'.join' only closes the branches of a '.fork'")
+    fk = args[0].fork
+    fk.to_finish -= 1
+    if fk.is_and:
+        return True if fk.to_finish <= 0 else SUSPEND
+    for other in fk.branches:
+        if other is not ctx.intention:
+            ctx.ag.remove_intention(other)
+    fk.branches = [ctx.intention]
+    return True
+
+
+class ForkTerm:
+    """The argument of the ``.join`` put by ``.fork`` (Jason's ObjectTerm of its fork data)."""
+
+    __slots__ = ("fork",)
+
+    def __init__(self, fork: Fork) -> None:
+        self.fork = fork
+
+    def __str__(self) -> str:
+        return str(self.fork)
+
+
+@internal_action(".done")
+def done(ctx: Any, args: list) -> Any:
+    """``.done`` / ``.done(G)`` (Jason 3.3): the goal of the current means, or the goal G of the
+    current intention, is achieved now: its means go and its caller goes on after it. As in
+    Jason, when the current intention has no such goal, the intention stays suspended."""
+    arg_count(args, 0, 1)
+    if args and not isinstance(args[0], (Literal, Var)):
+        raise wrong_arg("first argument must be a literal")
+    ag, i, im = ctx.ag, ctx.intention, ctx.im
+    if i is None or im is None:
+        raise IAError("'.done' runs only in a plan body")
+    if args:
+        op, typ, pattern = ADD, ACHIEVE, args[0]
+    else:
+        op, typ, pattern = im.trigger.op, im.trigger.type, im.trigger.literal
+    for idx in range(len(i.ims) - 1, -1, -1):
+        t = i.ims[idx].trigger
+        if t.op == op and t.type == typ and unify(pattern, t.literal, dict(ctx.s), ag):
+            break
+    else:
+        return SUSPEND
+    if ag.pl.goal_state_plans:
+        ag.goal_state(i.ims[idx].trigger, "achieved")
+        ag.goal_state(i.ims[idx].trigger, "finished")
+    i.truncate(idx)
+    if i.ims and i.ims[-1].stack:
+        i.ims[-1].stack.pop()     # the deed that posted the goal
     return True

@@ -5,6 +5,7 @@ from __future__ import annotations
 import functools
 from typing import Any
 
+from ..containers import MapTerm, QueueTerm, SetTerm
 from ..terms import ListTerm, Literal, Var, list_to_python, make_list, sort_key, term_str
 from ..unify import compare_terms, unify
 from . import IAError, arg_count, internal_action, wrong_arg
@@ -21,7 +22,11 @@ def _items(t: Any, what: str = "first argument must be a list") -> list:
 @internal_action(".member")
 def member(ctx: Any, args: list) -> Any:
     arg_count(args, 2)
-    items = _items(args[1], "second argument must be a list")
+    coll = args[1]
+    if isinstance(coll, (SetTerm, QueueTerm)):
+        items = coll.items()
+    else:
+        items = _items(coll, "second argument must be a list or a set")
 
     def gen():
         for x in items:
@@ -34,7 +39,7 @@ def member(ctx: Any, args: list) -> Any:
 @internal_action(".length")
 def length(ctx: Any, args: list) -> bool:
     arg_count(args, 2)
-    if isinstance(args[0], str):
+    if isinstance(args[0], (str, SetTerm, MapTerm, QueueTerm)):
         return ctx.unify(args[1], float(len(args[0])))
     items = list_to_python(args[0])
     if items is None:   # Jason: neither a list nor a string is just false
