@@ -537,7 +537,7 @@ class _ToAst:
     def directive_block(self, meta: Any, c: builtins.list) -> tuple:
         """``{ begin namespace(ns) }`` (Jason: a directive opening a block closed by ``{ end }``)."""
         if str(c[0]) != "begin":
-            raise _SemErr(meta.line, meta.column, f"unexpected '{c[0]}' in a directive")
+            raise _SemErr(meta, f"unexpected '{c[0]}' in a directive")
         return ("block", _fix(c[1]), meta)
 
     def context(self, meta: Any, c: builtins.list) -> Any:

@@ -764,8 +764,8 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
         annots = error_annots(ag, im, d, kind or "ia_failed", msg, code=code)
     ims = i.ims
     idx = len(ims) - 1
-    if from_event is None and idx >= 0 and ims[idx].fail_target is not None:
-        target = ims[idx].fail_target
+    target = ims[idx].fail_target if from_event is None and idx >= 0 else None
+    if target is not None:
         if target == 0:
             # the goal has no caller: its failure plan is tried again
             tgt = ims[0]
@@ -807,6 +807,7 @@ def _end_fork(ag: Agent, i: Intention) -> bool:
     """A branch of a ``.fork`` failed below its fork point: an ``and`` fork drops its other
     branches (True: the failure goes on below); an ``or`` fork leaves them running and the
     failed branch just ends (False)."""
+    assert i.fork is not None, "only a branch of a fork ends one"
     fk = i.fork.fork
     if not fk.is_and:
         return False
