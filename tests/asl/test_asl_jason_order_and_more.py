@@ -213,6 +213,17 @@ def test_a_namespace_block_puts_its_beliefs_plans_and_body_literals_in_the_names
         "[kqml,default,ns1,ns3,ns2]", "neq", "[b,c,z,ns1::q,ns2::a]"]
 
 
+def test_a_bare_double_colon_names_the_current_namespace() -> None:
+    # ``::lit`` is the namespace in effect: the default one at the top of a file, the block's
+    # inside ``{ begin namespace(ns) }`` (as Jason 3.3 reads it)
+    src = ("::b(1).\n{ begin namespace(ns1) }\nc(2).\n::d(3).\n{ end }\n!g1. !g2. !g3.\n"
+           "+!g1 : ::b(X) <- .print(b, X, ::b(X)).\n"
+           "+!g2 : ns1::c(Y) <- .print(c, Y).\n"
+           "+!g3 : d(Z) <- .print(d, Z).\n"
+           "+!g3 : ns1::d(Z) <- .print(nsd, Z).\n")
+    assert lines(run_source(src)) == ["b1b(1)", "c2", "nsd3"]
+
+
 def test_concurrent_and_or_operators_are_forks() -> None:
     # |&| binds tighter than |||; a chain of one operator is one fork. As in Jason, the
     # branches of the inner 'and' fork outlive the 'or' that o2 won: they join and go on too

@@ -173,7 +173,7 @@ block: "{" [stmt_list] "}"
 ?literal_or_var: literal | var
 var: VAR [annots]
 literal: [NEG] [NS] ATOM [args] [annots]
-NS.2: /[a-z][A-Za-z0-9_]*::/
+NS.2: /([a-z][A-Za-z0-9_]*)?::/
 NEG: "~"
 args: "(" log_expr ("," log_expr)* ")"
 annots: "[" [elems] "]"
@@ -328,8 +328,10 @@ class _ToAst:
 
     def literal(self, meta: Any, c: builtins.list) -> Literal:
         neg, ns, atom, args, annots = c
-        if ns is not None and str(ns) != "default::":
-            atom = str(ns) + str(atom)   # a namespace is kept as a prefix of the functor
+        # a namespace is kept as a prefix of the functor; ``::lit`` is the current namespace (the
+        # block's, as a literal without one; outside blocks the default one, as ``default::``)
+        if ns is not None and str(ns) not in ("default::", "::"):
+            atom = str(ns) + str(atom)
         annots_t: tuple = ()
         tail = None
         if annots is not None:
