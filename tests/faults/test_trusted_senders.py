@@ -24,7 +24,7 @@ BOSS = """
     !go.
     +!go : .all_names(L) & .member({target}, L)
        <- .send({target}, tellHow, "+!legit <- .print(legit_plan_ran).");
-          .wait(500);
+          .wait(2000);    // the test's own subscriber connects to this new node meanwhile
           .send({target}, achieve, legit).
     +!go <- .wait(200); !go.
     """
@@ -106,8 +106,10 @@ def test_with_a_key_only_signed_messages_get_in(ros, tmp_path):
         start_agent(ros, tmp_path, "boss2", BOSS.format(target="robot2"), ns="/trust2_boss",
                     auth_key_file=key)
         robot.wait_for_line(r"\[robot2\] legit_plan_ran", timeout=30)
+        wait_until(lambda: any(m.sender == "boss2" and m.content == "legit" for m in seen), 15,
+                   "the test to hear the boss's achieve")
         achieve = [m for m in seen if m.sender == "boss2" and m.content == "legit"]
-        assert achieve and achieve[0].signature.startswith("hmac-sha256:"), achieve
+        assert achieve[0].signature.startswith("hmac-sha256:"), achieve
         # Replaying the boss's signed achieve word for word: dropped (nonce seen).
         pub.publish(achieve[0])
         robot.wait_for_line(r"dropped a replayed achieve message claiming to be from 'boss2'",
