@@ -27,6 +27,7 @@ import os
 import threading
 import time
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -327,18 +328,26 @@ class RasonNode:
                                    content=term_text(content), reply_with="", in_reply_to=""),
                       self.directory_pub)
 
+    def _authentic(self, msg: AgentMessage, kind: str, dropped: Callable[[str], str]) -> bool:
+        """True when this node has no key or ``msg`` verifies; else False and a rate-limited
+        warning ``dropped <what dropped(verdict) says>``."""
+        if self.auth is None:
+            return True
+        verdict = self.auth.verify(_signed_fields(msg), msg.signature,
+                                   rospy.get_rostime().to_nsec())
+        if verdict is Verdict.OK:
+            return True
+        key = " ".join(x for x in (verdict.value, kind, shorten(msg.sender, 64)) if x)
+        self.warnings.warn(key, "dropped " + dropped(verdict.value))
+        return False
+
     def on_directory(self, msg: AgentMessage) -> None:
         """Another node's registrations (it replaces what that node published before)."""
         if msg.sender == rospy.get_name() or msg.performative != DF_PERFORMATIVE:
             return
-        if self.auth is not None:
-            verdict = self.auth.verify(_signed_fields(msg), msg.signature,
-                                       rospy.get_rostime().to_nsec())
-            if verdict is not Verdict.OK:
-                self.warnings.warn(f"{verdict.value} directory {shorten(msg.sender, 64)}",
-                                   f"dropped {verdict.value} directory registrations from "
-                                   f"'{msg.sender}'")
-                return
+        if not self._authentic(msg, "directory",
+                               lambda v: f"{v} directory registrations from '{msg.sender}'"):
+            return
         content = self._read_content(msg)
         items = list_to_python(content) if content is not None else None
         if items is None:
@@ -461,14 +470,9 @@ class RasonNode:
         if msg.sender in self.agents:
             return  # our own publication (delivered in-process already), or a forgery of it
         now = rospy.get_time()
-        if self.auth is not None:
-            verdict = self.auth.verify(_signed_fields(msg), msg.signature,
-                                       rospy.get_rostime().to_nsec())
-            if verdict is not Verdict.OK:
-                self.warnings.warn(f"{verdict.value} {shorten(msg.sender, 64)}",
-                                f"dropped a {verdict.value} {msg.performative or '?'} message "
-                                f"claiming to be from '{msg.sender}'")
-                return
+        if not self._authentic(msg, "", lambda v: f"a {v} {msg.performative or '?'} message "
+                                                  f"claiming to be from '{msg.sender}'"):
+            return
         if msg.performative == PRESENCE:
             if msg.content == GOODBYE:
                 self.directory.forget(msg.sender)
