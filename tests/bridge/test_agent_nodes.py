@@ -2,28 +2,11 @@
 
 from __future__ import annotations
 
-import textwrap
-from pathlib import Path
-
 import pytest
 
-from rason.testing.harness import Process, RosHarness
+from rason.testing.agent_nodes import start_agent, write_agent
 
 pytestmark = pytest.mark.ros
-
-
-def write_agent(tmp_path: Path, name: str, source: str) -> Path:
-    path = tmp_path / f"{name}.asl"
-    path.write_text(textwrap.dedent(source))
-    return path
-
-
-def start_agent(ros: RosHarness, tmp_path: Path, name: str, source: str, ns: str,
-                **params: object) -> Process:
-    path = write_agent(tmp_path, name, source)
-    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params)
-    ros.wait_for_node(f"{ns}/jason/{name}", watch=[proc])
-    return proc
 
 
 def test_action_ok_resumes_and_a_reason_reaches_the_failure_plan(ros, tmp_path):
@@ -185,3 +168,14 @@ def test_mas_hosts_every_agent_of_a_project_in_one_node(ros, tmp_path):
     mas.wait_for_line(r"\[bob\] hello from carol", timeout=20)
     assert "/m1/jason/bob/mind" in ros.services()
     assert "/m1/jason/carol/mind" in ros.services()
+
+
+def test_a_node_that_subscribes_late_hears_who_is_there_at_once(ros, tmp_path):
+    """An agent greets each new subscriber of /jason/messages with its presence, so a node
+    joining the graph learns it at once, not one `presence_period` (here 60 s) later."""
+    start_agent(ros, tmp_path, "greeter", "!idle.\n+!idle <- .wait(60000).\n", ns="/b8",
+                presence_period=60.0, presence_timeout=200.0)
+    listener = ros.run(["rostopic", "echo", "/jason/messages"], label="late listener")
+    match = listener.wait_for_line(r"sender: \"?greeter\"?", timeout=20)
+    assert "performative: \"presence\"" in listener.output()[match.start():] \
+        or "performative: presence" in listener.output()[match.start():]

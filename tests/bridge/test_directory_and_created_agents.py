@@ -5,22 +5,12 @@ from __future__ import annotations
 
 import textwrap
 import time
-from pathlib import Path
 
 import pytest
 
-from rason.testing.harness import Process, RosHarness
+from rason.testing.agent_nodes import start_agent
 
 pytestmark = pytest.mark.ros
-
-
-def start_agent(ros: RosHarness, tmp_path: Path, name: str, source: str, ns: str,
-                **params: object) -> Process:
-    path = tmp_path / f"{name}.asl"
-    path.write_text(textwrap.dedent(source))
-    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params)
-    ros.wait_for_node(f"{ns}/jason/{name}", watch=[proc])
-    return proc
 
 
 SELLER = """

@@ -8,8 +8,8 @@ import time
 
 import pytest
 import yaml
-from agent_nodes_kit import mind, start_agent, wait_until
 
+from rason.testing.agent_nodes import mind, start_agent, wait_until
 from rason.testing.harness import HarnessError, RosHarness
 
 pytestmark = pytest.mark.ros

@@ -8,7 +8,8 @@ import time
 from pathlib import Path
 
 import pytest
-from agent_nodes_kit import mind, start_agent, wait_until
+
+from rason.testing.agent_nodes import mind, start_agent, wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -11,8 +11,8 @@ import time
 from pathlib import Path
 
 import pytest
-from agent_nodes_kit import connected_to, start_agent, wait_until
 
+from rason.testing.agent_nodes import connected_to, start_agent, wait_until
 from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros

@@ -140,6 +140,23 @@ class HostedAgent:
     mind_service: Any = None
 
 
+def _presence(sender: str, content: str = "") -> AgentMessage:
+    return AgentMessage(sender=sender, receiver="", performative=PRESENCE, content=content,
+                        reply_with="", in_reply_to="")
+
+
+class _GreetNewSubscribers(rospy.SubscribeListener):
+    """Calls ``greet(publish_to_newcomer)`` whenever a node subscribes to our publisher."""
+
+    def __init__(self, greet: Callable[[Callable[[AgentMessage], None]], None]):
+        super().__init__()
+        self._greet = guarded("greeting a new subscriber")(greet)
+
+    def peer_subscribe(self, topic_name: str, topic_publish: Callable[[AgentMessage], None],
+                       peer_publish: Callable[[AgentMessage], None]) -> None:
+        self._greet(peer_publish)
+
+
 class RasonNode:
     """The ROS side of a process hosting agents: topics, services, timers, presence."""
 
@@ -173,7 +190,9 @@ class RasonNode:
         # -- topics (subscriptions start with the agents: see start) -------------------------------
         self.action_pub = rospy.Publisher(self.topic("jason/action"), Action, queue_size=100)
         self.cancel_pub = rospy.Publisher(self.topic("jason/cancel"), ActionCancel, queue_size=100)
-        self.message_pub = rospy.Publisher(MESSAGES_TOPIC, AgentMessage, queue_size=100)
+        # a node that subscribes hears our agents' presence at once, not a period later
+        self.message_pub = rospy.Publisher(MESSAGES_TOPIC, AgentMessage, queue_size=100,
+                                           subscriber_listener=_GreetNewSubscribers(self.greet))
         self._presence_period = presence_period
         # ROS time each hosted agent last published on /jason/messages (presence or message)
         self._last_said: dict[str, float] = {}
@@ -306,13 +325,18 @@ class RasonNode:
             reply_with=message.msg_id or uuid.uuid4().hex[:12],
             in_reply_to=message.in_reply_to or ""))
 
-    def _publish(self, msg: AgentMessage, publisher: rospy.Publisher | None = None) -> None:
-        """Stamp, and sign when this node has a key, then publish on /jason/messages (or on
-        `publisher`)."""
+    def _seal(self, msg: AgentMessage) -> AgentMessage:
+        """Stamp `msg`, and sign it when this node has a key."""
         msg.stamp = rospy.Time.now()
         msg.nonce = new_nonce()
         if self.auth is not None:
             msg.signature = self.auth.sign(_signed_fields(msg))
+        return msg
+
+    def _publish(self, msg: AgentMessage, publisher: rospy.Publisher | None = None) -> None:
+        """Stamp, and sign when this node has a key, then publish on /jason/messages (or on
+        `publisher`)."""
+        self._seal(msg)
         if publisher is not None:
             publisher.publish(msg)
             return
@@ -444,8 +468,14 @@ class RasonNode:
             print(f"[{agent_name}] {text}", flush=True)
 
     def _announce(self, name: str, content: str = "") -> None:
-        self._publish(AgentMessage(sender=name, receiver="", performative=PRESENCE,
-                                   content=content, reply_with="", in_reply_to=""))
+        self._publish(_presence(name, content))
+
+    def greet(self, publish_to_newcomer: Callable[[AgentMessage], None]) -> None:
+        """A node just subscribed to /jason/messages: tell it (only it) which agents we host."""
+        if not self._started:
+            return      # start() says hello to everyone
+        for name in list(self.agents):
+            publish_to_newcomer(self._seal(_presence(name)))
 
     # -- callbacks --------------------------------------------------------------------------------------
     def on_event(self, msg: Event) -> None:

@@ -1,4 +1,4 @@
-"""Helpers of the fault tests: start real ``rosrun rason agent`` nodes, read their minds."""
+"""Helpers of the ROS tests: write and start real ``rosrun rason agent`` nodes, read their minds."""
 
 from __future__ import annotations
 
@@ -11,11 +11,18 @@ import yaml
 from rason.testing.harness import HarnessError, Process, RosHarness
 
 
-def start_agent(ros: RosHarness, tmp_path: Path, name: str, source: str, ns: str,
-                **params: object) -> Process:
-    """``rosrun rason agent NAME FILE.asl __ns:=ns _param:=value...``, waited for."""
-    path = tmp_path / f"{name}.asl"
+def write_agent(folder: Path, name: str, source: str) -> Path:
+    """``folder/NAME.asl`` holding `source` (dedented)."""
+    path = folder / f"{name}.asl"
     path.write_text(textwrap.dedent(source))
+    return path
+
+
+def start_agent(ros: RosHarness, folder: Path, name: str, source: str, ns: str,
+                **params: object) -> Process:
+    """``rosrun rason agent NAME FILE.asl __ns:=ns _param:=value...``, waited for until its
+    ``jason/NAME/mind`` service is up."""
+    path = write_agent(folder, name, source)
     proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params)
     ros.wait_for_service(f"{ns}/jason/{name}/mind", watch=[proc])
     return proc
