@@ -179,3 +179,34 @@ def test_a_node_that_subscribes_late_hears_who_is_there_at_once(ros, tmp_path):
     match = listener.wait_for_line(r"sender: \"?greeter\"?", timeout=20)
     assert "performative: \"presence\"" in listener.output()[match.start():] \
         or "performative: presence" in listener.output()[match.start():]
+
+
+def test_an_action_waits_until_its_decomposer_can_answer(ros, tmp_path):
+    """A decomposer that already hears jason/action but whose jason/event the agent's node is
+    not yet connected to would have its acknowledgement lost (-> no_decomposer): the node holds
+    the action until both ways are up, then sends it once."""
+    import rospy
+    from jason_msgs.msg import Action, Event
+
+    ros.init_rospy()
+    actions: list[Action] = []
+    rospy.Subscriber("/b9/jason/action", Action, actions.append)
+    agent = start_agent(ros, tmp_path, "eager", """
+        !go.
+        +!go <- move(1); .print("moved").
+        -!go[error(R)] <- .print("failed: ", R).
+        """, ns="/b9", ack_timeout=20.0)
+    ros.wait_for_subscriber("/b9/jason/action")
+    rospy.sleep(1.5)
+    assert actions == [], "sent before its decomposer could answer"
+    events = rospy.Publisher("/b9/jason/event", Event, queue_size=10)
+    deadline = rospy.Time.now() + rospy.Duration(20)
+    while not actions and rospy.Time.now() < deadline:
+        rospy.sleep(0.05)
+    assert len(actions) == 1, agent.output()
+    action_id = str(actions[0].action_id)
+    events.publish(Event(agent="eager", event_type="action_accepted", parameters=[action_id]))
+    events.publish(Event(agent="eager", event_type="action_feedback",
+                         parameters=["OK", action_id, "done"]))
+    agent.wait_for_line(r"\[eager\] moved", timeout=20)
+    assert len(actions) == 1

@@ -310,7 +310,7 @@ def test_bad_parameters_never_move(rig: Rig, log: Log, action: str, value: str):
 def test_an_agent_sending_move_1e9_gets_bad_parameters(rig: Rig, log: Log):
     agent = rig.agent("bold", """
         !go.
-        +!go <- .wait(1000); move(1000000000).   // after the node's connections are made
+        +!go <- move(1000000000).      // at once: held until the decomposer can answer
         -!go[error(R)] <- .print("failed: ", R).
         """)
     assert agent.wait_for_line(r"\[bold\] failed: (\w+)", timeout=60).group(1) == \

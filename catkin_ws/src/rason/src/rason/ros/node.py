@@ -200,6 +200,7 @@ class RasonNode:
         self.services = ServiceDirectory(self._tell_provider, self._publish_services)
         self.directory_pub = rospy.Publisher(DIRECTORY_TOPIC, AgentMessage, queue_size=10, latch=True)
         self._started = False
+        self.event_sub: rospy.Subscriber | None = None
 
     def topic(self, name: str) -> str:
         """`name` relative to the robot's namespace (the node itself lives in <ns>/jason)."""
@@ -232,8 +233,8 @@ class RasonNode:
     def start(self) -> None:
         """Subscribe (latched messages may arrive at once), announce the agents, start them."""
         # Every callback is guarded: a bad message costs a warning, never a timer or the node.
-        rospy.Subscriber(self.topic("jason/event"), Event, guarded("jason/event")(self.on_event),
-                         queue_size=100)
+        self.event_sub = rospy.Subscriber(self.topic("jason/event"), Event,
+                                          guarded("jason/event")(self.on_event), queue_size=100)
         rospy.Subscriber(self.topic("jason/perception"), Perception,
                          guarded("jason/perception")(self.on_perception),
                          queue_size=100, tcp_nodelay=True)
@@ -299,15 +300,24 @@ class RasonNode:
     def publish_action(self, agent: str, action_id: int, action) -> bool:
         """Publish an action on jason/action; False when no subscriber was connected (nothing
         received it: the caller publishes it again once a decomposer connects)."""
+        if self.action_listeners() == 0:
+            return False
         name, args = action.functor, [term_str(arg) for arg in action.args]
-        heard = self.action_pub.get_num_connections() > 0
         self.action_pub.publish(Action(agent=agent, action_id=action_id, action=name,
                                        parameters=args))
-        return heard
+        return True
 
     def action_listeners(self) -> int:
-        """How many subscribers (decomposers) jason/action has now."""
-        return self.action_pub.get_num_connections()
+        """How many decomposers would hear an action now and could answer it: subscribers of
+        jason/action whose jason/event publications this node is connected to as well (an
+        action sent before the way back is up would have its acknowledgement lost). With
+        ``~ack_timeout`` 0 (decomposers that never answer) every subscriber counts."""
+        listeners = {c.endpoint_id for c in self.action_pub.impl.connections}
+        if self.ack_timeout <= 0 or self.event_sub is None or self.event_sub.impl is None:
+            return len(listeners)
+        talkers = {getattr(c, "header", None) and c.header.get("callerid")
+                   for c in self.event_sub.impl.connections}
+        return len(listeners & talkers)
 
     def publish_cancel(self, agent: str, action_id: int, reason: str) -> None:
         """Tell the decomposers that `agent` gave action `action_id` up."""
