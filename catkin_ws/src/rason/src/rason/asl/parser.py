@@ -48,11 +48,13 @@ from .plans import (
     deed_str,
 )
 from .terms import (
+    LOCAL_NS_PREFIX,
     AnnotVar,
     ArithExpr,
     ListTerm,
     Literal,
     LogExpr,
+    NsLit,
     PlanTerm,
     RelExpr,
     Rule,
@@ -173,7 +175,10 @@ block: "{" [stmt_list] "}"
 ?literal_or_var: literal | var
 var: VAR [annots]
 literal: [NEG] [NS] ATOM [args] [annots]
+       | VNS [NEG] ATOM [args] [annots]   -> ns_var_literal
+       | (NS | VNS) VAR                   -> ns_var
 NS.2: /([a-z][A-Za-z0-9_]*)?::/
+VNS.2: /[A-Z_][A-Za-z0-9_]*::/
 NEG: "~"
 args: "(" log_expr ("," log_expr)* ")"
 annots: "[" [elems] "]"
@@ -344,6 +349,22 @@ class _ToAst:
         is_constant(lit)  # cache: resolving a constant literal is free
         return lit
 
+    def ns_var_literal(self, meta: Any, c: builtins.list) -> NsLit:
+        """``N::b(X)``: a literal whose namespace is the variable N."""
+        vns, neg, atom, args, annots = c
+        name = str(vns)[:-2]
+        lit = self.literal(meta, [neg, None, atom, args, annots])
+        return NsLit(Var(fresh_name()) if name == "_" else Var(name), lit)
+
+    def ns_var(self, meta: Any, c: builtins.list) -> Any:
+        """``N::X`` / ``ns::X``: a variable in a namespace (plain ``X`` in the default one)."""
+        ns_text, var = str(c[0])[:-2], str(c[1])
+        v = Var(fresh_name()) if var == "_" else Var(var)
+        if ns_text in ("", "default"):
+            return v
+        ns = Var(ns_text) if ns_text[0].isupper() or ns_text[0] == "_" else Literal(ns_text)
+        return NsLit(ns, v)
+
     def or_(self, meta: Any, c: builtins.list) -> LogExpr:
         return LogExpr("|", c[0], c[1])
 
@@ -470,16 +491,16 @@ class _ToAst:
             return _plan_term_deed(t[1], ADD, meta.line)
         if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, PlanTerm):
             return _plan_term_deed(t.left, DEL, meta.line)
-        if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], (Literal, Var, AnnotVar)):
+        if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], _BELIEF_TERMS):
             return Deed(K_ADD_BEL, t[1], meta.line)
-        if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, (Literal, Var, AnnotVar)):
+        if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, _BELIEF_TERMS):
             return Deed(K_DEL_BEL, t.left, meta.line)
         t = _fix(t)
         if isinstance(t, Literal):
             if is_internal_action(t.functor):
                 return Deed(K_INTERNAL, t, meta.line)
             return Deed(K_ACTION, t, meta.line)
-        if isinstance(t, (Var, AnnotVar)):
+        if isinstance(t, (Var, AnnotVar, NsLit)):
             return Deed(K_ACTION, t, meta.line)
         if isinstance(t, (RelExpr, LogExpr)):
             return Deed(K_CONSTRAINT, t, meta.line)
@@ -624,6 +645,10 @@ def _plan_term_deed(t: PlanTerm, op: str, line: int) -> Deed:
     return Deed(K_INTERNAL, Literal(".remove_plan", (t,)), line)
 
 
+#: what ``+t`` / ``-t`` in a body may add or remove
+_BELIEF_TERMS = (Literal, Var, AnnotVar, NsLit)
+
+
 class _SemErr(Exception):
     def __init__(self, meta: Any, msg: str) -> None:
         super().__init__(msg)
@@ -734,15 +759,21 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
     items = _parse_items(text, filename, tr)
     out = AgentSource(filename=filename)
     blocks: list[str | None] = []     # the namespace of each open { begin ... } block
+    local: dict[str, str] = {}        # this file's local namespaces -> their unique names
     for kind, obj, meta in items:
         ns = next((b for b in reversed(blocks) if b is not None), None)
+        if kind in ("block", "directive"):
+            _declare_namespace(obj, local)
         if kind == "block":
-            blocks.append(_block_namespace(obj))
+            block_ns = _block_namespace(obj)
+            blocks.append(local.get(block_ns, block_ns) if block_ns is not None else None)
             continue
         if kind == "directive" and isinstance(obj, Literal) and obj.functor == "end" and not obj.args:
             if blocks:
                 blocks.pop()
             continue
+        if local and kind != "directive":
+            obj = _rename_namespaces(kind, obj, local)
         if ns is not None and kind != "directive":
             obj = in_namespace(kind, obj, ns)
         if kind == "belief":
@@ -787,6 +818,60 @@ def _block_namespace(d: Any) -> str | None:
         name = d.args[0].functor
         return "" if name == "default" else name
     return None
+
+
+#: numbers the local namespaces of every file parsed in this process (Jason's counter)
+_LOCAL_NS_IDS = itertools.count(1)
+
+
+def _declare_namespace(d: Any, local: dict[str, str]) -> None:
+    """``namespace(ns, local)`` (a directive or a block's): ``ns`` is private to this file, under
+    a unique name (``#1ns``); ``namespace(ns, global)`` makes it shared again."""
+    if not (isinstance(d, Literal) and d.functor == "namespace" and len(d.args) == 2
+            and isinstance(d.args[0], Literal) and isinstance(d.args[1], Literal)):
+        return
+    name, scope = d.args[0].functor, d.args[1].functor
+    if scope == "local" and name not in local:
+        local[name] = f"{LOCAL_NS_PREFIX}{next(_LOCAL_NS_IDS)}{name}"
+    elif scope == "global":
+        local.pop(name, None)
+
+
+def _local_names(t: Any, local: dict[str, str]) -> Any:
+    """``t`` with each literal of a local namespace under that namespace's unique name."""
+    if isinstance(t, Literal):
+        functor = t.functor
+        ns, sep, name = functor.partition("::")
+        if sep and ns in local:
+            functor = f"{local[ns]}::{name}"
+        if functor == t.functor and not t.args and not t.annots:
+            return t
+        return Literal(functor, tuple(_local_names(a, local) for a in t.args),
+                       tuple(_local_names(a, local) for a in t.annots), t.tail, t.neg)
+    if isinstance(t, NsLit):
+        ns_term = t.ns
+        if isinstance(ns_term, Literal) and ns_term.functor in local:
+            ns_term = Literal(local[ns_term.functor])
+        return NsLit(ns_term, _local_names(t.lit, local))
+    if isinstance(t, ListTerm):
+        return ListTerm(tuple(_local_names(a, local) for a in t.items), t.tail)
+    if isinstance(t, (ArithExpr, LogExpr, RelExpr)):
+        return type(t)(t.op, _local_names(t.left, local),
+                       None if t.right is None else _local_names(t.right, local))
+    if isinstance(t, PlanTerm):
+        return t.map_terms(lambda x: _local_names(x, local))
+    return t
+
+
+def _rename_namespaces(kind: str, obj: Any, local: dict[str, str]) -> Any:
+    """A belief, rule, goal or plan with its local namespaces renamed (:func:`_local_names`)."""
+    if kind == "rule":
+        return Rule(_local_names(obj.head, local), _local_names(obj.body, local))
+    if kind == "plan":
+        renamed = obj.map_terms(lambda x: _local_names(x, local))
+        renamed.atomic = obj.atomic
+        return renamed
+    return _local_names(obj, local)
 
 
 def _ns_formula(t: Any, ns: str) -> Any:

@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from .terms import SOURCE_SELF, AnnotVar, Literal, PlanTerm, Var, is_constant, term_str
+from .terms import SOURCE_SELF, AnnotVar, Literal, NsLit, PlanTerm, Var, is_constant, term_str
 from .unify import compile_resolve
 
 # triggering event operators and types
@@ -281,7 +281,7 @@ class PlanLibrary:
             self._rebuild()
             return
         self.plans.append(plan)     # at the end: the index grows in place (loading stays linear)
-        if isinstance(plan.trigger.literal, (Var, AnnotVar)):
+        if isinstance(plan.trigger.literal, (Var, AnnotVar, NsLit)):
             self._var_plans.append(plan)
         else:
             self._index.setdefault(plan.trigger.key, []).append(plan)
@@ -304,7 +304,7 @@ class PlanLibrary:
         self._var_plans = []
         self.goal_state_plans = any(p.trigger.op == GOAL_STATE for p in self.plans)
         for p in self.plans:
-            if isinstance(p.trigger.literal, (Var, AnnotVar)):
+            if isinstance(p.trigger.literal, (Var, AnnotVar, NsLit)):
                 self._var_plans.append(p)
             else:
                 self._index.setdefault(p.trigger.key, []).append(p)
