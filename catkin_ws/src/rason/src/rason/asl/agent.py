@@ -151,14 +151,29 @@ class Agent:
 
     # ================================================================ loading
     def load(self, parsed: AgentSource) -> None:
+        """Take the program: plans (then Jason's KQML plans), initial beliefs and goals."""
+        self._warn_unknown_actions(parsed)
+        for p in parsed.plans + kqml_plans():
+            self.pl.add(p)
+        self._add_initial_state(parsed)
+
+    def include(self, parsed: AgentSource) -> None:
+        """Add an included program (``.include``): its plans after this agent's, its beliefs
+        and goals as initial ones (Jason's ``importComponents`` and what follows it)."""
+        self._warn_unknown_actions(parsed)
+        for p in parsed.plans:
+            self.pl.add(p)
+        self._add_initial_state(parsed)
+
+    def _warn_unknown_actions(self, parsed: AgentSource) -> None:
         for p in parsed.plans:
             for d in body_deeds(p.body):
                 if d.kind == K_INTERNAL and d.term.functor not in IA_REGISTRY:
                     # as Jason's parser: a warning at load; running it fails with action_failed
                     self.log(f"{self.filename}:{d.line}: warning: unknown internal action "
                              f"{d.term.functor}/{len(d.term.args)}")
-        for p in parsed.plans + kqml_plans():
-            self.pl.add(p)
+
+    def _add_initial_state(self, parsed: AgentSource) -> None:
         for b in reversed(parsed.beliefs):
             if isinstance(b, Rule):
                 self.bb.add_rule(b, front=True)

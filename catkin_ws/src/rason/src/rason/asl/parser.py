@@ -749,16 +749,18 @@ def path_include_resolver(search_path: list[str]) -> IncludeResolver:
 
 def parse_source(text: str, filename: str = "<string>", src: str | None = None,
                  exact: bool = False, include: IncludeResolver | None = None,
-                 _depth: int = 0) -> AgentSource:
+                 _depth: int = 0, namespace: str | None = None) -> AgentSource:
     """Parse a whole ``.asl`` program (``exact``: text written by ``term_text``, see
     :func:`parse_term_text`); ``include`` finds the files of ``{ include("f.asl") }``
-    directives (default: relative to ``filename``'s folder)."""
+    directives (default: relative to ``filename``'s folder); ``namespace``: the one its
+    literals without a namespace go to (a file included in a namespace)."""
     tr = _ToAst(filename, exact)
     if src is not None:
         tr.src = src
     items = _parse_items(text, filename, tr)
     out = AgentSource(filename=filename)
-    blocks: list[str | None] = []     # the namespace of each open { begin ... } block
+    # the namespace of each open { begin ... } block (the file's own first)
+    blocks: list[str | None] = [namespace if namespace != "default" else None]
     local: dict[str, str] = {}        # this file's local namespaces -> their unique names
     for kind, obj, meta in items:
         ns = next((b for b in reversed(blocks) if b is not None), None)
@@ -769,7 +771,7 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
             blocks.append(local.get(block_ns, block_ns) if block_ns is not None else None)
             continue
         if kind == "directive" and isinstance(obj, Literal) and obj.functor == "end" and not obj.args:
-            if blocks:
+            if len(blocks) > 1:
                 blocks.pop()
             continue
         if local and kind != "directive":
@@ -789,7 +791,7 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
                 raise AslSyntaxError(filename, meta.line, meta.column, "an initial goal must be a literal")
             out.goals.append(obj)
         elif kind == "directive":
-            _directive(out, obj, meta, filename, include, _depth)
+            _directive(out, obj, meta, filename, include, _depth, ns)
         else:
             out.plans.append(obj)
     return out
@@ -925,21 +927,38 @@ def in_namespace(kind: str, obj: Any, ns: str) -> Any:
 _IGNORED_DIRECTIVES = frozenset({"begin", "end", "namespace"})
 
 
+def include_namespace(arg: Any) -> str:
+    """The namespace ``include(File, NS)`` puts the file in: NS itself, or for a variable a new
+    one (``ns<n>``, numbered as local namespaces are)."""
+    if isinstance(arg, Literal) and not arg.args:
+        return arg.functor
+    return f"ns{next(_LOCAL_NS_IDS)}"
+
+
+def parse_include(name: str, including: str, include: IncludeResolver | None,
+                  namespace: str | None, depth: int = 0) -> AgentSource:
+    """The program of an included file (``OSError`` when not found, :class:`AslSyntaxError`)."""
+    resolver = include or path_include_resolver([])
+    path, text, src_name = resolver(name, including)
+    return parse_source(text, path, src=src_name, include=include, _depth=depth + 1,
+                        namespace=namespace)
+
+
 def _directive(out: AgentSource, d: Any, meta: Any, filename: str, include: IncludeResolver | None,
-               depth: int) -> None:
-    """Apply a directive ``{ name(args) }``: ``include`` merges the other file in place."""
+               depth: int, namespace: str | None) -> None:
+    """Apply a directive ``{ name(args) }``: ``include`` merges the other file in place (in the
+    namespace of its second argument, else the one in effect)."""
     if not isinstance(d, Literal):
         raise AslSyntaxError(filename, meta.line, meta.column, "invalid directive")
     if d.functor == "include" and d.args and isinstance(d.args[0], str):
         if depth > 20:
             raise AslSyntaxError(filename, meta.line, meta.column, "include nested too deeply")
-        resolver = include or path_include_resolver([])
+        ns = include_namespace(d.args[1]) if len(d.args) > 1 else namespace
         try:
-            path, text, src_name = resolver(d.args[0], filename)
+            inner = parse_include(d.args[0], filename, include, ns, depth)
         except OSError:
             raise AslSyntaxError(filename, meta.line, meta.column,
                                  f"the included file '{d.args[0]}' was not found") from None
-        inner = parse_source(text, path, src=src_name, include=include, _depth=depth + 1)
         out.beliefs.extend(inner.beliefs)
         out.goals.extend(inner.goals)
         out.plans.extend(inner.plans)

@@ -25,6 +25,7 @@ from ..terms import (
 )
 from ..unify import rename_vars, resolve, unify
 from . import IAError, arg_count, internal_action, wrong_arg
+from .core import print_text
 
 TRUE_ATOM = Literal("true")
 FALSE_ATOM = Literal("false")
@@ -41,7 +42,7 @@ def log(ctx: Any, args: list) -> bool:
         raise wrong_arg("a log level is expected")
     level = to_print_str(args[0])
     if level in _SHOWN_LEVELS:
-        text = "".join(to_print_str(a) for a in args[1:])
+        text = print_text(ctx, args, 1)
         ctx.ag.console(text if level == "info" else f"[{level.upper()}] {text}")
     return True
 
