@@ -19,6 +19,7 @@ from typing import Any
 from lark import Lark, Token
 from lark.exceptions import LarkError, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
+from .containers import from_wire
 from .plans import (
     ACHIEVE,
     ADD,
@@ -1101,8 +1102,9 @@ def parse_term_by_grammar(text: str, exact: bool = False) -> Any:
 def parse_term_text(text: str) -> Any:
     """The term written by :func:`~rason.asl.terms.term_text` (how terms travel between
     processes): quoted atoms lose their quotes and ``\\\\`` is one backslash, so every term
-    reads back equal to the one written."""
-    return parse_term(text, exact=True)
+    reads back equal to the one written; sets, maps and queues come back as such."""
+    t = parse_term(text, exact=True)
+    return from_wire(t) if "$" in text else t
 
 
 def parse_literal(text: str) -> Literal:

@@ -486,6 +486,9 @@ def term_text(t: Any) -> str:
     if isinstance(t, AnnotVar):
         s = t.name + "[" + ",".join(term_text(a) for a in t.annots)
         return s + ("|" + term_text(t.tail) if t.tail is not None else "") + "]"
+    wire = getattr(t, "wire", None)   # a set, map or queue (rason.asl.containers)
+    if wire is not None:
+        return term_text(wire())
     return term_str(t)
 
 
