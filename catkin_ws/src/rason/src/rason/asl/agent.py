@@ -673,27 +673,49 @@ class Agent:
                 top = i.top()
                 if top is not None and top.stack:
                     top.stack.pop()
-                reasoning.clr_int(self, i)
                 i.suspended = None
-                if i.ims and not i.dropped:
+                reasoning.clr_int(self, i)
+                if i.ims and not i.dropped and i.suspended is None:
                     self.running.append(i)
         for i, idx in list(self._goal_positions(pattern, s)):
-            was_current = i is self.current
-            if self.pl.goal_state_plans:
-                self.goal_state(i.ims[idx].trigger, "achieved")
-                self.goal_state(i.ims[idx].trigger, "finished")
-            self.detach(i)
-            i.truncate(idx)
-            if not i.ims:
-                i.dropped = True
+            self._succeed_at(i, idx)
+
+    def _succeed_at(self, i: Intention, idx: int) -> None:
+        """The goal of ``i``'s ``idx``-th means is achieved: that means and those above go,
+        the caller goes on after the deed that posted the goal."""
+        was_current = i is self.current
+        if self.pl.goal_state_plans:
+            self.goal_state(i.ims[idx].trigger, "achieved")
+            self.goal_state(i.ims[idx].trigger, "finished")
+        self.detach(i)
+        i.truncate(idx)
+        if not i.ims:
+            i.dropped = True
+            return
+        caller = i.ims[-1]
+        if caller.stack:
+            caller.stack.pop()
+        if not was_current:
+            reasoning.clr_int(self, i)
+            if i.ims and i.suspended is None:
+                self.running.append(i)
+
+    def clear_satisfied_goals(self) -> None:
+        """Jason 3's ClrSatInt: each goal whose plan has a goal condition (``<:``) that holds
+        now (with the bindings the plan started with) is achieved, done or not."""
+        for i in list(self.all_intentions()):
+            if i.dropped:
                 continue
-            caller = i.ims[-1]
-            if caller.stack:
-                caller.stack.pop()
-            if not was_current:
-                reasoning.clr_int(self, i)
-                if i.ims:
-                    self.running.append(i)
+            for idx in range(len(i.ims) - 1, -1, -1):
+                im = i.ims[idx]
+                if im.trigger_u is None:
+                    continue
+                for _ in solve(self, im.plan.goal_condition, im.trigger_u, i):
+                    self._succeed_at(i, idx)
+                    break
+                else:
+                    continue
+                break
 
     # ---------------------------------------------------------------- .suspend / .resume
     def suspend_goal(self, pattern: Any, s: dict, current: Intention | None) -> tuple[bool, dict]:

@@ -98,7 +98,8 @@ start: item*
 belief: literal "."
 rule: literal ":-" log_expr "."
 init_goal: "!" literal "."
-plan: [label] trigger [context] [plan_body] "."
+plan: [label] trigger [context] [goal_condition] [plan_body] "."
+goal_condition: "<:" log_expr
 directive: "{" literal "}"
          | "{" ATOM literal "}"    -> directive_block
 label: "@" literal              -> label
@@ -575,9 +576,15 @@ class _ToAst:
         gt = BELIEF if c[1] is None else (ACHIEVE if str(c[1]) == "!" else TEST)
         return Trigger(op, gt, _fix(c[2]))
 
+    def goal_condition(self, meta: Any, c: builtins.list) -> Any:
+        return c[0]
+
     def plan(self, meta: Any, c: builtins.list) -> tuple:
-        label, trigger, context, body = c
-        return ("plan", Plan(label, trigger, context, body or (), meta.line, self.src), meta)
+        label, trigger, context, goal_condition, body = c
+        if goal_condition is not None and not (trigger.op == ADD and trigger.type == ACHIEVE):
+            raise _SemErr(meta, "a goal condition (<:) belongs to a +!g plan")
+        return ("plan", Plan(label, trigger, context, body or (), meta.line, self.src,
+                             goal_condition=goal_condition), meta)
 
     def start(self, meta: Any, c: builtins.list) -> builtins.list:
         return c
@@ -920,7 +927,8 @@ def in_namespace(kind: str, obj: Any, ns: str) -> Any:
         trig = obj.trigger
         return Plan(obj.label, Trigger(trig.op, trig.type, _ns_formula(trig.literal, ns)),
                     _ns_formula(obj.context, ns), _ns_deeds(obj.body, ns), obj.line, obj.src,
-                    atomic=obj.atomic, in_file=obj.in_file)
+                    atomic=obj.atomic, in_file=obj.in_file,
+                    goal_condition=_ns_formula(obj.goal_condition, ns))
     return obj
 
 

@@ -328,6 +328,8 @@ def _external_goal_failed(ag: Agent, trig: Trigger, what: str) -> None:
 def act(ag: Agent) -> bool:
     """ProcAct (one action feedback) + SelInt + ExecInt + ClrInt on one intention."""
     did = False
+    if ag.pl.goal_condition_plans:
+        ag.clear_satisfied_goals()
     if ag.action_results:
         ag.process_feedback(ag.action_results.popleft())
         did = True
@@ -719,6 +721,12 @@ def clr_int(ag: Agent, i: Intention) -> None:
     """ClrInt: pop finished intended means, passing results back to the caller's goal."""
     ims = i.ims
     while ims and not ims[-1].stack:
+        if ims[-1].trigger_u is not None and ims[-1].is_goal_add:
+            # Jason 3's goal condition: the goal is achieved when it holds, not when the
+            # plan is done; until then the intention waits (see Agent.clear_satisfied_goals)
+            ag.suspend(i, Suspension.GOAL_CONDITION)
+            i.pi_key = str(i.id)   # pending (Jason's PI), under the intention's number
+            return
         im = i.pop()
         if ag.pl.goal_state_plans and im.trigger.is_goal and im.trigger.op != GOAL_STATE:
             # a -!g plan that finishes achieves g too (Jason: the goal of the top means)
