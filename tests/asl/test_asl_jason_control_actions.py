@@ -87,3 +87,9 @@ def test_drop_future_intention_drops_intentions_that_will_post_the_goal() -> Non
            "+!w2 <- .wait(100); !w(2); .print(w2_after).\n"
            "+!w(X) <- .print(w, X).\n")
     assert lines(run_source(src)) == ["w2", "w2_after", "end"]
+
+
+def test_include_action_in_a_namespace_block_includes_in_that_namespace(tmp_path) -> None:
+    out = run_files(tmp_path, '{ begin namespace(blk) }\n+!load <- .include("lib.asl").\n{ end }\n!s.\n'
+                    "+!s <- !blk::load; !blk::g; .findall(N, .namespace(N), L); .print(L).\n")
+    assert out == ["lib_ini", "lib_g 1", "[kqml,default,blk]"]

@@ -911,6 +911,10 @@ def _ns_deeds(body: tuple, ns: str) -> tuple:
         elif d.kind in _NS_DEEDS:
             extra = _ns_deeds(d.extra, ns) if d.kind in (K_WHILE, K_FOR) else d.extra
             d = Deed(d.kind, _ns_formula(d.term, ns), d.line, extra)
+        elif (d.kind == K_INTERNAL and ns and isinstance(d.term, Literal) and d.term.functor == ".include"
+              and len(d.term.args) == 1):
+            # as Jason's: .include in a namespace includes the file in that namespace
+            d = Deed(K_INTERNAL, Literal(".include", (d.term.args[0], Literal(ns))), d.line)
         out.append(d)
     return tuple(out)
 
