@@ -74,3 +74,9 @@ def test_the_same_local_namespace_in_two_files_is_two_namespaces(tmp_path) -> No
     mas.add_agent("main", (tmp_path / "main.asl").read_text(), str(tmp_path / "main.asl"))
     mas.run(timeout=5.0)
     assert lines(out.getvalue()) == ["main_sees main", "lib_sees lib"]
+
+
+def test_a_goal_of_a_free_namespace_is_posted_as_it_is() -> None:
+    out = run_source("!s.\n+!s <- !X::goal(2); .print(after, \" \", X); !!Y::goal(3).\n"
+                     "+!X::goal(A) <- .print(goal_in, \" \", X, \" \", A).\n")
+    assert lines(out) == ["goal_in X<no-value> 2", "after X<no-value>", "goal_in X<no-value> 3"]
