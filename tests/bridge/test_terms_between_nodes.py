@@ -75,3 +75,35 @@ def test_messages_with_nan_or_infinity_are_dropped_with_one_warning(ros, tmp_pat
     warnings = [line for line in out.splitlines() if "not a finite number" in line]
     assert 1 <= len(warnings) <= 2, warnings    # rate-limited: not one per message
     assert agent.alive()
+
+
+def test_sets_maps_and_queues_arrive_as_the_same_kind_of_collection(ros, tmp_path):
+    # Jason's local infrastructure hands the receiver the collections themselves; between
+    # nodes each one travels as text and is made again: same kind, same members, same order
+    receiver = start(ros, tmp_path, "keeper", """
+        +coll(S, M, Q, P)[source(A)]
+           <- .type(S, TS); .type(M, TM); .type(Q, TQ); .type(P, TP);
+              .print("kinds ", TS, " ", TM, " ", TQ, " ", TP);
+              .print("values ", S, " ", M, " ", Q, " ", P);
+              .set.add(S, c); .map.get(M, k, V); .queue.head(P, H); .length(Q, N);
+              .print("use ", S, " ", V, " ", H, " ", N).
+        +nested(L)[source(A)] <- L = [S, f(M)]; .type(S, T1); .type(M, T2); .print("nested ", T1, " ", T2).
+        """, ns="/c1")
+    start(ros, tmp_path, "maker", """
+        !go.
+        +!go : .all_names(L) & .member(keeper, L)
+           <- .set.create(S); .set.add(S, b); .set.add(S, a);
+              .map.create(M); .map.put(M, k, v(1)); .map.put(M, "z", [1,2]);
+              .queue.create(Q); .queue.add(Q, z); .queue.add(Q, a);
+              .queue.create(P, priority); .queue.add(P, z); .queue.add(P, a); .queue.add(P, m);
+              .queue.add(P, b);
+              .send(keeper, tell, coll(S, M, Q, P)); .send(keeper, tell, nested([S, f(M)])).
+        +!go <- .wait(200); !go.
+        """, ns="/c2")
+    receiver.wait_for_line(r"\[keeper\] nested ", timeout=60)
+    receiver.wait_for_line(r"\[keeper\] use ", timeout=30)
+    out = receiver.output()
+    assert "[keeper] kinds set map queue queue" in out, out
+    assert '[keeper] values {a,b} {"z"->[1,2],k->v(1)} [z, a] [a, b, m, z]' in out, out
+    assert "[keeper] use {a,b,c} v(1) a 2" in out, out
+    assert "[keeper] nested set map" in out, out

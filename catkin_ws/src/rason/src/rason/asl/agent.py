@@ -151,14 +151,29 @@ class Agent:
 
     # ================================================================ loading
     def load(self, parsed: AgentSource) -> None:
+        """Take the program: plans (then Jason's KQML plans), initial beliefs and goals."""
+        self._warn_unknown_actions(parsed)
+        for p in parsed.plans + kqml_plans():
+            self.pl.add(p)
+        self._add_initial_state(parsed)
+
+    def include(self, parsed: AgentSource) -> None:
+        """Add an included program (``.include``): its plans after this agent's, its beliefs
+        and goals as initial ones (Jason's ``importComponents`` and what follows it)."""
+        self._warn_unknown_actions(parsed)
+        for p in parsed.plans:
+            self.pl.add(p)
+        self._add_initial_state(parsed)
+
+    def _warn_unknown_actions(self, parsed: AgentSource) -> None:
         for p in parsed.plans:
             for d in body_deeds(p.body):
                 if d.kind == K_INTERNAL and d.term.functor not in IA_REGISTRY:
                     # as Jason's parser: a warning at load; running it fails with action_failed
                     self.log(f"{self.filename}:{d.line}: warning: unknown internal action "
                              f"{d.term.functor}/{len(d.term.args)}")
-        for p in parsed.plans + kqml_plans():
-            self.pl.add(p)
+
+    def _add_initial_state(self, parsed: AgentSource) -> None:
         for b in reversed(parsed.beliefs):
             if isinstance(b, Rule):
                 self.bb.add_rule(b, front=True)
@@ -658,27 +673,49 @@ class Agent:
                 top = i.top()
                 if top is not None and top.stack:
                     top.stack.pop()
-                reasoning.clr_int(self, i)
                 i.suspended = None
-                if i.ims and not i.dropped:
+                reasoning.clr_int(self, i)
+                if i.ims and not i.dropped and i.suspended is None:
                     self.running.append(i)
         for i, idx in list(self._goal_positions(pattern, s)):
-            was_current = i is self.current
-            if self.pl.goal_state_plans:
-                self.goal_state(i.ims[idx].trigger, "achieved")
-                self.goal_state(i.ims[idx].trigger, "finished")
-            self.detach(i)
-            i.truncate(idx)
-            if not i.ims:
-                i.dropped = True
+            self._succeed_at(i, idx)
+
+    def _succeed_at(self, i: Intention, idx: int) -> None:
+        """The goal of ``i``'s ``idx``-th means is achieved: that means and those above go,
+        the caller goes on after the deed that posted the goal."""
+        was_current = i is self.current
+        if self.pl.goal_state_plans:
+            self.goal_state(i.ims[idx].trigger, "achieved")
+            self.goal_state(i.ims[idx].trigger, "finished")
+        self.detach(i)
+        i.truncate(idx)
+        if not i.ims:
+            i.dropped = True
+            return
+        caller = i.ims[-1]
+        if caller.stack:
+            caller.stack.pop()
+        if not was_current:
+            reasoning.clr_int(self, i)
+            if i.ims and i.suspended is None:
+                self.running.append(i)
+
+    def clear_satisfied_goals(self) -> None:
+        """Jason 3's ClrSatInt: each goal whose plan has a goal condition (``<:``) that holds
+        now (with the bindings the plan started with) is achieved, done or not."""
+        for i in list(self.all_intentions()):
+            if i.dropped:
                 continue
-            caller = i.ims[-1]
-            if caller.stack:
-                caller.stack.pop()
-            if not was_current:
-                reasoning.clr_int(self, i)
-                if i.ims:
-                    self.running.append(i)
+            for idx in range(len(i.ims) - 1, -1, -1):
+                im = i.ims[idx]
+                if im.trigger_u is None:
+                    continue
+                for _ in solve(self, im.plan.goal_condition, im.trigger_u, i):
+                    self._succeed_at(i, idx)
+                    break
+                else:
+                    continue
+                break
 
     # ---------------------------------------------------------------- .suspend / .resume
     def suspend_goal(self, pattern: Any, s: dict, current: Intention | None) -> tuple[bool, dict]:

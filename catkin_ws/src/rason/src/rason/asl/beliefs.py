@@ -69,6 +69,26 @@ class BeliefBase:
         return sum(len(v) for v in self._index.values())
 
     # ------------------------------------------------------------ update
+    def namespaces(self) -> list[str]:
+        """The namespaces of the beliefs (and ``default``, ``kqml``), in the order Jason's map of
+        namespace atoms gives them (an atom's hash adds its namespace's)."""
+        out = ["default", "kqml"]
+        for b in self:
+            head = b.head if isinstance(b, Rule) else b
+            if isinstance(head, Literal) and "::" in head.functor:
+                ns = head.functor.split("::", 1)[0]
+                if ns not in out:
+                    out.append(ns)
+        n = 16
+        while len(out) > n * 3 // 4:
+            n *= 2
+        default_hash = _java_hash("default")
+
+        def bucket(ns: str) -> int:
+            h = default_hash if ns == "default" else (_java_hash(ns) + default_hash) & 0xFFFFFFFF
+            return ((h ^ (h >> 16)) & 0x7FFFFFFF) & (n - 1)
+        return sorted(out, key=bucket)
+
     def _entries(self, key: tuple) -> deque:
         """The live entries of ``key`` (created if needed), about to change."""
         self._snapshots.pop(key, None)
@@ -247,6 +267,14 @@ class BeliefBase:
         self._by_first.clear()
         self._unindexed.clear()
         self._snapshots.clear()
+
+
+def _java_hash(text: str) -> int:
+    """Java's ``String.hashCode`` (as an unsigned 32-bit number)."""
+    h = 0
+    for ch in text:
+        h = (31 * h + ord(ch)) & 0xFFFFFFFF
+    return h
 
 
 def first_arg_key(t: Any) -> Any:

@@ -14,7 +14,11 @@ from collections import deque
 from collections.abc import Iterable, Iterator
 from typing import Any
 
-from .terms import ListTerm, list_to_python, sort_key, term_str
+from .terms import ListTerm, Literal, list_to_python, sort_key, term_str
+
+#: how each kind of collection is written in a term's text between processes
+#: (:func:`~rason.asl.terms.term_text`): a literal of this functor around a list of members
+WIRE_SET, WIRE_MAP, WIRE_QUEUE, WIRE_PRIORITY_QUEUE = "$set", "$map", "$queue", "$priority_queue"
 
 
 class SetTerm:
@@ -69,6 +73,10 @@ class SetTerm:
 
     __repr__ = __str__
 
+    def wire(self) -> Literal:
+        """This set as a plain term, for its text between processes (:func:`from_wire`)."""
+        return Literal(WIRE_SET, (ListTerm(tuple(self.items())),))
+
 
 class MapTerm:
     """A map from terms to terms, keys in the standard order (Jason's ``MapTermImpl``),
@@ -115,6 +123,10 @@ class MapTerm:
         return "{" + ",".join(f"{term_str(k)}->{term_str(v)}" for k, v in self.entries()) + "}"
 
     __repr__ = __str__
+
+    def wire(self) -> Literal:
+        """This map as a plain term (a list of ``[Key, Value]`` pairs), see :func:`from_wire`."""
+        return Literal(WIRE_MAP, (ListTerm(tuple(ListTerm((k, v)) for k, v in self.entries())),))
 
 
 class QueueTerm:
@@ -200,6 +212,12 @@ class QueueTerm:
 
     __repr__ = __str__
 
+    def wire(self) -> Literal:
+        """This queue as a plain term (a priority queue's members in its heap's order, so it
+        reads back exactly as it was), see :func:`from_wire`."""
+        return Literal(WIRE_PRIORITY_QUEUE if self.priority else WIRE_QUEUE,
+                       (ListTerm(tuple(self.items())),))
+
 
 def collection_items(t: Any) -> list | None:
     """The members of a list, set or queue term (Java's ``Collection`` arguments), else None."""
@@ -208,3 +226,54 @@ def collection_items(t: Any) -> list | None:
     if isinstance(t, ListTerm):
         return list_to_python(t)
     return None
+
+
+def _wire_collection(t: Literal) -> Any:
+    """The collection a wire literal (:meth:`SetTerm.wire`...) stands for, or None."""
+    if len(t.args) != 1 or t.annots or t.neg:
+        return None
+    members = list_to_python(t.args[0])
+    if members is None:
+        return None
+    members = [from_wire(m) for m in members]
+    if t.functor == WIRE_SET:
+        return SetTerm(members)
+    if t.functor == WIRE_MAP:
+        out = MapTerm()
+        for pair in members:
+            kv = list_to_python(pair)
+            if kv is None or len(kv) != 2:
+                return None
+            out.put(kv[0], kv[1])
+        return out
+    queue = QueueTerm(t.functor == WIRE_PRIORITY_QUEUE)
+    if queue.priority:
+        queue._heap = [(sort_key(m), m) for m in members]   # the sender's heap, as it was
+    else:
+        queue._fifo.extend(members)
+    return queue
+
+
+_WIRE_FUNCTORS = frozenset({WIRE_SET, WIRE_MAP, WIRE_QUEUE, WIRE_PRIORITY_QUEUE})
+
+
+def from_wire(t: Any) -> Any:
+    """A term read from another process's text with its collections made again (the wire
+    literals of :meth:`SetTerm.wire`, :meth:`MapTerm.wire`, :meth:`QueueTerm.wire`)."""
+    if isinstance(t, Literal):
+        if t.functor in _WIRE_FUNCTORS:
+            made = _wire_collection(t)
+            if made is not None:
+                return made
+        if not t.args and not t.annots:
+            return t
+        args = tuple(from_wire(a) for a in t.args)
+        annots = tuple(from_wire(a) for a in t.annots)
+        if args == t.args and annots == t.annots:
+            return t
+        return Literal(t.functor, args, annots, t.tail, t.neg)
+    if isinstance(t, ListTerm):
+        items = tuple(from_wire(a) for a in t.items)
+        tail = from_wire(t.tail) if t.tail is not None else None
+        return t if items == t.items and tail == t.tail else ListTerm(items, tail)
+    return t

@@ -40,7 +40,8 @@ class IntendedMeans:
     ``stack`` holds the remaining deeds in reverse order (the next deed is ``stack[-1]``).
     """
 
-    __slots__ = ("current", "fail_target", "open_call", "plan", "result", "stack", "trigger", "u")
+    __slots__ = ("current", "fail_target", "open_call", "plan", "result", "stack", "trigger", "trigger_u",
+                 "u")
 
     def __init__(self, plan: Plan, trigger: Trigger, u: dict, fail_target: int | None = None) -> None:
         self.plan = plan
@@ -54,6 +55,8 @@ class IntendedMeans:
         self.result: tuple[Any, Any] | None = None
         # the event had variables (its caller may get bindings back from this means)
         self.open_call = False
+        #: the unifier the means started with, for its plan's goal condition (``<:``)
+        self.trigger_u = dict(u) if plan.goal_condition is not None else None
 
     @property
     def is_goal_add(self) -> bool:
@@ -107,6 +110,7 @@ class Suspension(Enum):
     ASK = "ask"                 # the answer to an askOne/askAll
     SUSPENDED = "suspended"     # ``.suspend``
     IA = "ia"                   # an internal action suspended it
+    GOAL_CONDITION = "wait_goal_condition"   # its plan is done, its goal condition (``<:``) not yet
 
 
 class Intention:

@@ -9,14 +9,17 @@ from typing import TYPE_CHECKING, Any
 from .functions import FunctionHost
 from .stdlib import call_ia
 from .terms import (
+    LOCAL_NS_PREFIX,
     AnnotVar,
     ArithExpr,
     ListTerm,
     Literal,
     LogExpr,
+    NsLit,
     RelExpr,
     Rule,
     Var,
+    in_ns,
     is_constant,
     is_internal_action,
     make_list,
@@ -96,6 +99,13 @@ def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Ite
             if fn == "false":
                 return
         yield from query_bb(ag, f, s)
+        return
+    if tf is NsLit:
+        f = resolve(f, s, ag)
+        if type(f) is NsLit:
+            yield from _query_ns(ag, f, s)
+            return
+        yield from solve(ag, f, s, intention)
         return
     if tf is LogExpr:
         op = f.op
@@ -275,6 +285,24 @@ def query_bb(ag: Agent, lit: Literal, s: dict) -> Iterator[dict]:
             if want_annots and head.annots and not unify_annots(lit, head, s2, ag):
                 continue
             yield from solve(ag, body, s2)
+
+
+def _query_ns(ag: Agent, f: NsLit, s: dict) -> Iterator[dict]:
+    """``N::b(X)`` with N free: the query in each namespace of the belief base (Jason's order),
+    N bound to it; local namespaces are not taken (as in Jason). ``N::X``: every belief."""
+    lit = f.lit
+    if type(lit) is not Literal:
+        for b in list(ag.bb):
+            s2 = dict(s)
+            if type(b) is Literal and unify(f, b, s2, ag):
+                yield s2
+        return
+    for ns in ag.bb.namespaces():
+        if ns.startswith(LOCAL_NS_PREFIX):
+            continue
+        s2 = dict(s)
+        if unify(f.ns, Literal(ns), s2, ag):
+            yield from query_bb(ag, in_ns(ns, lit), s2)
 
 
 def _query_var(ag: Agent, v: Var | AnnotVar, s: dict) -> Iterator[dict]:

@@ -19,6 +19,7 @@ from typing import Any
 from lark import Lark, Token
 from lark.exceptions import LarkError, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
+from .containers import from_wire
 from .plans import (
     ACHIEVE,
     ADD,
@@ -48,11 +49,13 @@ from .plans import (
     deed_str,
 )
 from .terms import (
+    LOCAL_NS_PREFIX,
     AnnotVar,
     ArithExpr,
     ListTerm,
     Literal,
     LogExpr,
+    NsLit,
     PlanTerm,
     RelExpr,
     Rule,
@@ -95,7 +98,8 @@ start: item*
 belief: literal "."
 rule: literal ":-" log_expr "."
 init_goal: "!" literal "."
-plan: [label] trigger [context] [plan_body] "."
+plan: [label] trigger [context] [goal_condition] [plan_body] "."
+goal_condition: "<:" log_expr
 directive: "{" literal "}"
          | "{" ATOM literal "}"    -> directive_block
 label: "@" literal              -> label
@@ -173,7 +177,10 @@ block: "{" [stmt_list] "}"
 ?literal_or_var: literal | var
 var: VAR [annots]
 literal: [NEG] [NS] ATOM [args] [annots]
+       | VNS [NEG] ATOM [args] [annots]   -> ns_var_literal
+       | (NS | VNS) VAR                   -> ns_var
 NS.2: /([a-z][A-Za-z0-9_]*)?::/
+VNS.2: /[A-Z_][A-Za-z0-9_]*::/
 NEG: "~"
 args: "(" log_expr ("," log_expr)* ")"
 annots: "[" [elems] "]"
@@ -344,6 +351,22 @@ class _ToAst:
         is_constant(lit)  # cache: resolving a constant literal is free
         return lit
 
+    def ns_var_literal(self, meta: Any, c: builtins.list) -> NsLit:
+        """``N::b(X)``: a literal whose namespace is the variable N."""
+        vns, neg, atom, args, annots = c
+        name = str(vns)[:-2]
+        lit = self.literal(meta, [neg, None, atom, args, annots])
+        return NsLit(Var(fresh_name()) if name == "_" else Var(name), lit)
+
+    def ns_var(self, meta: Any, c: builtins.list) -> Any:
+        """``N::X`` / ``ns::X``: a variable in a namespace (plain ``X`` in the default one)."""
+        ns_text, var = str(c[0])[:-2], str(c[1])
+        v = Var(fresh_name()) if var == "_" else Var(var)
+        if ns_text in ("", "default"):
+            return v
+        ns = Var(ns_text) if ns_text[0].isupper() or ns_text[0] == "_" else Literal(ns_text)
+        return NsLit(ns, v)
+
     def or_(self, meta: Any, c: builtins.list) -> LogExpr:
         return LogExpr("|", c[0], c[1])
 
@@ -470,16 +493,16 @@ class _ToAst:
             return _plan_term_deed(t[1], ADD, meta.line)
         if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, PlanTerm):
             return _plan_term_deed(t.left, DEL, meta.line)
-        if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], (Literal, Var, AnnotVar)):
+        if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], _BELIEF_TERMS):
             return Deed(K_ADD_BEL, t[1], meta.line)
-        if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, (Literal, Var, AnnotVar)):
+        if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, _BELIEF_TERMS):
             return Deed(K_DEL_BEL, t.left, meta.line)
         t = _fix(t)
         if isinstance(t, Literal):
             if is_internal_action(t.functor):
                 return Deed(K_INTERNAL, t, meta.line)
             return Deed(K_ACTION, t, meta.line)
-        if isinstance(t, (Var, AnnotVar)):
+        if isinstance(t, (Var, AnnotVar, NsLit)):
             return Deed(K_ACTION, t, meta.line)
         if isinstance(t, (RelExpr, LogExpr)):
             return Deed(K_CONSTRAINT, t, meta.line)
@@ -553,9 +576,15 @@ class _ToAst:
         gt = BELIEF if c[1] is None else (ACHIEVE if str(c[1]) == "!" else TEST)
         return Trigger(op, gt, _fix(c[2]))
 
+    def goal_condition(self, meta: Any, c: builtins.list) -> Any:
+        return c[0]
+
     def plan(self, meta: Any, c: builtins.list) -> tuple:
-        label, trigger, context, body = c
-        return ("plan", Plan(label, trigger, context, body or (), meta.line, self.src), meta)
+        label, trigger, context, goal_condition, body = c
+        if goal_condition is not None and not (trigger.op == ADD and trigger.type == ACHIEVE):
+            raise _SemErr(meta, "a goal condition (<:) belongs to a +!g plan")
+        return ("plan", Plan(label, trigger, context, body or (), meta.line, self.src,
+                             goal_condition=goal_condition), meta)
 
     def start(self, meta: Any, c: builtins.list) -> builtins.list:
         return c
@@ -622,6 +651,10 @@ def _plan_term_deed(t: PlanTerm, op: str, line: int) -> Deed:
     if op == ADD:
         return Deed(K_INTERNAL, Literal(".add_plan", (t, Literal("self"), Literal("begin"))), line)
     return Deed(K_INTERNAL, Literal(".remove_plan", (t,)), line)
+
+
+#: what ``+t`` / ``-t`` in a body may add or remove
+_BELIEF_TERMS = (Literal, Var, AnnotVar, NsLit)
 
 
 class _SemErr(Exception):
@@ -724,25 +757,33 @@ def path_include_resolver(search_path: list[str]) -> IncludeResolver:
 
 def parse_source(text: str, filename: str = "<string>", src: str | None = None,
                  exact: bool = False, include: IncludeResolver | None = None,
-                 _depth: int = 0) -> AgentSource:
+                 _depth: int = 0, namespace: str | None = None) -> AgentSource:
     """Parse a whole ``.asl`` program (``exact``: text written by ``term_text``, see
     :func:`parse_term_text`); ``include`` finds the files of ``{ include("f.asl") }``
-    directives (default: relative to ``filename``'s folder)."""
+    directives (default: relative to ``filename``'s folder); ``namespace``: the one its
+    literals without a namespace go to (a file included in a namespace)."""
     tr = _ToAst(filename, exact)
     if src is not None:
         tr.src = src
     items = _parse_items(text, filename, tr)
     out = AgentSource(filename=filename)
-    blocks: list[str | None] = []     # the namespace of each open { begin ... } block
+    # the namespace of each open { begin ... } block (the file's own first)
+    blocks: list[str | None] = [namespace if namespace != "default" else None]
+    local: dict[str, str] = {}        # this file's local namespaces -> their unique names
     for kind, obj, meta in items:
         ns = next((b for b in reversed(blocks) if b is not None), None)
+        if kind in ("block", "directive"):
+            _declare_namespace(obj, local)
         if kind == "block":
-            blocks.append(_block_namespace(obj))
+            block_ns = _block_namespace(obj)
+            blocks.append(local.get(block_ns, block_ns) if block_ns is not None else None)
             continue
         if kind == "directive" and isinstance(obj, Literal) and obj.functor == "end" and not obj.args:
-            if blocks:
+            if len(blocks) > 1:
                 blocks.pop()
             continue
+        if local and kind != "directive":
+            obj = _rename_namespaces(kind, obj, local)
         if ns is not None and kind != "directive":
             obj = in_namespace(kind, obj, ns)
         if kind == "belief":
@@ -758,7 +799,7 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
                 raise AslSyntaxError(filename, meta.line, meta.column, "an initial goal must be a literal")
             out.goals.append(obj)
         elif kind == "directive":
-            _directive(out, obj, meta, filename, include, _depth)
+            _directive(out, obj, meta, filename, include, _depth, ns)
         else:
             out.plans.append(obj)
     return out
@@ -789,6 +830,60 @@ def _block_namespace(d: Any) -> str | None:
     return None
 
 
+#: numbers the local namespaces of every file parsed in this process (Jason's counter)
+_LOCAL_NS_IDS = itertools.count(1)
+
+
+def _declare_namespace(d: Any, local: dict[str, str]) -> None:
+    """``namespace(ns, local)`` (a directive or a block's): ``ns`` is private to this file, under
+    a unique name (``#1ns``); ``namespace(ns, global)`` makes it shared again."""
+    if not (isinstance(d, Literal) and d.functor == "namespace" and len(d.args) == 2
+            and isinstance(d.args[0], Literal) and isinstance(d.args[1], Literal)):
+        return
+    name, scope = d.args[0].functor, d.args[1].functor
+    if scope == "local" and name not in local:
+        local[name] = f"{LOCAL_NS_PREFIX}{next(_LOCAL_NS_IDS)}{name}"
+    elif scope == "global":
+        local.pop(name, None)
+
+
+def _local_names(t: Any, local: dict[str, str]) -> Any:
+    """``t`` with each literal of a local namespace under that namespace's unique name."""
+    if isinstance(t, Literal):
+        functor = t.functor
+        ns, sep, name = functor.partition("::")
+        if sep and ns in local:
+            functor = f"{local[ns]}::{name}"
+        if functor == t.functor and not t.args and not t.annots:
+            return t
+        return Literal(functor, tuple(_local_names(a, local) for a in t.args),
+                       tuple(_local_names(a, local) for a in t.annots), t.tail, t.neg)
+    if isinstance(t, NsLit):
+        ns_term = t.ns
+        if isinstance(ns_term, Literal) and ns_term.functor in local:
+            ns_term = Literal(local[ns_term.functor])
+        return NsLit(ns_term, _local_names(t.lit, local))
+    if isinstance(t, ListTerm):
+        return ListTerm(tuple(_local_names(a, local) for a in t.items), t.tail)
+    if isinstance(t, (ArithExpr, LogExpr, RelExpr)):
+        return type(t)(t.op, _local_names(t.left, local),
+                       None if t.right is None else _local_names(t.right, local))
+    if isinstance(t, PlanTerm):
+        return t.map_terms(lambda x: _local_names(x, local))
+    return t
+
+
+def _rename_namespaces(kind: str, obj: Any, local: dict[str, str]) -> Any:
+    """A belief, rule, goal or plan with its local namespaces renamed (:func:`_local_names`)."""
+    if kind == "rule":
+        return Rule(_local_names(obj.head, local), _local_names(obj.body, local))
+    if kind == "plan":
+        renamed = obj.map_terms(lambda x: _local_names(x, local))
+        renamed.atomic = obj.atomic
+        return renamed
+    return _local_names(obj, local)
+
+
 def _ns_formula(t: Any, ns: str) -> Any:
     """A formula's literals in namespace ``ns`` (those without one of their own; internal
     actions, their arguments and the terms of relations stay as they are)."""
@@ -816,6 +911,10 @@ def _ns_deeds(body: tuple, ns: str) -> tuple:
         elif d.kind in _NS_DEEDS:
             extra = _ns_deeds(d.extra, ns) if d.kind in (K_WHILE, K_FOR) else d.extra
             d = Deed(d.kind, _ns_formula(d.term, ns), d.line, extra)
+        elif (d.kind == K_INTERNAL and ns and isinstance(d.term, Literal) and d.term.functor == ".include"
+              and len(d.term.args) == 1):
+            # as Jason's: .include in a namespace includes the file in that namespace
+            d = Deed(K_INTERNAL, Literal(".include", (d.term.args[0], Literal(ns))), d.line)
         out.append(d)
     return tuple(out)
 
@@ -832,7 +931,8 @@ def in_namespace(kind: str, obj: Any, ns: str) -> Any:
         trig = obj.trigger
         return Plan(obj.label, Trigger(trig.op, trig.type, _ns_formula(trig.literal, ns)),
                     _ns_formula(obj.context, ns), _ns_deeds(obj.body, ns), obj.line, obj.src,
-                    atomic=obj.atomic, in_file=obj.in_file)
+                    atomic=obj.atomic, in_file=obj.in_file,
+                    goal_condition=_ns_formula(obj.goal_condition, ns))
     return obj
 
 
@@ -840,21 +940,38 @@ def in_namespace(kind: str, obj: Any, ns: str) -> Any:
 _IGNORED_DIRECTIVES = frozenset({"begin", "end", "namespace"})
 
 
+def include_namespace(arg: Any) -> str:
+    """The namespace ``include(File, NS)`` puts the file in: NS itself, or for a variable a new
+    one (``ns<n>``, numbered as local namespaces are)."""
+    if isinstance(arg, Literal) and not arg.args:
+        return arg.functor
+    return f"ns{next(_LOCAL_NS_IDS)}"
+
+
+def parse_include(name: str, including: str, include: IncludeResolver | None,
+                  namespace: str | None, depth: int = 0) -> AgentSource:
+    """The program of an included file (``OSError`` when not found, :class:`AslSyntaxError`)."""
+    resolver = include or path_include_resolver([])
+    path, text, src_name = resolver(name, including)
+    return parse_source(text, path, src=src_name, include=include, _depth=depth + 1,
+                        namespace=namespace)
+
+
 def _directive(out: AgentSource, d: Any, meta: Any, filename: str, include: IncludeResolver | None,
-               depth: int) -> None:
-    """Apply a directive ``{ name(args) }``: ``include`` merges the other file in place."""
+               depth: int, namespace: str | None) -> None:
+    """Apply a directive ``{ name(args) }``: ``include`` merges the other file in place (in the
+    namespace of its second argument, else the one in effect)."""
     if not isinstance(d, Literal):
         raise AslSyntaxError(filename, meta.line, meta.column, "invalid directive")
     if d.functor == "include" and d.args and isinstance(d.args[0], str):
         if depth > 20:
             raise AslSyntaxError(filename, meta.line, meta.column, "include nested too deeply")
-        resolver = include or path_include_resolver([])
+        ns = include_namespace(d.args[1]) if len(d.args) > 1 else namespace
         try:
-            path, text, src_name = resolver(d.args[0], filename)
+            inner = parse_include(d.args[0], filename, include, ns, depth)
         except OSError:
             raise AslSyntaxError(filename, meta.line, meta.column,
                                  f"the included file '{d.args[0]}' was not found") from None
-        inner = parse_source(text, path, src=src_name, include=include, _depth=depth + 1)
         out.beliefs.extend(inner.beliefs)
         out.goals.extend(inner.goals)
         out.plans.extend(inner.plans)
@@ -997,8 +1114,9 @@ def parse_term_by_grammar(text: str, exact: bool = False) -> Any:
 def parse_term_text(text: str) -> Any:
     """The term written by :func:`~rason.asl.terms.term_text` (how terms travel between
     processes): quoted atoms lose their quotes and ``\\\\`` is one backslash, so every term
-    reads back equal to the one written."""
-    return parse_term(text, exact=True)
+    reads back equal to the one written; sets, maps and queues come back as such."""
+    t = parse_term(text, exact=True)
+    return from_wire(t) if "$" in text else t
 
 
 def parse_literal(text: str) -> Literal:

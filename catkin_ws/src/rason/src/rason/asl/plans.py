@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from .terms import SOURCE_SELF, AnnotVar, Literal, PlanTerm, Var, is_constant, term_str
+from .terms import SOURCE_SELF, AnnotVar, Literal, NsLit, PlanTerm, Var, is_constant, term_str
 from .unify import compile_resolve
 
 # triggering event operators and types
@@ -179,6 +179,9 @@ class Plan:
     compiled_context: Any = field(default=None, repr=False)
     #: a plan of a source file (its label gets ``url(File)``), not one made from a plan term
     in_file: bool = True
+    #: ``+!g : c <: gc <- b`` (Jason 3's goal condition): once gc holds the goal is achieved,
+    #: whether the body is done or not; a body done before waits for it
+    goal_condition: Any = None
 
     def __post_init__(self) -> None:
         if type(self.context) is Literal and self.context.functor == "true" and not self.context.args:
@@ -207,8 +210,9 @@ class Plan:
         label = self.label if self.label is None else fn(self.label)
         trigger = Trigger(self.trigger.op, self.trigger.type, fn(self.trigger.literal))
         context = self.context if self.context is None else fn(self.context)
+        cond = self.goal_condition if self.goal_condition is None else fn(self.goal_condition)
         return Plan(label, trigger, context, map_deeds(self.body, fn), self.line, self.src,
-                    in_file=self.in_file)
+                    in_file=self.in_file, goal_condition=cond)
 
     def as_text(self, label: bool = True) -> str:
         s = ""
@@ -217,6 +221,8 @@ class Plan:
         s += str(self.trigger)
         if self.context is not None:
             s += " : " + term_str(self.context)
+        if self.goal_condition is not None:
+            s += " <: " + term_str(self.goal_condition)
         if self.body:
             s += " <- " + body_str(self.body)
         return s
@@ -273,6 +279,8 @@ class PlanLibrary:
         self._var_plans: list[Plan] = []
         #: some plan handles goal-state meta events (``^!g[state(S)]``)
         self.goal_state_plans = False
+        #: some plan has a goal condition (``<:``): intentions are checked every cycle
+        self.goal_condition_plans = False
 
     def add(self, plan: Plan, front: bool = False) -> None:
         plan = named_plan(plan)
@@ -281,12 +289,14 @@ class PlanLibrary:
             self._rebuild()
             return
         self.plans.append(plan)     # at the end: the index grows in place (loading stays linear)
-        if isinstance(plan.trigger.literal, (Var, AnnotVar)):
+        if isinstance(plan.trigger.literal, (Var, AnnotVar, NsLit)):
             self._var_plans.append(plan)
         else:
             self._index.setdefault(plan.trigger.key, []).append(plan)
         if plan.trigger.op == GOAL_STATE:
             self.goal_state_plans = True
+        if plan.goal_condition is not None:
+            self.goal_condition_plans = True
 
     def replace(self, k: int, plan: Plan) -> None:
         """Put ``plan`` in place of the ``k``-th plan (same position)."""
@@ -303,8 +313,9 @@ class PlanLibrary:
         self._index = {}
         self._var_plans = []
         self.goal_state_plans = any(p.trigger.op == GOAL_STATE for p in self.plans)
+        self.goal_condition_plans = any(p.goal_condition is not None for p in self.plans)
         for p in self.plans:
-            if isinstance(p.trigger.literal, (Var, AnnotVar)):
+            if isinstance(p.trigger.literal, (Var, AnnotVar, NsLit)):
                 self._var_plans.append(p)
             else:
                 self._index.setdefault(p.trigger.key, []).append(p)

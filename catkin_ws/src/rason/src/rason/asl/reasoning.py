@@ -37,7 +37,7 @@ from .plans import (
     Trigger,
 )
 from .stdlib import SUSPEND, FailGoal, IAError, call_ia
-from .terms import ListTerm, Literal, PlanTerm, RelExpr, Rule, is_ground, is_internal_action, term_str
+from .terms import ListTerm, Literal, NsLit, PlanTerm, RelExpr, Rule, is_ground, is_internal_action, term_str
 from .unify import ArithError, rename_vars, resolve, unify
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -100,6 +100,16 @@ def _self_sourced(ag: Agent, d: Deed, u: dict, error: str) -> Literal:
     return lit.with_self_source()
 
 
+def _goal_literal(ag: Agent, d: Deed, u: dict) -> Any:
+    """The goal of a ``!g``/``!!g`` deed under ``u`` (with ``source(self)``); a goal whose
+    namespace is a free variable (``!N::g``) is posted as it is, as Jason does."""
+    if type(d.term) is NsLit:
+        t = resolve(d.term, u, ag)
+        if type(t) is NsLit and type(t.lit) is Literal:
+            return NsLit(t.ns, t.lit.with_self_source())
+    return _self_sourced(ag, d, u, "invalid goal {}")
+
+
 # ====================================================================== deliberate
 
 def deliberate(ag: Agent) -> bool:
@@ -151,7 +161,7 @@ def sel_appl(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | N
     for plan in relevant:
         u: dict = {}
         pattern = plan.trigger.literal
-        if type(pattern) is Literal and not pattern.annots and pattern.tail is None:
+        if type(pattern) is Literal and not pattern.annots and pattern.tail is None and type(lit) is Literal:
             # same key as the event (RelPl): only the arguments remain to unify
             if pattern.args and not _unify_args(pattern.args, lit.args, u, ag):
                 continue
@@ -328,6 +338,8 @@ def _external_goal_failed(ag: Agent, trig: Trigger, what: str) -> None:
 def act(ag: Agent) -> bool:
     """ProcAct (one action feedback) + SelInt + ExecInt + ClrInt on one intention."""
     did = False
+    if ag.pl.goal_condition_plans:
+        ag.clear_satisfied_goals()
     if ag.action_results:
         ag.process_feedback(ag.action_results.popleft())
         did = True
@@ -477,8 +489,8 @@ def _exec_remove_belief_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d:
 def _exec_achieve(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``!g``: post the subgoal's event; the intention waits for it."""
     u = im.u
-    lit = _self_sourced(ag, d, u, "invalid goal {}")
-    if not (lit.known_ground or is_ground(lit)):
+    lit = _goal_literal(ag, d, u)
+    if not (type(lit) is Literal and lit.known_ground) and not is_ground(lit):
         lit = rename_vars(lit, {})
     i.suspended = Suspension.SUBGOAL
     trig = Trigger(ADD, ACHIEVE, lit)
@@ -494,7 +506,7 @@ def _exec_achieve_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed)
     im.stack.pop()
     trig = d.self_trigger
     if trig is None:
-        trig = Trigger(ADD, ACHIEVE, _self_sourced(ag, d, u, "invalid goal {}"))
+        trig = Trigger(ADD, ACHIEVE, _goal_literal(ag, d, u))
     ag.add_event(Event(trig))   # (its goal-state event "pending" is posted there)
     return True
 
@@ -719,6 +731,12 @@ def clr_int(ag: Agent, i: Intention) -> None:
     """ClrInt: pop finished intended means, passing results back to the caller's goal."""
     ims = i.ims
     while ims and not ims[-1].stack:
+        if ims[-1].trigger_u is not None and ims[-1].is_goal_add:
+            # Jason 3's goal condition: the goal is achieved when it holds, not when the
+            # plan is done; until then the intention waits (see Agent.clear_satisfied_goals)
+            ag.suspend(i, Suspension.GOAL_CONDITION)
+            i.pi_key = str(i.id)   # pending (Jason's PI), under the intention's number
+            return
         im = i.pop()
         if ag.pl.goal_state_plans and im.trigger.is_goal and im.trigger.op != GOAL_STATE:
             # a -!g plan that finishes achieves g too (Jason: the goal of the top means)

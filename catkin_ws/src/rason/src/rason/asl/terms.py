@@ -19,8 +19,8 @@ from typing import Any, Union
 
 from .functions import ARITH_NAMES
 
-Term = Union[float, str, "Var", "AnnotVar", "Literal", "ListTerm", "ArithExpr", "RelExpr", "LogExpr",
-             "PlanTerm"]
+Term = Union[float, str, "Var", "AnnotVar", "Literal", "NsLit", "ListTerm", "ArithExpr", "RelExpr",
+             "LogExpr", "PlanTerm"]
 
 _fresh = itertools.count(1)
 
@@ -142,6 +142,48 @@ class Literal:
 
     def __str__(self) -> str:
         return term_str(self)
+
+
+class NsLit:
+    """A literal whose namespace is a variable, ``N::b(X)`` (Jason: a literal whose namespace is
+    a ``VarTerm``), or a variable in a namespace, ``N::X`` / ``ns::X``. ``lit`` is the literal
+    (or variable) without namespace. Once both are known, :func:`~.unify.resolve` gives the
+    plain literal in that namespace; until then it unifies with a literal of any namespace
+    but a local one (:func:`split_ns`), taking its namespace and the literal without it."""
+
+    __slots__ = ("lit", "ns")
+
+    def __init__(self, ns: Var | Literal, lit: Literal | Var) -> None:
+        self.ns = ns
+        self.lit = lit
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, NsLit) and other.ns == self.ns and other.lit == self.lit
+
+    def __hash__(self) -> int:
+        return hash(("NS", self.ns, self.lit))
+
+    def __repr__(self) -> str:
+        return term_str(self)
+
+
+#: the prefix of a local namespace's unique name (``{ begin namespace(ns, local) }``)
+LOCAL_NS_PREFIX = "#"
+
+
+def split_ns(lit: Literal) -> tuple[str, Literal]:
+    """A literal's namespace (``default`` when it has none) and the literal without it."""
+    ns, sep, name = lit.functor.partition("::")
+    if not sep:
+        return "default", lit
+    return ns, Literal(name, lit.args, lit.annots, lit.tail, lit.neg)
+
+
+def in_ns(ns: str, lit: Literal) -> Literal:
+    """``lit`` (without namespace) in namespace ``ns`` (``default``: none)."""
+    if ns == "default":
+        return lit
+    return Literal(f"{ns}::{lit.functor}", lit.args, lit.annots, lit.tail, lit.neg)
 
 
 def is_internal_action(functor: str) -> bool:
@@ -394,6 +436,8 @@ def term_str(t: Any) -> str:
         return t.name
     if isinstance(t, AnnotVar):
         return t.name + _annots_str(t.annots, t.tail)
+    if isinstance(t, NsLit):
+        return term_str(t.ns) + "::" + term_str(t.lit)
     if isinstance(t, ListTerm):
         inner = ",".join(term_str(a) for a in t.items)
         if t.tail is not None:
@@ -442,6 +486,9 @@ def term_text(t: Any) -> str:
     if isinstance(t, AnnotVar):
         s = t.name + "[" + ",".join(term_text(a) for a in t.annots)
         return s + ("|" + term_text(t.tail) if t.tail is not None else "") + "]"
+    wire = getattr(t, "wire", None)   # a set, map or queue (rason.asl.containers)
+    if wire is not None:
+        return term_text(wire())
     return term_str(t)
 
 
@@ -572,7 +619,7 @@ def is_ground(t: Any) -> bool:
             t.map_terms(note)
             t.known_ground = all_ground
         return t.known_ground
-    return not isinstance(t, AnnotVar)
+    return not isinstance(t, (AnnotVar, NsLit))
 
 
 def list_to_python(t: Any) -> list | None:

@@ -23,19 +23,23 @@ from .functions import (
     power,
 )
 from .terms import (
+    LOCAL_NS_PREFIX,
     AnnotVar,
     ArithExpr,
     ListTerm,
     Literal,
     LogExpr,
+    NsLit,
     PlanTerm,
     RelExpr,
     Var,
     fresh_name,
+    in_ns,
     is_constant,
     is_ground,
     merge_annots,
     sort_key,
+    split_ns,
 )
 
 Subst = dict
@@ -235,6 +239,8 @@ def resolve(t: Any, s: Subst, ag: FunctionHost | None = None) -> Any:
             return e
     if tt is AnnotVar:
         return _resolve_annot_var(t, s, ag)
+    if tt is NsLit:
+        return _resolve_ns_lit(t, s, ag)
     if isinstance(t, ListTerm):
         items = [resolve(a, s, ag) for a in t.items]
         tail = t.tail
@@ -275,6 +281,38 @@ def _resolve_annot_var(t: AnnotVar, s: Subst, ag: FunctionHost | None) -> Any:
             items, _ = _items_and_tail(tv.items, tv.tail, s)
             extra.extend(items)
     return v.add_annots(extra) if extra else v
+
+
+def _resolve_ns_lit(t: NsLit, s: Subst, ag: FunctionHost | None) -> Any:
+    """``N::b(X)``: the literal in N's namespace once N is an atom, else still an ``NsLit``."""
+    ns = walk(t.ns, s)
+    lit = resolve(t.lit, s, ag)
+    if type(ns) is Literal and not ns.args and type(lit) is Literal:
+        if "::" in lit.functor:   # a variable bound to a literal of its own namespace
+            lit = split_ns(lit)[1]
+        return in_ns(ns.functor, lit)
+    return NsLit(ns if type(ns) in (Var, Literal) else t.ns, lit)
+
+
+def _unify_ns_lit(a: Any, b: Any, s: Subst, ag: FunctionHost | None) -> bool:
+    """Unify where one side (or both) is a literal of a variable namespace: the namespaces
+    unify as atoms (``default`` for none; never with a local namespace's name, as in
+    Jason), then the literals without them."""
+    if type(a) is NsLit:
+        a = _resolve_ns_lit(a, s, ag)
+    if type(b) is NsLit:
+        b = _resolve_ns_lit(b, s, ag)
+    if type(a) is NsLit and type(b) is NsLit:
+        return unify(a.ns, b.ns, s, ag) and unify(a.lit, b.lit, s, ag)
+    if type(a) is NsLit or type(b) is NsLit:
+        pattern, other = (a, b) if type(a) is NsLit else (b, a)
+        if type(other) is not Literal:
+            return False
+        ns, bare = split_ns(other)
+        if ns.startswith(LOCAL_NS_PREFIX) or not unify(pattern.ns, Literal(ns), s, ag):
+            return False
+        return unify(pattern.lit, bare, s, ag) if pattern is a else unify(bare, pattern.lit, s, ag)
+    return unify(a, b, s, ag)
 
 
 def compile_resolve(t: Any) -> Callable[..., Any] | None:
@@ -362,6 +400,8 @@ def unify(a: Any, b: Any, s: Subst, ag: FunctionHost | None = None) -> bool:
         if type(b) is not Literal:
             if type(b) is AnnotVar:
                 return _unify_annot_var(a, b, s, ag)
+            if type(b) is NsLit:
+                return _unify_ns_lit(a, b, s, ag)
             if type(b) is float and is_arith_function(a):
                 try:
                     return eval_arith(a, s, ag) == b
@@ -382,6 +422,8 @@ def unify(a: Any, b: Any, s: Subst, ag: FunctionHost | None = None) -> bool:
         return _unify_lists(a, b, s, ag)
     if ta is AnnotVar or type(b) is AnnotVar:
         return _unify_annot_var(a, b, s, ag)
+    if ta is NsLit or type(b) is NsLit:
+        return _unify_ns_lit(a, b, s, ag)
     if ta is ArithExpr:
         try:
             va = eval_arith(a, s, ag)
@@ -634,6 +676,8 @@ def _eq(a: Any, b: Any) -> bool:
                 and a.name == b.name)
     if type(a) is AnnotVar:
         return a.name == b.name
+    if type(a) is NsLit:
+        return _eq(a.ns, b.ns) and _eq(a.lit, b.lit)
     if isinstance(a, Literal):
         if a.functor != b.functor or a.neg != b.neg or len(a.args) != len(b.args):
             return False
@@ -675,6 +719,8 @@ def rename_vars(t: Any, mapping: dict) -> Any:
             v = mapping[t.name] = Var(fresh_name())
         return AnnotVar(v.name, tuple(rename_vars(a, mapping) for a in t.annots),
                         None if t.tail is None else rename_vars(t.tail, mapping))
+    if isinstance(t, NsLit):
+        return NsLit(rename_vars(t.ns, mapping), rename_vars(t.lit, mapping))
     if isinstance(t, (ArithExpr, LogExpr)):
         return type(t)(t.op, rename_vars(t.left, mapping),
                        None if t.right is None else rename_vars(t.right, mapping))

@@ -123,4 +123,4 @@ def wrong_arg(reason: str) -> IAError:
     return IAError("Wrong argument for internal action '{ia}': " + reason, "wrong_arguments")
 
 
-from . import comm, containers, core, extra, goals, lists, strings  # noqa: E402,F401  (registration)
+from . import comm, containers, control, core, extra, goals, lists, strings  # noqa: E402,F401  (registration)

@@ -28,10 +28,25 @@ from . import SUSPEND, FailGoal, IAError, arg_count, internal_action, wrong_arg
 
 
 # ---------------------------------------------------------------- console
+def print_text(ctx: Any, args: list, first: int = 0) -> str:
+    """The arguments from ``first`` on as Jason's ``.print`` joins them: strings without quotes,
+    a free variable as its name (as written in the action) with ``<no-value>``."""
+    written = ctx.deed.term.args if ctx.deed is not None and isinstance(ctx.deed.term, Literal) else ()
+    out = []
+    for k in range(first, len(args)):
+        a = args[k]
+        if isinstance(a, (Var, AnnotVar)):
+            raw = written[k] if k < len(written) else a
+            out.append(term_str(raw if isinstance(raw, (Var, AnnotVar)) else a) + "<no-value>")
+        else:
+            out.append(to_print_str(a))
+    return "".join(out)
+
+
 @internal_action(".print", ".println")
 def print_(ctx: Any, args: list) -> bool:
     """Concatenate the arguments (strings without quotes) and print them."""
-    ctx.ag.console("".join(to_print_str(a) for a in args))
+    ctx.ag.console(print_text(ctx, args))
     return True
 
 

@@ -12,6 +12,7 @@ from ..intentions import java_map_order
 from ..kqml import KQML_SRC
 from ..plans import ACHIEVE, ADD, BELIEF, PlanTerm, Trigger, plan_term_trigger
 from ..terms import (
+    LOCAL_NS_PREFIX,
     AnnotVar,
     ListTerm,
     Literal,
@@ -24,6 +25,7 @@ from ..terms import (
 )
 from ..unify import rename_vars, resolve, unify
 from . import IAError, arg_count, internal_action, wrong_arg
+from .core import print_text
 
 TRUE_ATOM = Literal("true")
 FALSE_ATOM = Literal("false")
@@ -40,7 +42,7 @@ def log(ctx: Any, args: list) -> bool:
         raise wrong_arg("a log level is expected")
     level = to_print_str(args[0])
     if level in _SHOWN_LEVELS:
-        text = "".join(to_print_str(a) for a in args[1:])
+        text = print_text(ctx, args, 1)
         ctx.ag.console(text if level == "info" else f"[{level.upper()}] {text}")
     return True
 
@@ -345,41 +347,15 @@ def at(ctx: Any, args: list) -> bool:
 
 
 # ---------------------------------------------------------------- namespaces
-def _java_hash(text: str) -> int:
-    h = 0
-    for ch in text:
-        h = (31 * h + ord(ch)) & 0xFFFFFFFF
-    return h
-
-
-def _namespaces(ag: Any) -> list[str]:
-    """The namespaces of the belief base (``default``, ``kqml`` and those of beliefs), in the
-    order Jason's map of namespace atoms gives them (an atom's hash adds its namespace's)."""
-    out = ["default", "kqml"]
-    for b in ag.bb:
-        head = b.head if isinstance(b, Rule) else b
-        if isinstance(head, Literal) and "::" in head.functor:
-            ns = head.functor.split("::", 1)[0]
-            if ns not in out:
-                out.append(ns)
-    n = 16
-    while len(out) > n * 3 // 4:
-        n *= 2
-    default_hash = _java_hash("default")
-
-    def bucket(ns: str) -> int:
-        h = default_hash if ns == "default" else (_java_hash(ns) + default_hash) & 0xFFFFFFFF
-        return ((h ^ (h >> 16)) & 0x7FFFFFFF) & (n - 1)
-    return sorted(out, key=bucket)
-
-
 @internal_action(".namespace")
 def namespace(ctx: Any, args: list) -> Any:
     """``.namespace(NS)``: NS is a namespace of this agent (enumerates them when free)."""
     arg_count(args, 1)
 
     def gen():
-        for ns in _namespaces(ctx.ag):
+        for ns in ctx.ag.bb.namespaces():
+            if ns.startswith(LOCAL_NS_PREFIX):   # a variable never takes a local namespace
+                continue
             s2 = dict(ctx.s)
             if unify(args[0], Literal(ns), s2):
                 yield s2

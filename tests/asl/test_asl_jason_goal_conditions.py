@@ -1,0 +1,49 @@
+"""Goal conditions (Jason 3's ``+!g : context <: condition <- body``): the goal is achieved
+once the condition holds, whether the body is done or not; a body done first waits for it.
+Expected outputs are what a Jason 3.3 build prints for the same programs."""
+
+from __future__ import annotations
+
+import pytest
+from asl_helpers import lines, run_source
+
+from rason.asl.parser import AslSyntaxError, parse_source
+
+
+def test_a_goal_ends_when_its_condition_holds_done_or_not() -> None:
+    src = ("!top1.\n!top2.\n!top3.\n"
+           "+!top1 <- !g1(5); .print(after_g1).\n"
+           "+!g1(X) <: done(X) <- .print(start1); .wait(100); +done(X); .print(after_add); "
+           ".wait(100); .print(not_reached).\n"
+           "+!top2 <- !g2; .print(after_g2).\n"
+           "+!g2 : true <: done2 <- .print(start2); !!trig.\n"
+           "+!trig <- .wait(300); .print(adding_done2); +done2.\n"
+           "+!top3 <- !g3; .print(after_g3).\n"
+           "+!g3 <: false <- .print(start3); .wait(50); .print(end3).\n")
+    # g1: its own +done(5) satisfies it (the rest of its body never runs); g2: its body ends
+    # first and it waits for done2; g3 (<: false) never ends
+    assert lines(run_source(src, timeout=3.0)) == [
+        "start1", "start2", "start3", "end3", "after_g1", "adding_done2", "after_g2"]
+
+
+def test_a_goal_waiting_for_its_condition_is_suspended_with_that_reason() -> None:
+    src = ("!top.\n+!top <- !!g(1); .wait(50); .suspended(g(X), R); .print(X, \" \", R); "
+           "+done(1); .wait(50); .print(end).\n"
+           "+!g(X) <: done(X) <- .print(g, X).\n"
+           "+done(_) <- .print(no_intention_left, \" \", 0).\n")
+    out = lines(run_source(src, timeout=3.0))
+    assert out[:2] == ["g1", "1 wait_goal_condition"] and out[-1] == "end"
+
+
+def test_a_goal_condition_prints_with_its_plan_but_not_in_plan_terms() -> None:
+    # as Jason 3.3: .list_plans shows it; the plan terms of .relevant_plans leave it out
+    src = ("!s.\n+!s <- .list_plans({+!g(_)}); .relevant_plans({+!g(_)}, [P|_]); .print(P).\n"
+           "@gp +!g(X) : ok <: done(X) <- .print(X).\n")
+    out = lines(run_source(src))
+    assert out[0] == '@gp[source(self),url("file:main.asl")] +!g(X) : ok <: done(X) <- .print(X).'
+    assert "<:" not in out[1] and out[1].startswith('{ @gp[source(self),url("file:main.asl")] +!g(')
+
+
+def test_a_goal_condition_belongs_to_an_achievement_goal_plan() -> None:
+    with pytest.raises(AslSyntaxError, match="goal condition"):
+        parse_source("+b <: c <- .print(x).\n")
