@@ -108,6 +108,8 @@ class Agent:
         #: folders where included files (and agents created by this one) are looked for
         self.source_path = list(source_path or [])
         self.arch = arch
+        #: the architecture has percepts to give (it overrides ``perceive``): each cycle asks
+        self._perceives = type(arch).perceive is not AgentArch.perceive
         self.filename = filename
         if src_name is None:
             src_name = os.path.basename(filename) if filename != "<string>" else filename
@@ -141,7 +143,8 @@ class Agent:
         self._percepts: set = set()
         # set once an [atomic] plan is intended: until then no intention can be atomic
         self.atomic_used = False
-        self._stop_requested = False
+        #: set by :meth:`request_stop` (``.stopMAS``, a killed agent): its runner stops
+        self.stop_requested = False
         # idle (Jason's sleeping agent): +jag_sleeping / +jag_awaking events for plans that want them
         self.sleeping = False
         # called (from any thread) whenever input arrives; a runner may use it to wake up
@@ -236,11 +239,19 @@ class Agent:
         """One reasoning cycle; True if it did anything."""
         with self._state_lock:
             try:
-                did = self.sense()
-                if did and self.sleeping:
-                    self._wake_up()
-                did = reasoning.deliberate(self) or did
-                did = reasoning.act(self) or did
+                # each stage is skipped (one test) when it has nothing to do: a busy agent
+                # without an environment or mail pays no call for sensing
+                did = False
+                if self._perceives or self._inbox or self._mail or self.timers:
+                    did = self.sense()
+                    if did and self.sleeping:
+                        self._wake_up()
+                if self.events or self.goal_state_events:
+                    did = reasoning.deliberate(self) or did
+                else:
+                    self.selected_event = None
+                if self.running or self.action_results or self.pl.goal_condition_plans:
+                    did = reasoning.act(self) or did
                 if not did and not self.sleeping and not self.events and not self.running:
                     did = self._fall_asleep()
             except Exception as e:  # a bug or an odd program must not kill the agent
@@ -274,7 +285,7 @@ class Agent:
             self._wake_event.set()
         threading.Thread(target=watcher, name=f"{self.name}-stop", daemon=True).start()
         clock = self.arch.clock
-        while not stop.is_set() and not self._stop_requested:
+        while not stop.is_set() and not self.stop_requested:
             self._wake_event.clear()
             if self.step():
                 continue
@@ -345,11 +356,7 @@ class Agent:
             self._state_lock.release()
 
     def request_stop(self) -> None:
-        self._stop_requested = True
-
-    @property
-    def stop_requested(self) -> bool:
-        return self._stop_requested
+        self.stop_requested = True
 
     # ================================================================ console
     def console(self, text: str) -> None:

@@ -40,6 +40,11 @@ class BeliefBase:
             snap = self._snapshots[key] = tuple(entries)
         return snap
 
+    def live(self, key: tuple) -> deque | tuple:
+        """The beliefs and rules of ``key`` themselves, not a snapshot: only for a reader that
+        changes no belief while it iterates (it may change them once it stopped)."""
+        return self._index.get(key) or ()
+
     def candidates_by_first(self, key: tuple, first: Any) -> tuple:
         """:meth:`candidates` narrowed to the beliefs whose first argument may unify with
         ``first`` (the query's first argument, its bindings followed): all of them unless
@@ -101,7 +106,12 @@ class BeliefBase:
 
     def _index_first(self, key: tuple, b: Literal, front: bool) -> None:
         """Put belief ``b`` (new in ``key``) in the first-argument index."""
-        fk = first_arg_key(b.args[0]) if b.args else None
+        if b.args:
+            fk = b.args[0]
+            if type(fk) is not float or fk != fk:   # a number is its own key (first_arg_key)
+                fk = first_arg_key(fk)
+        else:
+            fk = None
         if fk is None:
             self._unindexed[key] = self._unindexed.get(key, 0) + 1
             return
@@ -115,17 +125,24 @@ class BeliefBase:
 
     def _replace_first(self, key: tuple, old: Literal, new: Literal | None) -> None:
         """Put ``new`` where ``old`` is in the first-argument index (None: remove it)."""
-        fk = first_arg_key(old.args[0]) if old.args else None
+        if old.args:
+            fk = old.args[0]
+            if type(fk) is not float or fk != fk:   # a number is its own key (first_arg_key)
+                fk = first_arg_key(fk)
+        else:
+            fk = None
         if fk is None:
             if new is None:
                 self._unindexed[key] -= 1
             return
-        bucket = self._by_first[key][fk]
+        by_first = self._by_first[key]
+        bucket = by_first[fk]
+        if new is None and len(bucket) == 1:    # (old is that one)
+            del by_first[fk]
+            return
         pos = _position(bucket, old)
         if new is not None:
             bucket[pos] = new
-        elif len(bucket) == 1:
-            del self._by_first[key][fk]
         else:
             del bucket[pos]
 

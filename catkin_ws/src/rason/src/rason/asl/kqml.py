@@ -10,7 +10,6 @@ import hashlib
 import os
 import pickle
 import re
-from pathlib import Path
 
 from . import terms
 from .parser import parse_source, user_cache_folder
@@ -152,16 +151,32 @@ def _with_fresh_anonymous(plan: Plan) -> Plan:
     return plan.map_terms(lambda t: rename_vars(t, renaming))
 
 
+def _module_stamps(folder: str) -> list[tuple[str, int, int]]:
+    """Name, size and modification time (ns) of every ``.py`` file under ``folder``, sorted
+    by path (os.scandir: a start-up pays this, and pathlib's walk costs several times more)."""
+    found: list[tuple[str, str, int, int]] = []
+    pending = [folder]
+    while pending:
+        with os.scandir(pending.pop()) as entries:
+            for entry in entries:
+                if entry.is_dir(follow_symlinks=False):
+                    if entry.name != "__pycache__":
+                        pending.append(entry.path)
+                elif entry.name.endswith(".py"):
+                    stat = entry.stat()
+                    found.append((entry.path, entry.name, stat.st_size, stat.st_mtime_ns))
+    return [(name, size, mtime) for _, name, size, mtime in sorted(found)]
+
+
 def _stored_plans() -> list[Plan]:
     """The default plans parsed by an earlier run (a pickle in the user's cache folder, about
     100x faster than parsing them), else parsed now and stored. The file's name holds the
     digest of the plans' text and of the stamps of every rason.asl module, so any change parses
     again; anonymous variables get names fresh in this process."""
     stamp = hashlib.sha256(KQML_PLANS.encode("utf-8"))
-    package = Path(terms.__file__ or "").parent      # every module of rason.asl: a pickled
-    for module in sorted(package.rglob("*.py")):      # class may live in any of them
-        stat = module.stat()
-        stamp.update(f"{module.name}:{stat.st_size}:{stat.st_mtime_ns}".encode())
+    # every module of rason.asl: a pickled class may live in any of them
+    for name, size, mtime in _module_stamps(os.path.dirname(terms.__file__ or "")):
+        stamp.update(f"{name}:{size}:{mtime}".encode())
     folder = user_cache_folder()
     path = None if folder is None else os.path.join(folder, f"kqml-{stamp.hexdigest()[:16]}.pickle")
     if path is not None and os.path.isfile(path):

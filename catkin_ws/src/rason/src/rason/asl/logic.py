@@ -144,7 +144,9 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
     without annotations whose arguments are variables or constants, then a numeric comparison
     of variables and numbers, e.g. ``value(X) & X < 3700``; None for any other context.
     Rules, non-numbers and bound variables are handed to :func:`unify`, :func:`eval_rel` or
-    :func:`first_solution`, so both always give the same answer.
+    :func:`first_solution`, so both always give the same answer. The beliefs are read live
+    (:meth:`~.beliefs.BeliefBase.live`): nothing in this loop changes them, and it returns
+    at the first call that could.
     """
     if not (type(f) is LogExpr and f.op == "&" and type(f.right) is RelExpr
             and f.right.op in _NUMERIC_COMPARE):
@@ -163,7 +165,7 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
         lines = ["def context(ag, s):",
                  f"    f0 = s.get({first.name!r})",
                  "    bb = ag.bb",
-                 "    cands = bb.candidates(KEY) if f0 is None else bb.candidates_by_first(KEY, walk(f0, s))"]
+                 "    cands = bb.live(KEY) if f0 is None else bb.candidates_by_first(KEY, walk(f0, s))"]
     else:
         lines = ["def context(ag, s):",
                  "    cands = ag.bb.candidates_by_first(KEY, A0)"]
@@ -171,7 +173,7 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
              "        if type(b) is not Literal:",
              "            return first_solution(ag, F, s)   # rules: the general way",
              "        args = b.args",
-             "        s1 = dict(s)"]
+             "        s1 = dict(s) if s else {}"]
     for k, arg in enumerate(left.args):
         env[f"A{k}"] = arg
         if type(arg) is Var:

@@ -182,11 +182,17 @@ class Plan:
     #: ``+!g : c <: gc <- b`` (Jason 3's goal condition): once gc holds the goal is achieved,
     #: whether the body is done or not; a body done before waits for it
     goal_condition: Any = None
+    #: the trigger literal's arguments when only they decide whether it unifies with an event
+    #: of its key (no annotations, no tail), else None
+    trigger_args: tuple | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         if type(self.context) is Literal and self.context.functor == "true" and not self.context.args:
             self.context = None   # as Jason's Plan.setContext: a 'true' context is no context
         self.rev_body = tuple(reversed(self.body))
+        pattern = self.trigger.literal
+        self.trigger_args = (pattern.args if type(pattern) is Literal and not pattern.annots
+                             and pattern.tail is None else None)
         if isinstance(self.label, Literal):
             self.atomic = any(isinstance(a, Literal) and a.functor == "atomic" for a in self.label.annots)
 

@@ -123,7 +123,8 @@ def deliberate(ag: Agent) -> bool:
     if ag.goal_state_events:
         ag.post_goal_states()
     while ag.events:
-        ev = sel_ev(ag)
+        # SelEv: the first event, unless an atomic intention may have a say
+        ev = sel_ev(ag) if ag.atomic_used else ag.events.popleft()
         if ev is None:
             break
         ag.selected_event = ev
@@ -160,12 +161,12 @@ def sel_appl(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | N
     """
     for plan in relevant:
         u: dict = {}
-        pattern = plan.trigger.literal
-        if type(pattern) is Literal and not pattern.annots and pattern.tail is None and type(lit) is Literal:
+        args = plan.trigger_args
+        if args is not None and type(lit) is Literal:
             # same key as the event (RelPl): only the arguments remain to unify
-            if pattern.args and not _unify_args(pattern.args, lit.args, u, ag):
+            if args and not _unify_args(args, lit.args, u, ag):
                 continue
-        elif not unify(pattern, lit, u, ag):
+        elif not unify(plan.trigger.literal, lit, u, ag):
             continue
         ctx = plan.context
         if ctx is None:
@@ -188,7 +189,7 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     Returns False when an external non-goal event was discarded (Jason then selects the
     next event in the same cycle)."""
     trig = ev.trigger
-    relevant = rel_pl(ag, ev)
+    relevant = ag.pl.relevant(trig)   # RelPl (rel_pl, inlined)
     i = ev.intention
     if not relevant:
         if i is not None and not trig.is_goal:   # the common case, inlined: +b of a plan body
@@ -219,7 +220,9 @@ def handle_event(ag: Agent, ev: Event) -> bool:
             return True
     if plan.atomic:
         ag.atomic_used = True
-    i.push(im)
+        i.push(im)
+    else:
+        i.ims.append(im)   # (Intention.push: only an atomic plan changes more)
     i.suspended = None
     ag.running.append(i)
     return True
@@ -311,11 +314,13 @@ def _unify_args(xs: tuple, ys: tuple, u: dict, ag: Agent) -> bool:
 
 def _resume_after_belief_event(ag: Agent, i: Intention) -> None:
     """An internal +b/-b event had no plan: the intention just goes on after the belief deed."""
-    top = i.top()
-    if top is not None and top.stack:
-        top.stack.pop()
+    ims = i.ims
+    if ims:
+        stack = ims[-1].stack
+        if stack:
+            stack.pop()
     i.suspended = None
-    if i.ims and not i.dropped:
+    if ims and not i.dropped:
         ag.running.append(i)
 
 
@@ -343,7 +348,11 @@ def act(ag: Agent) -> bool:
     if ag.action_results:
         ag.process_feedback(ag.action_results.popleft())
         did = True
-    i = sel_int(ag)
+    running = ag.running
+    if not running:
+        return did
+    # SelInt: round robin (the first one) unless an atomic intention may have a say
+    i = sel_int(ag) if ag.atomic_used else running.popleft()
     if i is None:
         return did
     exec_int(ag, i)
@@ -403,15 +412,16 @@ def exec_int(ag: Agent, i: Intention) -> None:
         ok = None
     finally:
         ag.current = None
-    if ok is None:
+    if not ok or i.suspended is not None or i.dropped:   # waits, or failed (handled)
         return
-    if ok is False:
+    ims = i.ims
+    if not ims:
         return
-    if i.suspended is not None:
-        return
-    clr_int(ag, i)
-    if i.ims and i.suspended is None and not i.dropped:
-        ag.running.append(i)
+    if not ims[-1].stack:   # ClrInt only when the top means is finished
+        clr_int(ag, i)
+        if not ims or i.suspended is not None or i.dropped:
+            return
+    ag.running.append(i)
 
 
 def _fail(ag: Agent, i: Intention, im: IntendedMeans, d: Deed, kind: str, msg: str, code: Any = None) -> bool:
@@ -532,12 +542,14 @@ def _exec_constraint(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
 
 def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``-+b``: remove the first ``b(...)[source(self)]``, then add ``b``."""
-    u = im.u
     im.stack.pop()
-    lit = _self_sourced(ag, d, u, "cannot add {} as a belief")
+    build = d.build
+    lit = build(im.u, ag) if build is not None else None
+    if type(lit) is not Literal:
+        lit = _self_sourced(ag, d, im.u, "cannot add {} as a belief")
     # remove the first belief matching b(_,...)[source(self)] (external event), then add
     annots = lit.annots
-    for b in ag.bb.candidates((lit.functor, len(lit.args), lit.neg)):
+    for b in ag.bb.live((lit.functor, len(lit.args), lit.neg)):   # the loop ends at a change
         if type(b) is Literal and (b.annots == annots or all(a in b.annots for a in annots)):
             ag.remove_belief(b if b.annots == annots else b.with_annots(annots))
             break
