@@ -169,3 +169,17 @@ def test_a_goal_of_a_free_namespace_is_posted_as_it_is() -> None:
     out = run_source("!s.\n+!s <- !X::goal(2); .print(after, \" \", X); !!Y::goal(3).\n"
                      "+!X::goal(A) <- .print(goal_in, \" \", X, \" \", A).\n")
     assert lines(out) == ["goal_in X<no-value> 2", "after X<no-value>", "goal_in X<no-value> 3"]
+
+
+def test_unachieve_and_signal_keep_the_namespace_of_their_content() -> None:
+    out = io.StringIO()
+    mas = LocalMas(clock=VirtualClock(), out=out)
+    mas.add_agent("bob", "+!ns1::long <- .print(long_started); .wait(2000); .print(long_done).\n"
+                         "+N::s(X)[source(S)] <- .print(signal, \" \", N, \" \", X, \" \", S).\n", "bob.asl")
+    mas.add_agent("alice", "!s.\n+!s <- .send(bob, achieve, ns1::long); .wait(300); "
+                           ".send(bob, unachieve, ns1::long); .send(bob, signal, ns1::s(1)); .wait(3000); "
+                           ".send(bob, askOne, ns1::s(_), A); .print(A).\n", "alice.asl")
+    mas.run(timeout=10.0)
+    # the goal is dropped before it ends; a signal is an event, not a belief
+    assert lines(out.getvalue(), "bob") == ["long_started", "signal ns1 1 alice"]
+    assert lines(out.getvalue(), "alice") == ["false"]
