@@ -39,9 +39,98 @@ def test_a_variable_namespace_in_contexts_rules_goals_and_belief_changes() -> No
 
 def test_a_variable_namespace_prints_as_written_until_bound() -> None:
     out = lines(run_source(
-        "!s.\n+!s <- .print(M::b(Z)); N = ns2; T = N::foo(1); .print(T); "
-        "T = K::foo(V); .print(K, \" \", V); W = ns1::X; X = bar; .print(W).\n"))
-    assert out == ["M::b(Z)", "ns2::foo(1)", "ns2 1", "ns1::bar"]
+        "!s.\n+!s <- .print(M::b(Z)); N = ns2; N::T = N::foo(1); .print(T, \" \", N::T); "
+        "K::T = ns2::foo(V); .print(K, \" \", V); W = ns1::X; .print(bound, \" \", W).\n"
+        "-!s <- .print(failed).\n"))
+    # W = ns1::X fails: W is a variable of the default namespace, X one of ns1
+    assert out == ["M::b(Z)", "foo(1) ns2::foo(1)", "ns2 1", "failed"]
+
+
+def test_a_plain_variable_takes_only_literals_of_the_default_namespace() -> None:
+    src = ("!s.\n+!s <- !t1; !t2; !t3; !t4; !t5.\n"
+           "+!t1 <- X = ns1::foo(1); .print(bound, \" \", X).\n-!t1 <- .print(t1_fails).\n"
+           "+!t2 <- p(X) = p(ns1::a); .print(bound, \" \", X).\n-!t2 <- .print(t2_fails).\n"
+           "+!t3 <- X = default::foo; .print(t3, \" \", X).\n"
+           "+!t4 <- ns1::Z = ns1::bar(2); .print(t4, \" \", Z); ns1::W = ns2::bar; .print(bound, \" \", W).\n"
+           "-!t4 <- .print(t4_fails).\n"
+           "+!t5 <- Y = N::X; .print(t5, \" \", N); N::V = 5; .print(t5, \" \", V); "
+           "K::T = ns2::foo(1); .print(K, \" \", T, \" \", K::T); T = foo(A); .print(A).\n")
+    # two free variables unify when their namespaces do (Y = N::X gives N = default); a number
+    # has no namespace (N::V = 5 binds V)
+    assert lines(run_source(src)) == [
+        "t1_fails", "t2_fails", "t3 foo", "t4 bar(2)", "t4_fails", "t5 default", "t5 5",
+        "ns2 foo(1) ns2::foo(1)", "1"]
+
+
+def test_member_findall_and_belief_with_namespaced_literals() -> None:
+    src = ("b(1).\nns1::b(2).\nns1::b(c).\nns1::b(ns2::d).\nns2::b(3).\nns1::q.\n!s.\n"
+           "+!s <- .findall(N, .member(N::_, [ns1::a, b, ns2::c(1)]), L1); .print(L1); "
+           ".findall(K::Y, .member(K::Y, [ns1::a, b, ns2::c(1), 3]), L2); .print(L2); "
+           ".findall(X, .member(X, [ns1::a, b, default::e, ns2::f(1)]), L3); .print(L3); "
+           ".findall(X, ns1::b(X), L4); .print(L4); .findall(N::B, N::b(B), L5); .print(L5); "
+           ".findall(B, .belief(B), L6); .print(L6); .findall(B, .belief(ns1::B), L7); .print(L7); "
+           ".findall(N::B, .belief(N::B) & N \\== kqml, L8); .print(L8); "
+           ".findall(Q, Q, L9); .print(L9).\n")
+    assert lines(run_source(src)) == [
+        "[ns1,default,ns2]", "[ns1::a,b,ns2::c(1),3]", "[b,e]", "[2,c]", "[1,2,ns1::c,3]",
+        "[b(1)[source(self)]]",
+        "[q[source(self)],b(2)[source(self)],b(c)[source(self)],b(ns2::d)[source(self)]]",
+        "[b(1)[source(self)],ns1::q[source(self)],ns1::b(2)[source(self)],ns1::b(c)[source(self)],"
+        "ns1::b(ns2::d)[source(self)],ns2::b(3)[source(self)]]",
+        "[b(1)[source(self)]]"]
+
+
+def test_abolish_of_namespaced_beliefs() -> None:
+    src = ("!s.\n+!s <- +ns3::z(1); +ns3::z(2); +z(3); .abolish(ns3::z(_)); "
+           ".findall(N::z(V), N::z(V), L1); .print(L1); +ns3::z(4); .abolish(N::z(_)); "
+           ".findall(N::z(V), N::z(V), L2); .print(L2); +ns3::y(1); +y(2); .abolish(X); "
+           ".findall(N::y(V), N::y(V), L3); .print(L3).\n")
+    # a free variable abolishes the default namespace's beliefs only
+    assert lines(run_source(src)) == ["[z(3)]", "[]", "[ns3::y(1)]"]
+
+
+ASKED = ("ns1::v(1).\nns1::v(3).\nv(2).\nns2::v(4).\n"
+         "+!ns1::g(X)[source(S)] <- .print(ns1_g, \" \", X, \" \", S).\n"
+         "+!g(X)[source(S)] <- .print(g, \" \", X, \" \", S).\n"
+         "+N::w(X)[source(S)] <- .print(added, \" \", N, \" \", X, \" \", S).\n"
+         "-N::w(X)[source(S)] <- .print(removed, \" \", N, \" \", X, \" \", S).\n")
+ASKING = ("!s.\n"
+          "+!s <- .send(bob, askOne, ns1::v(_), ns1::A1); .print(A1); "
+          ".send(bob, askOne, ns1::v(_), N::A2); .print(N, \" \", A2); "
+          ".send(bob, askAll, ns1::v(_), L1); .print(L1); "
+          ".send(bob, askAll, K::v(_), L2); .print(L2); "
+          ".send(bob, askOne, M::v(_), A3); .print(A3); "
+          ".send(bob, askOne, ns1::missing, A4); .print(A4); "
+          ".send(bob, askOne, ns2::v(_)); .wait(500); .findall(P::V, P::v(V)[source(bob)], L3); .print(L3); "
+          ".send(bob, tell, ns1::w(1)); .send(bob, tell, [ns1::w(3), ns2::w(4)]); .send(bob, tell, w(2)); "
+          ".send(bob, achieve, ns1::g(5)); .send(bob, achieve, g(6)); .wait(500); "
+          ".send(bob, untell, ns1::w(1)); .wait(500); "
+          ".send(bob, askAll, Q::w(_), L4); .print(L4); "
+          ".send(bob, askOne, ns1::v(_), A5); .print(A5).\n"
+          "-!s[error_msg(M)] <- .print(M).\n")
+
+
+def test_messages_keep_the_namespace_of_their_content() -> None:
+    out = io.StringIO()
+    mas = LocalMas(clock=VirtualClock(), out=out)
+    mas.add_agent("bob", ASKED, "bob.asl")
+    mas.add_agent("alice", ASKING, "alice.asl")
+    mas.run(timeout=10.0)
+    text = out.getvalue()
+    assert lines(text, "alice") == [
+        "v(1)[source(bob)]", "ns1 v(1)[source(bob)]",
+        "[ns1::v(1)[source(bob)],ns1::v(3)[source(bob)]]",
+        "[v(2)[source(bob)],ns1::v(1)[source(bob)],ns1::v(3)[source(bob)],ns2::v(4)[source(bob)]]",
+        "v(2)[source(bob)]", "false", "[4]",
+        "[w(2)[source(bob)[source(alice)]],ns1::w(3)[source(bob)[source(alice)]],"
+        "ns2::w(4)[source(bob)[source(alice)]]]",
+        # an answer in ns1 does not go into a variable of the default namespace
+        "reply of an ask message ('ns1::v(1)[source(bob)]') does not unify with fourth argument "
+        "of .send ('A5')"]
+    # the order between the messages' plans depends on scheduling (Jason's too)
+    assert sorted(lines(text, "bob")) == [
+        "added default 2 alice", "added ns1 1 alice", "added ns1 3 alice", "added ns2 4 alice",
+        "g 6 alice", "ns1_g 5 alice", "removed ns1 1 alice"]
 
 
 def test_an_unbound_variable_namespace_cannot_take_a_belief() -> None:
@@ -80,3 +169,17 @@ def test_a_goal_of_a_free_namespace_is_posted_as_it_is() -> None:
     out = run_source("!s.\n+!s <- !X::goal(2); .print(after, \" \", X); !!Y::goal(3).\n"
                      "+!X::goal(A) <- .print(goal_in, \" \", X, \" \", A).\n")
     assert lines(out) == ["goal_in X<no-value> 2", "after X<no-value>", "goal_in X<no-value> 3"]
+
+
+def test_unachieve_and_signal_keep_the_namespace_of_their_content() -> None:
+    out = io.StringIO()
+    mas = LocalMas(clock=VirtualClock(), out=out)
+    mas.add_agent("bob", "+!ns1::long <- .print(long_started); .wait(2000); .print(long_done).\n"
+                         "+N::s(X)[source(S)] <- .print(signal, \" \", N, \" \", X, \" \", S).\n", "bob.asl")
+    mas.add_agent("alice", "!s.\n+!s <- .send(bob, achieve, ns1::long); .wait(300); "
+                           ".send(bob, unachieve, ns1::long); .send(bob, signal, ns1::s(1)); .wait(3000); "
+                           ".send(bob, askOne, ns1::s(_), A); .print(A).\n", "alice.asl")
+    mas.run(timeout=10.0)
+    # the goal is dropped before it ends; a signal is an event, not a belief
+    assert lines(out.getvalue(), "bob") == ["long_started", "signal ns1 1 alice"]
+    assert lines(out.getvalue(), "alice") == ["false"]

@@ -920,7 +920,7 @@ class Agent:
         """``.abolish(P)`` (Jason's ``Agent.abolish``): every belief P unifies with (P's
         annotations a subset of the belief's, e.g. ``b(_)[source(ag1)]``) goes, all of it;
         a variable P (``_[source(a)]``) looks at every belief."""
-        cands = list(self.bb.candidates(pattern.key)) if isinstance(pattern, Literal) else list(self.bb)
+        cands = list(self.bb.candidates(pattern.key)) if type(pattern) is Literal else list(self.bb)
         for b in cands:
             if isinstance(b, Literal) and unify(pattern, b, dict(s or {})):
                 removed = self.bb.remove(b)

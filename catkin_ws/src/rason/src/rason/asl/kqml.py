@@ -18,11 +18,13 @@ from .terms import Var
 from .unify import rename_vars
 
 KQML_PLANS = r"""
+// The content of a message keeps its namespace: NS::Content takes it apart (a plain
+// variable only holds literals of the default namespace) and each plan puts it back.
 @kqmlReceivedTellStructure[atomic]
-+!kqml_received(Sender, tell, Content, _)
++!kqml_received(Sender, tell, NS::Content, _)
    :  .literal(Content) & .ground(Content) & not .list(Content) &
       .add_nested_source(Content, Sender, CA)
-   <- ++CA.
+   <- ++NS::CA.
 
 @kqmlReceivedTellList
 +!kqml_received(Sender, tell, Content, _)
@@ -33,10 +35,10 @@ KQML_PLANS = r"""
 +!add_all_kqml_received(_, []).
 
 @kqmlReceivedTellList2
-+!add_all_kqml_received(Sender, [H|T])
++!add_all_kqml_received(Sender, [NS::H|T])
    :  .literal(H) & .ground(H)
    <- .add_nested_source(H, Sender, CA);
-      ++CA;
+      ++NS::CA;
       !add_all_kqml_received(Sender, T).
 
 @kqmlReceivedTellList3
@@ -44,14 +46,14 @@ KQML_PLANS = r"""
    <- !add_all_kqml_received(Sender, T).
 
 @kqmlReceivedUnTell[atomic]
-+!kqml_received(Sender, untell, Content, _)
++!kqml_received(Sender, untell, NS::Content, _)
    :  .add_nested_source(Content, Sender, CA)
-   <- --CA.
+   <- --NS::CA.
 
 @kqmlReceivedAchieve
-+!kqml_received(Sender, achieve, Content, _)
++!kqml_received(Sender, achieve, NS::Content, _)
    :  not .list(Content) & .add_nested_source(Content, Sender, CA)
-   <- !!CA.
+   <- !!NS::CA.
 
 @kqmlReceivedAchieveList
 +!kqml_received(Sender, achieve, Content, _)
@@ -62,34 +64,34 @@ KQML_PLANS = r"""
 +!add_all_kqml_achieve(_, []).
 
 @kqmlReceivedAchieveList2
-+!add_all_kqml_achieve(Sender, [H|T])
++!add_all_kqml_achieve(Sender, [NS::H|T])
    <- .add_nested_source(H, Sender, CA);
-      !!CA;
+      !!NS::CA;
       !add_all_kqml_achieve(Sender, T).
 
 @kqmlReceivedUnAchieve[atomic]
-+!kqml_received(_, unachieve, Content, _)
-   <- .drop_desire(Content).
++!kqml_received(_, unachieve, NS::Content, _)
+   <- .drop_desire(NS::Content).
 
 @kqmlReceivedAskOne1d
-+!kqml_received(Sender, askOne, Content, MsgId)
-   :  .kqml_belief_answer(Content, Ans)
-   <- .send(Sender, tell, Ans, MsgId).
++!kqml_received(Sender, askOne, NS::Content, MsgId)
+   :  .kqml_belief_answer(NS, Content, Ans)
+   <- .send(Sender, tell, NS::Ans, MsgId).
 
 @kqmlReceivedAskOne1c
-+!kqml_received(Sender, askOne, Content, MsgId)
++!kqml_received(Sender, askOne, NS::Content, MsgId)
    <- .add_nested_source(Content, Sender, CA);
-      ?CA;
+      ?NS::CA;
       .remove_source_annot(CA, CA2);
-      .send(Sender, tell, CA2, MsgId).
+      .send(Sender, tell, NS::CA2, MsgId).
 
 @kqmlReceivedAskOne2
--!kqml_received(Sender, askOne, Content, MsgId)[error(test_goal_failed)]
-   <- .send(Sender, untell, Content, MsgId).
+-!kqml_received(Sender, askOne, NS::Content, MsgId)[error(test_goal_failed)]
+   <- .send(Sender, untell, NS::Content, MsgId).
 
 @kqmlReceivedAskAll2
-+!kqml_received(Sender, askAll, Content, MsgId)
-   <- .findall(Ans, .kqml_belief_answer(Content, Ans), List);
++!kqml_received(Sender, askAll, NS::Content, MsgId)
+   <- .findall(NS::Ans, .kqml_belief_answer(NS, Content, Ans), List);
       .send(Sender, tell, List, MsgId).
 
 @kqmlReceivedTellHow
@@ -108,9 +110,9 @@ KQML_PLANS = r"""
       .send(Sender, tellHow, ListOfPlansAn, MsgId).
 
 @kqmlReceivedSignal
-+!kqml_received(Sender, signal, Content, _)
++!kqml_received(Sender, signal, NS::Content, _)
    :  not .list(Content) & .add_nested_source(Content, Sender, CA)
-   <- .signal(CA).
+   <- .signal(NS::CA).
 
 @kqmlError
 -!kqml_received(_Sender, _Per, _Content, _MsgId)[error(EID), error_msg(EMsg)]

@@ -287,6 +287,8 @@ def _resolve_ns_lit(t: NsLit, s: Subst, ag: FunctionHost | None) -> Any:
     """``N::b(X)``: the literal in N's namespace once N is an atom, else still an ``NsLit``."""
     ns = walk(t.ns, s)
     lit = resolve(t.lit, s, ag)
+    if type(lit) in (float, str, ListTerm):   # Jason: only a literal has a namespace
+        return lit
     if type(ns) is Literal and not ns.args and type(lit) is Literal:
         if "::" in lit.functor:   # a variable bound to a literal of its own namespace
             lit = split_ns(lit)[1]
@@ -307,12 +309,26 @@ def _unify_ns_lit(a: Any, b: Any, s: Subst, ag: FunctionHost | None) -> bool:
     if type(a) is NsLit or type(b) is NsLit:
         pattern, other = (a, b) if type(a) is NsLit else (b, a)
         if type(other) is not Literal:
-            return False
+            # a number, string or list has no namespace: ``N::X = 5`` binds X, leaves N free
+            return type(pattern.lit) is Var and type(other) in (float, str, ListTerm) and unify(
+                pattern.lit, other, s, ag)
         ns, bare = split_ns(other)
         if ns.startswith(LOCAL_NS_PREFIX) or not unify(pattern.ns, Literal(ns), s, ag):
             return False
         return unify(pattern.lit, bare, s, ag) if pattern is a else unify(bare, pattern.lit, s, ag)
     return unify(a, b, s, ag)
+
+
+def _bind_to_ns_lit(v: Var, t: NsLit, s: Subst, ag: FunctionHost | None) -> bool:
+    """A plain (free) variable against ``N::lit`` / ``N::X``: as in Jason, the variable is in the
+    default namespace, so N must unify with ``default``; then the variable takes the literal."""
+    r = _resolve_ns_lit(t, s, ag)
+    if type(r) is not NsLit:
+        return unify(v, r, s, ag)
+    return unify(r.ns, _DEFAULT_NS, s, ag) and unify(v, r.lit, s, ag)
+
+
+_DEFAULT_NS = Literal("default")
 
 
 def compile_resolve(t: Any) -> Callable[..., Any] | None:
@@ -375,11 +391,21 @@ def unify(a: Any, b: Any, s: Subst, ag: FunctionHost | None = None) -> bool:
                 return True
         elif type(b) is AnnotVar:
             return _unify_annot_var(a, b, s, ag)
+        elif type(b) is Literal:
+            if "::" in b.functor and b.functor[0] != "'":
+                return False   # a plain variable is in the default namespace (Jason)
+        elif type(b) is NsLit:
+            return _bind_to_ns_lit(a, b, s, ag)
         s[a.name] = b
         return True
     if isinstance(b, Var):
         if type(a) is AnnotVar:
             return _unify_annot_var(a, b, s, ag)
+        if type(a) is Literal:
+            if "::" in a.functor and a.functor[0] != "'":
+                return False
+        elif type(a) is NsLit:
+            return _bind_to_ns_lit(b, a, s, ag)
         s[b.name] = a
         return True
     ta = type(a)

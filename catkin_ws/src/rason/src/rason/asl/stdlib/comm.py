@@ -8,7 +8,18 @@ from typing import Any
 from ..arch import Message, new_msg_id
 from ..intentions import Event
 from ..plans import ADD, BELIEF, Trigger
-from ..terms import ListTerm, Literal, Var, fresh_name, list_to_python, merge_annots, term_str
+from ..terms import (
+    LOCAL_NS_PREFIX,
+    ListTerm,
+    Literal,
+    Var,
+    fresh_name,
+    in_ns,
+    list_to_python,
+    merge_annots,
+    split_ns,
+    term_str,
+)
 from ..unify import eval_arith, resolve, unify
 from . import SUSPEND, IAError, arg_count, internal_action
 
@@ -101,23 +112,35 @@ def add_nested_source(ctx: Any, args: list) -> bool:
 
 @internal_action(".kqml_belief_answer")
 def kqml_belief_answer(ctx: Any, args: list) -> Any:
-    """rason's form of Jason 3.3's ``kqml::bel_no_source_self`` rule (askOne/askAll
-    answers): each belief matching Content, with every annotation but ``source(self)``."""
-    arg_count(args, 2)
-    content = args[0]
+    """``.kqml_belief_answer(NS, Content, Ans)``: rason's form of Jason 3.3's
+    ``kqml::bel_no_source_self`` rule (askOne/askAll answers). Content and Ans are literals
+    without namespace; NS is their namespace (free: each namespace of the belief base, in
+    Jason's order, never a local one). Each belief ``NS::Content`` gives Ans, the belief
+    without namespace and with every annotation but ``source(self)``."""
+    arg_count(args, 3)
+    ns_arg, content = args[0], args[1]
     if not isinstance(content, Literal):
         return False
-    pattern = content if content.tail is not None else Literal(
-        content.functor, content.args, content.annots, Var(fresh_name()), content.neg)
+    if isinstance(ns_arg, Literal) and not ns_arg.args:
+        spaces = [ns_arg.functor]
+    elif isinstance(ns_arg, Var):
+        spaces = [ns for ns in ctx.ag.bb.namespaces() if not ns.startswith(LOCAL_NS_PREFIX)]
+    else:
+        return False
+    tail = content.tail if content.tail is not None else Var(fresh_name())
+    bare = Literal(content.functor, content.args, content.annots, tail, content.neg)
     self_src = Literal("source", (Literal("self"),))
 
     def gen():
-        for sol in ctx.query_beliefs(pattern):
-            b = resolve(pattern, sol)
-            ans = b.with_annots(tuple(a for a in b.annots if a != self_src), None)
-            s2 = dict(ctx.s)
-            if unify(content.with_annots(()), ans.with_annots(()), s2) and unify(args[1], ans, s2):
-                yield s2
+        for ns in spaces:
+            pattern = in_ns(ns, bare)
+            for sol in ctx.query_beliefs(pattern):
+                b = split_ns(resolve(pattern, sol))[1]
+                ans = b.with_annots(tuple(a for a in b.annots if a != self_src), None)
+                s2 = dict(ctx.s)
+                if (unify(ns_arg, Literal(ns), s2) and unify(content.with_annots(()), ans.with_annots(()), s2)
+                        and unify(args[2], ans, s2)):
+                    yield s2
     return gen()
 
 

@@ -12,6 +12,7 @@ from ..terms import (
     AnnotVar,
     ListTerm,
     Literal,
+    NsLit,
     Var,
     fresh_name,
     is_ground,
@@ -296,7 +297,7 @@ def _as_literal(t: Any) -> Literal:
 def abolish(ctx: Any, args: list) -> bool:
     arg_count(args, 1)
     t = args[0]
-    if not isinstance(t, (Literal, AnnotVar, Var)):
+    if not isinstance(t, (Literal, AnnotVar, Var, NsLit)):
         raise IAError(f"not a literal: {term_str(t)}")
     ctx.ag.abolish(t, ctx.s)
     return True

@@ -16,10 +16,12 @@ from ..terms import (
     AnnotVar,
     ListTerm,
     Literal,
+    NsLit,
     Rule,
     Var,
     is_ground,
     make_list,
+    split_ns,
     term_str,
     to_print_str,
 )
@@ -410,6 +412,10 @@ def belief(ctx: Any, args: list) -> Any:
         cands: Any = bb.candidates(pattern.key)
     elif isinstance(pattern, (Var, AnnotVar)):
         cands = list(bb)
+    elif isinstance(pattern, NsLit):   # namespace by namespace, in Jason's order
+        order = {ns: k for k, ns in enumerate(bb.namespaces())}
+        cands = sorted(bb, key=lambda b: order.get(
+            split_ns(b.head if isinstance(b, Rule) else b)[0], len(order)))
     else:
         raise wrong_arg("first argument must be a literal")
 
