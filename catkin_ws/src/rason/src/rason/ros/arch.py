@@ -61,14 +61,14 @@ class RosClock(Clock):
 
 @dataclass
 class PendingAction:
-    """An action published and not yet answered."""
+    """An action issued and not yet answered (published, or held back until it can be)."""
 
     action_id: int
     text: str
     sent_at: float
     accepted_at: float | None = None
-    #: the action term, kept until a decomposer was connected when it was published (an agent
-    #: acting as soon as it starts may publish before the decomposer's connection is made)
+    #: the action term while it is held back, not yet published: no decomposer could answer it
+    #: yet (an agent acting as soon as it starts acts before the connections are made)
     unheard: Any = None
 
 
@@ -198,10 +198,9 @@ class RosAgArch(AgentArch):
         failed: list[tuple[PendingAction, str, str]] = []
         with self._lock:
             unheard = [p for p in self.pending.values() if p.unheard is not None]
-        if unheard and self.node.action_listeners() > 0:
-            for pending in unheard:      # nobody heard them: a decomposer is there now
-                action, pending.unheard = pending.unheard, None
-                self.node.publish_action(self.name, pending.action_id, action)
+        for pending in unheard:      # held back: sent once a decomposer can answer them
+            if self.node.publish_action(self.name, pending.action_id, pending.unheard):
+                pending.unheard = None
         with self._lock:
             for pending in list(self.pending.values()):
                 if pending.accepted_at is None and ack_timeout > 0 \

@@ -298,8 +298,8 @@ class RasonNode:
 
     # -- output -----------------------------------------------------------------------------------------
     def publish_action(self, agent: str, action_id: int, action) -> bool:
-        """Publish an action on jason/action; False when no subscriber was connected (nothing
-        received it: the caller publishes it again once a decomposer connects)."""
+        """Publish an action on jason/action; False, without publishing, while no decomposer
+        could answer it (see :meth:`action_listeners`): the caller tries again later."""
         if self.action_listeners() == 0:
             return False
         name, args = action.functor, [term_str(arg) for arg in action.args]
