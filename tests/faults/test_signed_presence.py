@@ -51,6 +51,7 @@ class Scene:
     """The test's view of the robot: velocity commands and action feedback, in ROS time."""
 
     def __init__(self, ns: str) -> None:
+        self.ns = ns
         self.lock = threading.Lock()
         self.cmd: list[tuple[float, bool]] = []
         self.feedback: list[tuple[float, object]] = []
@@ -59,7 +60,8 @@ class Scene:
             rospy.Subscriber(f"{ns}/mobile_base/commands/velocity", Twist, self._on_cmd,
                              queue_size=100, tcp_nodelay=True),
             rospy.Subscriber(f"{ns}/jason/event", Event, self._on_event, queue_size=100),
-            rospy.Subscriber("/jason/messages", AgentMessage, self._on_message, queue_size=100)]
+            rospy.Subscriber(f"{ns}/jason/presence", AgentMessage, self._on_message,
+                             queue_size=100)]
 
     def close(self) -> None:
         for sub in self.subs:
@@ -98,7 +100,7 @@ class Forger:
 
     def __init__(self, scene: Scene) -> None:
         self.scene = scene
-        self.pub = rospy.Publisher("/jason/messages", AgentMessage, queue_size=100)
+        self.pub = rospy.Publisher(f"{scene.ns}/jason/presence", AgentMessage, queue_size=100)
         self.sent = 0
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, daemon=True)
@@ -151,7 +153,7 @@ def drive_and_kill(ros: RosHarness, tmp_path: Path, key: Path | None):
                             "cmd_vel:=mobile_base/commands/velocity", "odom:=mobile_base/odom",
                             ns=ns, params=keyed)
     ros.wait_for_topic(f"{ns}/mobile_base/odom", timeout=60, watch=[sim, decomposer])
-    ros.wait_for_subscriber("/jason/messages", timeout=30, watch=[decomposer])
+    ros.wait_for_subscriber(f"{ns}/jason/presence", timeout=30, watch=[decomposer])
     scene = Scene(ns)
     forger = Forger(scene)
     deadline = time.monotonic() + 20           # the forged beats must reach the decomposer

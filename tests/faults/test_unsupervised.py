@@ -121,7 +121,8 @@ class Rig:
             rospy.Subscriber(f"{NS}/jason/cancel", ActionCancel, self._on_cancel,
                              queue_size=100, tcp_nodelay=True),
             rospy.Subscriber(f"{NS}/jason/event", Event, self._on_event, queue_size=100),
-            rospy.Subscriber("/jason/messages", AgentMessage, self._on_message, queue_size=100),
+            rospy.Subscriber(f"{NS}/jason/presence", AgentMessage, self._on_message,
+                             queue_size=100),
             rospy.Subscriber(f"{NS}/mobile_base/odom", Odometry, self._on_odom, queue_size=10)]
 
     def close(self) -> None:

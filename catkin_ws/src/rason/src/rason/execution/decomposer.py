@@ -34,7 +34,11 @@ What the base does (names relative, so ``__ns:=/robot`` puts it under the robot)
   action, RESULT ``OK`` or a reason (:mod:`rason.execution.results`).
 * ``jason/cancel`` (jason_msgs/ActionCancel, in): the agent gave the action up; it is halted at
   once and ends ``cancelled``.
-* ``/jason/messages`` (jason_msgs/AgentMessage, in): the agents' presence. An agent that said
+* ``jason/presence`` (jason_msgs/AgentMessage, in): the presence beats and goodbyes the agent
+  nodes of this namespace repeat there every period (:data:`rason.ros.presence.PRESENCE_TOPIC`;
+  a decomposer does not hear the fleet's messages on ``/jason/messages``, so its cost does not
+  grow with the fleet; remap it with ``jason/action`` if the agent lives in another namespace).
+  An agent that said
   ``goodbye``, or was heard before and then not for ``~presence_timeout`` s, has its actions
   halted and ended ``cancelled``: nothing runs for an agent that is gone. (An issuer never heard,
   such as ``rosrun rason act``, is not supervised this way.) With ``~auth_key_file`` (the
@@ -79,7 +83,7 @@ from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.master_watch import watch_master
 from rason.ros.params import load_or_exit, param, start_node
-from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE
+from rason.ros.presence import GOODBYE, PRESENCE, PRESENCE_TOPIC
 
 __all__ = ["OK", "Decomposer", "DecomposerParams", "Goal", "Verdict", "run"]
 
@@ -157,7 +161,7 @@ class Decomposer:
         self.setup()
         self.subscribe("jason/action", Action, self._on_action, queue_size=100)
         self.subscribe("jason/cancel", ActionCancel, self._on_cancel, queue_size=100)
-        self.subscribe(MESSAGES_TOPIC, AgentMessage, self._on_message, queue_size=200)
+        self.subscribe(PRESENCE_TOPIC, AgentMessage, self._on_message, queue_size=50)
         rospy.Timer(rospy.Duration(1.0 / self.params.watchdog_rate),
                     self._locked("watchdog", self._on_tick))
         rospy.on_shutdown(self._on_shutdown)

@@ -8,7 +8,7 @@ Topics:
     ``jason/event`` (jason_msgs/Event, out): ``action_accepted [action_id]`` when a motion
         starts; ``action_feedback [RESULT, action_id, message]`` when it ends, RESULT one of
         ``OK``, ``no_progress``, ``bad_move``, ``bad_parameters``, ``preempted``, ``cancelled``.
-    ``jason/cancel`` (jason_msgs/ActionCancel, in), ``/jason/messages`` (presence): as every
+    ``jason/cancel`` (jason_msgs/ActionCancel, in), ``jason/presence`` (the agents'): as every
         decomposer (:mod:`rason.execution.decomposer`): a cancelled action, or one whose agent
         is gone, stops the robot at once and ends ``cancelled``.
     ``cmd_vel`` (geometry_msgs/Twist, out): the drive commands; a zero Twist when a motion

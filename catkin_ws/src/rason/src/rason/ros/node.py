@@ -8,6 +8,8 @@ Topics (relative names, so one robot per namespace works; un-namespaced it is th
   jason/cancel        publish   jason_msgs/ActionCancel  actions the agent gave up (stop them)
   jason/event         subscribe jason_msgs/Event       action_accepted / action_feedback
   jason/perception    subscribe jason_msgs/Perception  per-source perception lists
+  jason/presence      publish   jason_msgs/AgentMessage  the agents' presence beats and goodbyes,
+                                every period, for this robot's decomposers (their supervision)
   /jason/messages     both      jason_msgs/AgentMessage  agent communication and presence (global)
   /jason/directory    both      jason_msgs/AgentMessage  (latched) each node's directory-facilitator
                                 registrations: performative "df", content [provider(Ag,"service"),...]
@@ -62,6 +64,7 @@ from rason.ros.presence import (
     HELLO,
     MESSAGES_TOPIC,
     PRESENCE,
+    PRESENCE_TOPIC,
     Directory,
 )
 
@@ -193,6 +196,9 @@ class RasonNode:
         # a node that subscribes hears our agents' presence at once, not a period later
         self.message_pub = rospy.Publisher(MESSAGES_TOPIC, AgentMessage, queue_size=100,
                                            subscriber_listener=_GreetNewSubscribers(self.greet))
+        # the same beats for this robot's decomposers, every period (they do not hear the fleet)
+        self.presence_pub = rospy.Publisher(self.topic(PRESENCE_TOPIC), AgentMessage,
+                                            queue_size=10, tcp_nodelay=True)
         self._presence_period = presence_period
         # ROS time each hosted agent last published on /jason/messages (presence or message)
         self._last_said: dict[str, float] = {}
@@ -478,7 +484,10 @@ class RasonNode:
             print(f"[{agent_name}] {text}", flush=True)
 
     def _announce(self, name: str, content: str = "") -> None:
-        self._publish(_presence(name, content))
+        """Presence (``content``: "", HELLO or GOODBYE) on /jason/messages and jason/presence."""
+        beat = _presence(name, content)
+        self._publish(beat)
+        self.presence_pub.publish(beat)        # the same signed beat, for our decomposers
 
     def greet(self, publish_to_newcomer: Callable[[AgentMessage], None]) -> None:
         """A node just subscribed to /jason/messages: tell it (only it) which agents we host."""
@@ -613,6 +622,8 @@ class RasonNode:
             last = self._last_said.get(name)
             if last is None or not 0 <= now - last < self._presence_period / 2:
                 self._announce(name)
+            else:   # our decomposers hear only jason/presence: they get the beat every period
+                self._publish(_presence(name), self.presence_pub)
         for gone in self.directory.expire(now):
             rospy.loginfo("agent %s not heard for %.1f s: forgotten", gone, self.directory.timeout)
 

@@ -13,6 +13,10 @@ from collections.abc import Iterable
 
 #: The global topic of agent messages and presence announcements (jason_msgs/AgentMessage).
 MESSAGES_TOPIC = "/jason/messages"
+#: The relative topic (``<robot ns>/jason/presence``) where an agent node repeats its agents'
+#: presence beats and goodbyes, every period, for the decomposers of its own robot: they supervise
+#: the agents that act on them without hearing every message of a fleet on MESSAGES_TOPIC.
+PRESENCE_TOPIC = "jason/presence"
 #: The global latched topic where each node publishes its agents' directory-facilitator
 #: registrations (jason_msgs/AgentMessage, performative DF_PERFORMATIVE).
 DIRECTORY_TOPIC = "/jason/directory"
