@@ -11,12 +11,15 @@ else (:data:`COVERED_ELSEWHERE`); every fault is checked by one demo run of the 
 from __future__ import annotations
 
 import json
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
 
+from rason.testing.harness import processes_left_by
 from rason_diagnosis.scenario import FAULTS, expected_diagnosis
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
@@ -83,3 +86,26 @@ def test_demo_in_a_user_world(world, fault, seed, tmp_path):
     assert done.returncode == 0
     assert printed["location_s"] is not None and printed["location_s"] < 5.0, printed
     assert printed["total_s"] is not None
+
+
+@pytest.mark.parametrize(("sig", "started"), [(signal.SIGTERM, 1), (signal.SIGINT, 1),
+                                              (signal.SIGTERM, 4)])
+def test_an_interrupted_demo_leaves_no_process_behind(tmp_path, sig: int, started: int):
+    # interrupted while roscore starts (1 process of the run up) or while the nodes start (4)
+    demo = subprocess.Popen([sys.executable, "-m", "rason_diagnosis", "--fault", "none",
+                             "--quiet", "--no-inspector", "--out", str(tmp_path / "run")],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while len(processes_left_by(demo.pid)) < started:
+            assert demo.poll() is None, demo.stdout.read() if demo.stdout else ""
+            assert time.monotonic() < deadline, "the demo did not start its processes"
+            time.sleep(0.02)
+        demo.send_signal(sig)
+        out, _ = demo.communicate(timeout=90)
+    finally:
+        if demo.poll() is None:
+            demo.kill()
+    assert demo.returncode == 130, out[-3000:]
+    assert "interrupted: every node of the run was stopped" in out
+    assert processes_left_by(demo.pid) == []

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 import time
 from pathlib import Path
@@ -19,7 +20,7 @@ import yaml
 
 from rason.inspector.main import InspectorParams
 from rason_diagnosis import thesis
-from rason_diagnosis.hosts import LinkCut
+from rason_diagnosis.hosts import LinkCut, interrupt
 from rason_diagnosis.scenario import FAULTS, default_fault, run_scenario
 from turtlebot_sim.config import resolve
 
@@ -81,10 +82,17 @@ def main(argv: list[str] | None = None) -> int:
     fault = args.fault or default_fault(seed)
     out = args.out or Path("out") / f"demo-{fault}-{seed}"
     print(f"[demo] fault {fault}, seed {seed}; output in {out}", flush=True)
-    result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,
-                          sim_timeout=args.timeout,
-                          inspector_port=args.inspector_port if args.inspector else None,
-                          hosts=args.hosts, cuts=args.cut, world=args.world)
+    # SIGTERM (the campaign's timeout, a service manager) ends the run as Ctrl-C does: every
+    # node, roscore included, is stopped on the way out, also in the middle of the start
+    signal.signal(signal.SIGTERM, interrupt)
+    try:
+        result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,
+                              sim_timeout=args.timeout,
+                              inspector_port=args.inspector_port if args.inspector else None,
+                              hosts=args.hosts, cuts=args.cut, world=args.world)
+    except KeyboardInterrupt:
+        print("\n[demo] interrupted: every node of the run was stopped", flush=True)
+        return 130
 
     print("\n[demo] ---------------- result ----------------")
     print(f"[demo] injected fault : {fault}")

@@ -193,7 +193,7 @@ class CaseStudyLan:
         # namespaces removed on the way out. A SIGKILLed run is cleaned at the next start.
         self._sigterm = None
         if threading.current_thread() is threading.main_thread():
-            self._sigterm = signal.signal(signal.SIGTERM, _interrupt)
+            self._sigterm = signal.signal(signal.SIGTERM, interrupt)
         try:
             self.lan.create()
             if self._relay_wanted is not None:
@@ -223,7 +223,8 @@ class CaseStudyLan:
             self.lan.remove()
 
 
-def _interrupt(signum: int, _frame: object) -> None:
+def interrupt(signum: int, _frame: object) -> None:
+    """A signal handler that ends the run as Ctrl-C does (KeyboardInterrupt)."""
     raise KeyboardInterrupt(f"signal {signum}")
 
 

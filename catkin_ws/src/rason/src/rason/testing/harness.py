@@ -17,6 +17,7 @@ stdout and stderr go to a log file under ``ros.log_dir`` and are kept in memory 
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import shutil
@@ -28,7 +29,7 @@ import tempfile
 import threading
 import time
 import xmlrpc.client
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -61,6 +62,33 @@ def processes_left_by(parent_pid: int) -> list[str]:
         if token in env + b"\0":
             found.append(f"{pid}: {cmd[:120]}")
     return found
+
+
+@contextlib.contextmanager
+def interrupts_deferred() -> Iterator[None]:
+    """Ctrl-C and SIGTERM that come during the block take effect when it ends.
+
+    Around a spawn and its bookkeeping: interrupted in between (Python's subprocess can raise
+    after the fork, before the child's exec), the child would run on with nobody to stop it.
+    Signal handlers belong to the main thread; elsewhere the block runs as it is.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    previous = {sig: signal.signal(sig, lambda sig, _frame: caught.append(sig))
+                for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        if caught:
+            handler = previous[caught[0]]
+            if callable(handler):
+                handler(caught[0], None)
+            elif handler == signal.SIG_DFL:
+                signal.raise_signal(caught[0])
 
 
 class HarnessError(RuntimeError):
@@ -239,20 +267,26 @@ class RosHarness:
         roscore = ["roscore", "-p", str(self.port)]
         if self.master_host:
             roscore = self.master_host.command(roscore)
-        self.roscore = Process("roscore", roscore, self.env,
-                               self.log_dir / "roscore.log", echo=False)
-        deadline = time.monotonic() + timeout
-        while not self._master_up():
-            if not self.roscore.alive():
-                raise HarnessError(f"roscore exited:\n{self.roscore.output()}")
-            if time.monotonic() > deadline:
-                self.stop()
-                raise HarnessError(f"roscore did not answer within {timeout} s")
-            time.sleep(0.05)
-        # rosout must be up too, or the first node's log calls race it.
-        self.wait_for_node("/rosout", timeout)
-        if self.sim_time:
-            self.set_param("/use_sim_time", True)
+        # `with RosHarness()` calls stop() only once start() has returned: whatever ends the
+        # start (a timeout, Ctrl-C, SIGTERM turned into KeyboardInterrupt) stops roscore here
+        try:
+            with interrupts_deferred():
+                self.roscore = Process("roscore", roscore, self.env,
+                                       self.log_dir / "roscore.log", echo=False)
+            deadline = time.monotonic() + timeout
+            while not self._master_up():
+                if not self.roscore.alive():
+                    raise HarnessError(f"roscore exited:\n{self.roscore.output()}")
+                if time.monotonic() > deadline:
+                    raise HarnessError(f"roscore did not answer within {timeout} s")
+                time.sleep(0.05)
+            # rosout must be up too, or the first node's log calls race it.
+            self.wait_for_node("/rosout", timeout)
+            if self.sim_time:
+                self.set_param("/use_sim_time", True)
+        except BaseException:
+            self.stop()
+            raise
         return self
 
     def restart_master(self, down: float = 0.0, timeout: float = 20.0) -> float:
@@ -342,9 +376,10 @@ class RosHarness:
         count = self._names.get(label, 0)
         self._names[label] = count + 1
         log_name = re.sub(r"[^\w.-]+", "_", label) + (f".{count}" if count else "") + ".log"
-        proc = Process(label, argv, {**self.env, **(env or {})}, self.log_dir / log_name,
-                       echo=self.echo if echo is None else echo, cwd=cwd)
-        self.processes.append(proc)
+        with interrupts_deferred():       # a process is never running unrecorded
+            proc = Process(label, argv, {**self.env, **(env or {})}, self.log_dir / log_name,
+                           echo=self.echo if echo is None else echo, cwd=cwd)
+            self.processes.append(proc)
         return proc
 
     def check_output(self, argv: Sequence[str], timeout: float = 30.0,
