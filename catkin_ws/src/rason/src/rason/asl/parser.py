@@ -598,12 +598,14 @@ class _ToAst:
 
 
 class _ReduceBuilder:
-    """The transformer lark calls while its LALR parser reduces a rule (no parse tree is made,
-    which halves the cost of parsing): it hands each rule to the current :class:`_ToAst` with
-    the rule's start position, the position of its first child (a token's own, else the one
-    recorded for the child's object while this text is parsed)."""
+    """The callbacks the LALR parser calls while it reduces a rule (no parse tree is made, which
+    halves the cost of parsing): it hands each rule to the current :class:`_ToAst` with the
+    rule's start position, the position of its first child (a token's own, else the one
+    recorded for the child's object while this text is parsed). ``token_type``: the class of
+    the parser's tokens (lark's, for the tests that compare with lark's parser)."""
 
-    def __init__(self) -> None:
+    def __init__(self, token_type: type = Token) -> None:
+        self.token_type = token_type
         self.ast: _ToAst | None = None
         self.positions: dict[int, _Meta] = {}
         self.made: builtins.list = []      # keeps every made object alive: ids stay unique
@@ -613,13 +615,14 @@ class _ReduceBuilder:
             raise AttributeError(rule)
         positions = self.positions
         made = self.made
+        token_type = self.token_type
 
         def reduce(children: builtins.list) -> Any:
             meta = _NO_POSITION
             for child in children:
                 if child is None:
                     continue
-                if isinstance(child, Token):
+                if isinstance(child, token_type):
                     meta = _Meta(child.line or 0, child.column or 0)
                 else:
                     meta = positions.get(id(child), _NO_POSITION)
