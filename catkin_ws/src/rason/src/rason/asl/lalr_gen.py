@@ -13,7 +13,6 @@ the generated tables alone.
 
 from __future__ import annotations
 
-import hashlib
 import pprint
 import re
 import sys
@@ -25,11 +24,6 @@ from lark.parse_tree_builder import maybe_create_child_filter
 from lark.parsers.lalr_analysis import Shift
 
 from .parser import GRAMMAR
-
-
-def grammar_digest(grammar: str) -> str:
-    """The SHA-256 of a grammar's text (the generated module records the one it was made from)."""
-    return hashlib.sha256(grammar.encode("utf-8")).hexdigest()
 
 
 def reference_lark(grammar: str) -> Lark:
@@ -109,7 +103,7 @@ def tables(grammar: str) -> dict:
         rules.append((str(r.origin.name), len(r.expansion), None if internal else name,
                       bool(r.options.expand1 and not r.alias), _child_filter(r)))
     return {
-        "GRAMMAR_SHA256": grammar_digest(grammar),
+        "GRAMMAR": grammar,           # what the tables were made from (the parser checks it)
         "TERMINALS": tuple(terminals),
         "UNLESS": unless,
         "IGNORE": frozenset(str(n) for n in lk.lexer_conf.ignore),

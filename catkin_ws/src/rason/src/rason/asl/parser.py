@@ -7,7 +7,6 @@ Every error is raised as :class:`AslSyntaxError` (``file:line:col: message``).
 from __future__ import annotations
 
 import builtins
-import hashlib
 import itertools
 import os
 import re
@@ -210,6 +209,8 @@ def user_cache_folder() -> str | None:
 def grammar_cache_path(grammar: str) -> str | None:
     """Where the LALR tables built from ``grammar`` are kept between runs (None: nowhere).
     Lark checks the grammar's digest stored inside, so a stale file is rebuilt."""
+    import hashlib  # here: only the .mas2j reader needs it, and its import costs an agent's start
+
     folder = user_cache_folder()
     if folder is None:
         return None
@@ -234,7 +235,7 @@ def _get_parser() -> LalrParser:
     """The agent language's parser (made once; its tables must be those of ``GRAMMAR``)."""
     global _parser
     if _parser is None:
-        if hashlib.sha256(GRAMMAR.encode("utf-8")).hexdigest() != asl_tables.GRAMMAR_SHA256:
+        if asl_tables.GRAMMAR != GRAMMAR:
             raise RuntimeError("rason.asl.asl_tables is stale: regenerate it with "
                                "python -m rason.asl.lalr_gen (see rason/asl/lalr_gen.py)")
         _parser = LalrParser(asl_tables, _BUILDER)
