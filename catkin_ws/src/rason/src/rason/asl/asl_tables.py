@@ -177,7 +177,7 @@ UNLESS = {'ATOM': {'while': 'WHILE',
 IGNORE = frozenset(['BLOCK_COMMENT', 'COMMENT', 'WS'])
 START_STATE = 0
 END_STATE = 20
-STATES = (
+STATES: tuple[dict[str, int], ...] = (
     {'$END': -157, 'AT': 1, 'ATOM': 2, 'BANG': 3, 'CIRCUMFLEX': 4, 'LBRACE': 5, 'MINUS': 6, 'NEG': 7, 'NS': 8, 'PLUS': 9, 'VNS': 10, '__start_star_0': 11, 'belief': 12, 'directive': 13, 'init_goal': 14, 'item': 15, 'label': 16, 'literal': 17, 'plan': 18, 'rule': 19, 'start': 20, 'top': 21, 'trigger': 22},
     {'ATOM': 2, 'LSQB': 23, 'NEG': 7, 'NS': 8, 'VAR': 24, 'VNS': 10, 'annots': 25, 'literal': 26, 'var': 27},
     {'AMPERSAND': -53, 'CIRCUMFLEX': -53, 'COLON': -53, 'COMMA': -53, 'DIV': -53, 'DOT': -53, 'EQUAL': -53, 'LESSTHAN': -53, 'LPAR': 28, 'LSQB': 23, 'MINUS': -53, 'MOD': -53, 'MORETHAN': -53, 'PLUS': -53, 'RBRACE': -53, 'RPAR': -53, 'RSQB': -53, 'SEMICOLON': -53, 'SLASH': -53, 'STAR': -53, 'VBAR': -53, '__ANON_0': -53, '__ANON_1': -53, '__ANON_10': -53, '__ANON_11': -53, '__ANON_12': -53, '__ANON_13': -53, '__ANON_14': -53, '__ANON_2': -53, '__ANON_3': -53, '__ANON_4': -53, '__ANON_9': -53, 'annots': 29, 'args': 30},
@@ -477,7 +477,7 @@ STATES = (
     {'LBRACE': 266, 'block': 297},
     {'ATOM': -34, 'BANG': -34, 'COLON': -34, 'DOT': -34, 'ELIF': -34, 'ELSE': -34, 'FOR': -34, 'IF': -34, 'LBRACE': -34, 'LPAR': -34, 'LSQB': -34, 'MINUS': -34, 'NEG': -34, 'NOT': -34, 'NS': -34, 'NUMBER': -34, 'PLUS': -34, 'QMARK': -34, 'RBRACE': -34, 'SEMICOLON': -34, 'STRING': -34, 'VAR': -34, 'VNS': -34, 'WHILE': -34, '__ANON_0': -34, '__ANON_2': -34, '__ANON_5': -34, '__ANON_6': -34, '__ANON_7': -34, '__ANON_8': -34},
 )
-RULES = (
+RULES: tuple[tuple, ...] = (
     ('__args_star_2', 2, None, False, (((1, False, 0),), 0)),
     ('__args_star_2', 3, None, False, (((0, True, 0), (2, False, 0)), 0)),
     ('__ctrl_star_1', 2, None, False, (((0, True, 0), (1, False, 0)), 0)),

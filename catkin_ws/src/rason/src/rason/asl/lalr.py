@@ -143,25 +143,22 @@ class LalrParser:
             while pos < n:
                 state = state_stack[-1]
                 m = match(text, pos)
-                kind = m.lastgroup if m is not None else None
-                if kind is not None and kind not in ignore:
-                    value = m.group()
-                    actions = states[state]
-                    keywords = unless.get(kind)
-                    if keywords is not None:
-                        k = keywords.get(value)
-                        if k is not None and k in actions:
-                            kind = k
-                        elif kind not in actions:
-                            kind = None
-                    elif kind not in actions:
-                        kind = None
-                    if kind is None:          # not this state's: ask its own scanner
-                        value, kind = self._lex_in_state(text, pos, line, pos - line_start + 1, state)
-                elif kind is None:
+                if m is None:                 # nothing of the language: the state's error
                     value, kind = self._lex_in_state(text, pos, line, pos - line_start + 1, state)
                 else:
                     value = m.group()
+                    kind = m.lastgroup or ""  # (every alternative is a named group)
+                    if kind not in ignore:
+                        actions = states[state]
+                        keywords = unless.get(kind)
+                        taken = kind in actions
+                        if keywords is not None:
+                            k = keywords.get(value)
+                            if k is not None and k in actions:
+                                kind = k
+                                taken = True
+                        if not taken:         # not this state's: ask its own scanner
+                            value, kind = self._lex_in_state(text, pos, line, pos - line_start + 1, state)
                 column = pos - line_start + 1
                 newlines = value.count("\n")
                 line_start_next = pos + value.rindex("\n") + 1 if newlines else line_start
@@ -212,10 +209,10 @@ class LalrParser:
             found = self.root.match(text, pos)
             if found is None:
                 raise UnexpectedCharacters(text, pos, line, column, sc.allowed)
-            kind = found.lastgroup
+            kind = found.lastgroup or ""
             kind = self.root.unless.get(kind, {}).get(found.group(), kind)
             raise UnexpectedToken(Token(kind, found.group(), line, column), sc.allowed)
-        kind = m.lastgroup
+        kind = m.lastgroup or ""
         keywords = sc.unless.get(kind)
         if keywords is not None:
             kind = keywords.get(m.group(), kind)

@@ -17,6 +17,7 @@ import pprint
 import re
 import sys
 from collections import deque
+from typing import Any
 
 from lark import Lark
 from lark.lexer import PatternRE, PatternStr
@@ -91,7 +92,7 @@ def tables(grammar: str) -> dict:
     rule_list = sorted({arg for acts in table.states.values() for action, arg in acts.values()
                         if action is not Shift}, key=lambda r: (r.origin.name, str(r), r.alias or ""))
     rule_index = {r: i for i, r in enumerate(rule_list)}
-    states = [None] * len(order)
+    states: list[Any] = [None] * len(order)
     for s, acts in table.states.items():
         states[order[s]] = {str(sym): (order[arg] if action is Shift else ~rule_index[arg])
                             for sym, (action, arg) in sorted(acts.items())}
@@ -128,7 +129,8 @@ def module_text(grammar: str) -> str:
         if name == "IGNORE":
             lines.append(f"{name} = frozenset({sorted(value)!r})")
         elif name in ("STATES", "RULES"):     # one state (rule) a line, in order
-            lines.append(f"{name} = (")
+            kind = "tuple[dict[str, int], ...]" if name == "STATES" else "tuple[tuple, ...]"
+            lines.append(f"{name}: {kind} = (")
             lines.extend(f"    {item!r}," for item in value)
             lines.append(")")
         else:

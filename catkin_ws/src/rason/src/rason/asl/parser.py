@@ -605,7 +605,7 @@ class _ReduceBuilder:
     recorded for the child's object while this text is parsed). ``token_type``: the class of
     the parser's tokens (lark's, for the tests that compare with lark's parser)."""
 
-    def __init__(self, token_type: type = Token) -> None:
+    def __init__(self, token_type: Any = Token) -> None:
         self.token_type = token_type
         self.ast: _ToAst | None = None
         self.positions: dict[int, _Meta] = {}
