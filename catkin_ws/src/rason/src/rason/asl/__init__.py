@@ -6,13 +6,28 @@ library, circumstance), ``reasoning`` (the transition system), ``stdlib`` (inter
 ``arch`` (agent architecture), ``mas2j``/``runtime``/``cli`` (projects and the local runner).
 """
 
+from typing import TYPE_CHECKING
+
 from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, VirtualClock, WallClock
-from .mas2j import MasProject, load_mas2j, parse_mas2j
 from .parser import AslSyntaxError, parse_literal, parse_source, parse_term, parse_term_text
 from .runtime import LocalArch, LocalMas, run_file
 from .stdlib import ModuleLoadError, internal_action, load_modules
 from .terms import ListTerm, Literal, Var, format_number, term_str, term_text
+
+if TYPE_CHECKING:
+    from .mas2j import MasProject, load_mas2j, parse_mas2j
+
+#: names of the ``.mas2j`` reader, imported on first use (it needs lark; a lone agent does not)
+_MAS2J_NAMES = ("MasProject", "load_mas2j", "parse_mas2j")
+
+
+def __getattr__(name: str) -> object:
+    if name in _MAS2J_NAMES:
+        from . import mas2j
+
+        return getattr(mas2j, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __all__ = [
     "Agent", "AgentArch", "AgentOptions", "AslSyntaxError", "Clock", "ListTerm", "Literal",

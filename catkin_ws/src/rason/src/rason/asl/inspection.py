@@ -9,7 +9,6 @@ default=vars)`` serialises them (see :func:`to_json`).
 
 from __future__ import annotations
 
-import json
 import os
 import weakref
 from dataclasses import dataclass, field
@@ -117,6 +116,8 @@ def mind_state(agent: Agent) -> MindState:
 
 def to_json(value: object) -> str:
     """Compact JSON of records of this module (and of dicts and lists holding them)."""
+    import json  # here: an agent that is never inspected does not pay its import at start
+
     return json.dumps(value, default=vars, separators=(",", ":"))
 
 

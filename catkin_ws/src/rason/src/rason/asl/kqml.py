@@ -6,10 +6,10 @@ a ``+!kqml_received(Sender, Performative, Content, MsgId)`` event handled by the
 program's own).
 """
 
-import hashlib
 import os
 import pickle
 import re
+import zlib
 
 from . import terms
 from .parser import parse_source, user_cache_folder
@@ -172,28 +172,30 @@ def _module_stamps(folder: str) -> list[tuple[str, int, int]]:
 
 def _stored_plans() -> list[Plan]:
     """The default plans parsed by an earlier run (a pickle in the user's cache folder, about
-    100x faster than parsing them), else parsed now and stored. The file's name holds the
-    digest of the plans' text and of the stamps of every rason.asl module, so any change parses
-    again; anonymous variables get names fresh in this process."""
-    stamp = hashlib.sha256(KQML_PLANS.encode("utf-8"))
+    6x faster than parsing them), else parsed now and stored. The file holds the stamp it was
+    made for (the plans' text and the stamps of every rason.asl module; its name a checksum of
+    it), so any change parses again; anonymous variables get names fresh in this process."""
     # every module of rason.asl: a pickled class may live in any of them
-    for name, size, mtime in _module_stamps(os.path.dirname(terms.__file__ or "")):
-        stamp.update(f"{name}:{size}:{mtime}".encode())
+    stamp = "\n".join([KQML_PLANS] + [f"{name}:{size}:{mtime}" for name, size, mtime
+                                      in _module_stamps(os.path.dirname(terms.__file__ or ""))])
     folder = user_cache_folder()
-    path = None if folder is None else os.path.join(folder, f"kqml-{stamp.hexdigest()[:16]}.pickle")
+    # a checksum names the file (hashlib's import alone would cost a fifth of reading it)
+    path = (None if folder is None
+            else os.path.join(folder, f"kqml-{zlib.crc32(stamp.encode('utf-8')):08x}.pickle"))
     if path is not None and os.path.isfile(path):
         try:
             with open(path, "rb") as f:
-                stored = pickle.load(f)
-            return [_with_fresh_anonymous(p) for p in stored]
-        except (OSError, pickle.UnpicklingError, EOFError, AttributeError, TypeError):
+                stored_stamp, stored = pickle.load(f)
+            if stored_stamp == stamp:
+                return [_with_fresh_anonymous(p) for p in stored]
+        except (OSError, pickle.UnpicklingError, EOFError, AttributeError, TypeError, ValueError):
             pass                               # unreadable: parse again and store anew
     parsed = parse_source(KQML_PLANS, "kqmlPlans.asl", src=KQML_SRC).plans
     if path is not None:
         try:
             partial = f"{path}.{os.getpid()}.tmp"    # agents often start together
             with open(partial, "wb") as f:
-                pickle.dump(parsed, f, protocol=pickle.HIGHEST_PROTOCOL)
+                pickle.dump((stamp, parsed), f, protocol=pickle.HIGHEST_PROTOCOL)
             os.replace(partial, path)
         except (OSError, pickle.PicklingError, TypeError, AttributeError):
             pass                               # a read-only cache folder: parse every time

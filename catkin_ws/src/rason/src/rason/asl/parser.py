@@ -1,4 +1,5 @@
-"""AgentSpeak (Jason 3 dialect) parser built on a lark LALR grammar.
+"""AgentSpeak (Jason 3 dialect) parser: a lark LALR grammar, compiled ahead of time into
+:mod:`rason.asl.asl_tables` and run by :mod:`rason.asl.lalr` (no lark at run time).
 
 Every error is raised as :class:`AslSyntaxError` (``file:line:col: message``).
 """
@@ -6,7 +7,6 @@ Every error is raised as :class:`AslSyntaxError` (``file:line:col: message``).
 from __future__ import annotations
 
 import builtins
-import hashlib
 import itertools
 import os
 import re
@@ -16,10 +16,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from lark import Lark, Token
-from lark.exceptions import LarkError, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
-
+from . import asl_tables
 from .containers import from_wire
+from .lalr import LalrParser, Token, UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 from .plans import (
     ACHIEVE,
     ADD,
@@ -192,7 +191,7 @@ ATOM: /\.?[a-z][A-Za-z0-9_]*(\.[a-zA-Z][A-Za-z0-9_]*)*/ | /'(\\.|[^'\\\n])*'/
 VAR: /[A-Z_][A-Za-z0-9_]*/
 """ + LEXICON
 
-_lark: Lark | None = None
+_parser: LalrParser | None = None
 
 
 def user_cache_folder() -> str | None:
@@ -210,6 +209,8 @@ def user_cache_folder() -> str | None:
 def grammar_cache_path(grammar: str) -> str | None:
     """Where the LALR tables built from ``grammar`` are kept between runs (None: nowhere).
     Lark checks the grammar's digest stored inside, so a stale file is rebuilt."""
+    import hashlib  # here: only the .mas2j reader needs it, and its import costs an agent's start
+
     folder = user_cache_folder()
     if folder is None:
         return None
@@ -217,21 +218,28 @@ def grammar_cache_path(grammar: str) -> str | None:
     return os.path.join(folder, f"lark-{digest}-py{sys.version_info[0]}{sys.version_info[1]}.cache")
 
 
-def cached_lark(grammar: str, transformer: Any = None) -> Lark:
-    """A LALR parser for ``grammar`` (placeholders for ``[x]``), its tables loaded from
+def cached_lark(grammar: str, transformer: Any = None) -> Any:
+    """A lark LALR parser for ``grammar`` (placeholders for ``[x]``), its tables loaded from
     :func:`grammar_cache_path` when an earlier run built them (about 10x faster than building
     them). Without ``transformer`` it makes trees with positions; with one, the transformer's
-    methods build the result while the parser reduces (no tree)."""
+    methods build the result while the parser reduces (no tree). The ``.mas2j`` reader uses it;
+    lark is imported on the first call (an agent's start does without it)."""
+    from lark import Lark  # here: importing lark costs a third of an agent's start
+
     path = grammar_cache_path(grammar)
     return Lark(grammar, parser="lalr", propagate_positions=transformer is None, maybe_placeholders=True,
                 cache=path if path is not None else False, transformer=transformer)
 
 
-def _get_lark() -> Lark:
-    global _lark
-    if _lark is None:
-        _lark = cached_lark(GRAMMAR, _BUILDER)
-    return _lark
+def _get_parser() -> LalrParser:
+    """The agent language's parser (made once; its tables must be those of ``GRAMMAR``)."""
+    global _parser
+    if _parser is None:
+        if asl_tables.GRAMMAR != GRAMMAR:
+            raise RuntimeError("rason.asl.asl_tables is stale: regenerate it with "
+                               "python -m rason.asl.lalr_gen (see rason/asl/lalr_gen.py)")
+        _parser = LalrParser(asl_tables, _BUILDER)
+    return _parser
 
 
 def _unescape(raw: str, exact: bool = False) -> str:
@@ -591,12 +599,14 @@ class _ToAst:
 
 
 class _ReduceBuilder:
-    """The transformer lark calls while its LALR parser reduces a rule (no parse tree is made,
-    which halves the cost of parsing): it hands each rule to the current :class:`_ToAst` with
-    the rule's start position, the position of its first child (a token's own, else the one
-    recorded for the child's object while this text is parsed)."""
+    """The callbacks the LALR parser calls while it reduces a rule (no parse tree is made, which
+    halves the cost of parsing): it hands each rule to the current :class:`_ToAst` with the
+    rule's start position, the position of its first child (a token's own, else the one
+    recorded for the child's object while this text is parsed). ``token_type``: the class of
+    the parser's tokens (lark's, for the tests that compare with lark's parser)."""
 
-    def __init__(self) -> None:
+    def __init__(self, token_type: Any = Token) -> None:
+        self.token_type = token_type
         self.ast: _ToAst | None = None
         self.positions: dict[int, _Meta] = {}
         self.made: builtins.list = []      # keeps every made object alive: ids stay unique
@@ -606,13 +616,14 @@ class _ReduceBuilder:
             raise AttributeError(rule)
         positions = self.positions
         made = self.made
+        token_type = self.token_type
 
         def reduce(children: builtins.list) -> Any:
             meta = _NO_POSITION
             for child in children:
                 if child is None:
                     continue
-                if isinstance(child, Token):
+                if isinstance(child, token_type):
                     meta = _Meta(child.line or 0, child.column or 0)
                 else:
                     meta = positions.get(id(child), _NO_POSITION)
@@ -627,7 +638,7 @@ class _ReduceBuilder:
         """``text`` parsed into ``ast``'s objects (one text at a time: see ``_PARSE_LOCK``)."""
         self.ast = ast
         try:
-            return _get_lark().parse(text)
+            return _get_parser().parse(text)
         finally:
             self.ast = None
             self.positions.clear()
@@ -693,17 +704,18 @@ def _fix(t: Any) -> Any:
     return t
 
 
-def describe_syntax_error(e: UnexpectedInput) -> str:
-    """One line saying what lark found unexpected (and what it expected)."""
-    if isinstance(e, UnexpectedCharacters):
-        return f"unexpected character {e.char!r}"
-    if isinstance(e, UnexpectedEOF):
+def describe_syntax_error(e: Exception) -> str:
+    """One line saying what the parser (ours or lark's) found unexpected (and what it expected)."""
+    kind = type(e).__name__
+    if isinstance(e, UnexpectedCharacters) or kind == "UnexpectedCharacters":
+        return f"unexpected character {e.char!r}"  # type: ignore[attr-defined]
+    if kind == "UnexpectedEOF":
         return "unexpected end of file"
-    if isinstance(e, UnexpectedToken):
-        tok = e.token
+    if isinstance(e, UnexpectedToken) or kind == "UnexpectedToken":
+        tok = e.token  # type: ignore[attr-defined]
         if tok.type == "$END":
             return "unexpected end of file"
-        exp = sorted(e.expected)[:8]
+        exp = sorted(e.expected)[:8]  # type: ignore[attr-defined]
         return f"unexpected {tok.type} {str(tok)!r}" + (f", expected one of {', '.join(exp)}" if exp else "")
     return str(e).splitlines()[0] if str(e) else "syntax error"
 
@@ -722,8 +734,6 @@ def _parse_items(text: str, filename: str, tr: _ToAst) -> Any:
             line = text.count("\n") + 1
             col = len(text) - (text.rfind("\n") + 1) + 1
         raise AslSyntaxError(filename, line, col, describe_syntax_error(e)) from None
-    except LarkError as e:
-        raise AslSyntaxError(filename, 1, 1, str(e).splitlines()[0] if str(e) else "syntax error") from None
     except RecursionError:
         raise AslSyntaxError(filename, 1, 1, "program nested too deeply") from None
 

@@ -7,11 +7,14 @@ import os
 import sys
 import threading
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, WallClock
 from .df import DF_NAME, ProviderNotice, ServiceDirectory
-from .mas2j import MasProject, load_mas2j
+
+if TYPE_CHECKING:
+    from .mas2j import MasProject
 
 
 class LocalArch(AgentArch):
@@ -233,6 +236,9 @@ def run_file(path: str, timeout: float | None = None, seed: int | None = None,
     gc.disable()
     try:
         if path.endswith(".mas2j"):
+            # imported here: the project reader needs lark, which a lone agent does without
+            from .mas2j import load_mas2j
+
             mas.load_project(load_mas2j(path), seed)
         else:
             name = os.path.splitext(os.path.basename(path))[0]
