@@ -75,8 +75,8 @@ def interrupts_deferred() -> Iterator[None]:
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    caught: list[int] = []
-    previous = {sig: signal.signal(sig, lambda sig, _frame: caught.append(sig))
+    caught: list[signal.Signals] = []
+    previous = {sig: signal.signal(sig, lambda sig, _frame: caught.append(signal.Signals(sig)))
                 for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
