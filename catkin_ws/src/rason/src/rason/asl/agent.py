@@ -899,12 +899,35 @@ class Agent:
         removed = self.bb.remove(lit)
         return removed is not None and self._belief_changed(DEL, removed, focus)
 
+    def replace_belief(self, lit: Literal, focus: Intention) -> bool:
+        """``-+b`` in ``focus``'s plan body: remove the first belief ``b(...)`` holding all of
+        ``lit``'s annotations (its ``-b`` event is external), then add ``lit`` (its ``+b``
+        event belongs to ``focus``, as for :meth:`add_belief`). Returns True when that ``+b``
+        event was posted (the intention must wait for it)."""
+        bb = self.bb
+        if self.event_waits:   # a .wait condition is checked after the removal and after the addition
+            removed = bb.remove_first_holding(lit)
+            if removed is not None:
+                self._belief_changed(DEL, removed, None)
+            added = bb.add(lit, front=True)
+            return added is not None and self._belief_changed(ADD, added, focus)
+        removed, added = bb.replace_first_holding(lit)
+        if removed is not None and ((DEL, BELIEF, removed.functor, len(removed.args), removed.neg)
+                                    in self.pl.by_key or self.pl.var_plans):
+            self._belief_changed(DEL, removed, None)   # (not called when no plan would see it)
+        if added is None:
+            return False
+        self.events.append(Event(Trigger(ADD, BELIEF, added), focus))   # (_belief_changed inlined)
+        return True
+
     def _belief_changed(self, op: str, lit: Literal, focus: Intention | None) -> bool:
         """Post the ``+b``/``-b`` event of a belief change (see :meth:`add_belief`)."""
         if focus is not None:
             ev = Event(Trigger(op, BELIEF, lit), focus)
-            if self.event_waits:
-                self._check_event_waits(ev)
+            if not self.event_waits:   # the common case: nobody waits for events
+                self.events.append(ev)
+                return True
+            self._check_event_waits(ev)
             self.events.append(ev)
             if self.event_waits:
                 self.check_cond_waits()

@@ -196,6 +196,12 @@ class BeliefBase:
         else:
             self._index[key].append(lit)
         held[lit.args] = lit
+        fk = lit.args[0] if lit.args else None
+        if type(fk) is float and fk == fk:   # inlined _index_first: a number, new in its bucket
+            by_first = self._by_first[key]
+            if fk not in by_first:
+                by_first[fk] = [lit]
+                return lit
         self._index_first(key, lit, front)
         return lit
 
@@ -228,16 +234,7 @@ class BeliefBase:
         if b is None or held is None:
             return None
         if b.annots == lit.annots:  # fast path: the whole belief goes
-            if self._snapshots:
-                self._snapshots.pop(key, None)
-            entries = self._index[key]
-            if entries[0] is b:
-                entries.popleft()
-            else:
-                del entries[_position(entries, b)]
-            self._replace_first(key, b, None)
-            del held[lit.args]
-            return b
+            return self._drop(key, held, b)
         if not lit.annots:
             removed_annots: tuple = b.annots
             remaining: tuple = ()
@@ -257,6 +254,79 @@ class BeliefBase:
         if len(removed_annots) > 1:
             removed_annots = tuple(sorted(removed_annots, key=sort_key))
         return b.with_annots(removed_annots)
+
+    def _drop(self, key: tuple, held: dict, b: Literal) -> Literal:
+        """Remove the stored belief ``b`` of ``key`` (``held``: its beliefs by arguments) whole;
+        returns it."""
+        if self._snapshots:
+            self._snapshots.pop(key, None)
+        entries = self._index[key]
+        if entries[0] is b:
+            entries.popleft()
+        else:
+            del entries[_position(entries, b)]
+        fk = b.args[0] if b.args else None
+        if type(fk) is float and fk == fk:   # inlined _replace_first for a number's bucket
+            by_first = self._by_first[key]
+            bucket = by_first[fk]
+            if len(bucket) == 1:
+                del by_first[fk]
+            else:
+                del bucket[_position(bucket, b)]
+        else:
+            self._replace_first(key, b, None)
+        del held[b.args]
+        return b
+
+    def remove_first_holding(self, lit: Literal) -> Literal | None:
+        """``-+b``'s removal: the first belief of ``lit``'s key (functor, arity, negation) whose
+        annotations include all of ``lit``'s loses them (a whole belief when they are all it
+        has). Returns the literal for the ``-b`` event, or None when no belief matched."""
+        key = (lit.functor, len(lit.args), lit.neg)
+        entries = self._index.get(key)
+        if not entries:
+            return None
+        annots = lit.annots
+        for b in entries:   # the loop ends at the first change
+            if type(b) is Literal:
+                held_annots = b.annots
+                if held_annots == annots:
+                    return self._drop(key, self._by_args[key], b)
+                if all(a in held_annots for a in annots):
+                    return self.remove(b.with_annots(annots))
+        return None
+
+    def replace_first_holding(self, lit: Literal) -> tuple[Literal | None, Literal | None]:
+        """``-+b`` on the belief base: :meth:`remove_first_holding` then :meth:`add` (at the
+        front), returning what each of them returns. In the common case (the belief removed is
+        its key's first entry and no other belief has ``lit``'s arguments) ``lit`` takes its
+        place in every index, which leaves them as the two steps would."""
+        key = (lit.functor, len(lit.args), lit.neg)
+        entries = self._index.get(key)
+        b = entries[0] if entries else None
+        if type(b) is not Literal or b.annots != lit.annots:
+            return self.remove_first_holding(lit), self.add(lit, front=True)
+        held = self._by_args[key]
+        args = lit.args
+        other = held.get(args)
+        if other is not None and other is not b:
+            return self.remove_first_holding(lit), self.add(lit, front=True)
+        if self._snapshots:
+            self._snapshots.pop(key, None)
+        entries[0] = lit
+        del held[b.args]
+        held[args] = lit
+        old_fk = b.args[0] if b.args else None
+        new_fk = args[0] if args else None
+        by_first = self._by_first[key]
+        if (type(old_fk) is float and old_fk == old_fk and type(new_fk) is float and new_fk == new_fk
+                and new_fk not in by_first and len(by_first[old_fk]) == 1):
+            del by_first[old_fk]   # both numbers, each alone in its bucket (the common case)
+            by_first[new_fk] = [lit]
+        else:
+            self._replace_first(key, b, None)
+            self._index_first(key, lit, front=True)
+        return b, lit
 
     def abolish(self, pattern: Literal) -> list[Literal]:
         """Remove every belief unifying with ``pattern`` (any annotations)."""

@@ -43,7 +43,8 @@ class IntendedMeans:
     __slots__ = ("current", "fail_target", "open_call", "plan", "result", "stack", "trigger", "trigger_u",
                  "u")
 
-    def __init__(self, plan: Plan, trigger: Trigger, u: dict, fail_target: int | None = None) -> None:
+    def __init__(self, plan: Plan, trigger: Trigger, u: dict, fail_target: int | None = None,
+                 open_call: bool = False) -> None:
         self.plan = plan
         self.trigger = trigger          # the event trigger (resolved literal, with annotations)
         self.u = u
@@ -54,7 +55,7 @@ class IntendedMeans:
         # the caller gets is ``answer`` once ``call`` is unified with this means' result
         self.result: tuple[Any, Any] | None = None
         # the event had variables (its caller may get bindings back from this means)
-        self.open_call = False
+        self.open_call = open_call
         #: the unifier the means started with, for its plan's goal condition (``<:``)
         self.trigger_u = dict(u) if plan.goal_condition is not None else None
 
@@ -119,10 +120,11 @@ class Intention:
     __slots__ = ("atomic_count", "dropped", "fork", "id", "ims", "pi_key", "reply", "sus_ia",
                  "suspended", "wait_elapsed", "wait_reason")
 
-    def __init__(self, ident: int | None = None) -> None:
+    def __init__(self, ident: int | None = None, reply: Any = None) -> None:
         self.id = ident if ident is not None else next(_ids)
         self.dropped = False
-        self.reply: Any = None
+        #: the question (an askOne/askAll message) this intention answers when it finishes
+        self.reply: Any = reply
         self.ims: list[IntendedMeans] = []
         # None when runnable; otherwise what it waits for
         self.suspended: Suspension | None = None

@@ -281,8 +281,11 @@ class PlanLibrary:
 
     def __init__(self) -> None:
         self.plans: list[Plan] = []
-        self._index: dict[tuple, list[Plan]] = {}
-        self._var_plans: list[Plan] = []
+        #: the plans of each trigger key (operator, type, functor, arity, negation), in order
+        #: (read directly by the reasoning cycle's inlined RelPl; changed only here)
+        self.by_key: dict[tuple, list[Plan]] = {}
+        #: plans whose trigger literal is a variable (``+!_``): relevant for every key
+        self.var_plans: list[Plan] = []
         #: some plan handles goal-state meta events (``^!g[state(S)]``)
         self.goal_state_plans = False
         #: some plan has a goal condition (``<:``): intentions are checked every cycle
@@ -296,9 +299,9 @@ class PlanLibrary:
             return
         self.plans.append(plan)     # at the end: the index grows in place (loading stays linear)
         if isinstance(plan.trigger.literal, (Var, AnnotVar, NsLit)):
-            self._var_plans.append(plan)
+            self.var_plans.append(plan)
         else:
-            self._index.setdefault(plan.trigger.key, []).append(plan)
+            self.by_key.setdefault(plan.trigger.key, []).append(plan)
         if plan.trigger.op == GOAL_STATE:
             self.goal_state_plans = True
         if plan.goal_condition is not None:
@@ -316,24 +319,24 @@ class PlanLibrary:
         return len(self.plans) != n
 
     def _rebuild(self) -> None:
-        self._index = {}
-        self._var_plans = []
+        self.by_key = {}
+        self.var_plans = []
         self.goal_state_plans = any(p.trigger.op == GOAL_STATE for p in self.plans)
         self.goal_condition_plans = any(p.goal_condition is not None for p in self.plans)
         for p in self.plans:
             if isinstance(p.trigger.literal, (Var, AnnotVar, NsLit)):
-                self._var_plans.append(p)
+                self.var_plans.append(p)
             else:
-                self._index.setdefault(p.trigger.key, []).append(p)
+                self.by_key.setdefault(p.trigger.key, []).append(p)
 
     def relevant(self, trigger: Trigger) -> list[Plan]:
         """Candidate plans for a trigger (Jason ``getCandidatePlans``); for a variable
         (``+!_``), every plan of the same operator and type."""
         if trigger.key[2] is None:
             return [p for p in self.plans if p.trigger.op == trigger.op and p.trigger.type == trigger.type]
-        lst = self._index.get(trigger.key)
-        if self._var_plans:
-            extra = [p for p in self._var_plans
+        lst = self.by_key.get(trigger.key)
+        if self.var_plans:
+            extra = [p for p in self.var_plans
                      if p.trigger.op == trigger.op and p.trigger.type == trigger.type]
             if extra:
                 return sorted((lst or []) + extra, key=self.plans.index)
@@ -341,7 +344,7 @@ class PlanLibrary:
 
     def has_key(self, key: tuple) -> bool:
         """True if some plan may be relevant for a trigger with this key."""
-        return key in self._index or bool(self._var_plans)
+        return key in self.by_key or bool(self.var_plans)
 
     def has_candidate(self, op: str, type_: str, lit: Any) -> bool:
         return bool(self.relevant(Trigger(op, type_, lit)))

@@ -189,11 +189,25 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     Returns False when an external non-goal event was discarded (Jason then selects the
     next event in the same cycle)."""
     trig = ev.trigger
-    relevant = ag.pl.relevant(trig)   # RelPl (rel_pl, inlined)
+    pl = ag.pl
+    key = trig.key
+    # RelPl (rel_pl, inlined): the plans of the trigger's key, unless some plan has a
+    # variable trigger (or the trigger is a variable)
+    relevant = pl.by_key.get(key) if not pl.var_plans and key[2] is not None else pl.relevant(trig)
     i = ev.intention
     if not relevant:
-        if i is not None and not trig.is_goal:   # the common case, inlined: +b of a plan body
-            _resume_after_belief_event(ag, i)
+        if i is not None and not trig.is_goal:
+            # the common case, inlined (_resume_after_belief_event): +b of a plan body
+            ims = i.ims
+            if ims:
+                stack = ims[-1].stack
+                if stack:
+                    stack.pop()
+                i.suspended = None
+                if not i.dropped:
+                    ag.running.append(i)
+            else:
+                i.suspended = None
             return True
         return _no_plan(ag, trig, i, "relevant")
     lit = trig.literal
@@ -205,13 +219,11 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     if opt is None:
         return _no_plan(ag, trig, i, "applicable")
     plan, u = opt
-    if trig.op == ADD and trig.type == ACHIEVE and ag.pl.goal_state_plans:
+    if pl.goal_state_plans and trig.op == ADD and trig.type == ACHIEVE:
         ag.goal_state(trig, "executing")   # Jason's applyAddIM
-    im = IntendedMeans(plan, ev.trigger, u, ev.fail_target)
-    im.open_call = not ground
+    im = IntendedMeans(plan, ev.trigger, u, ev.fail_target, not ground)
     if i is None:
-        i = Intention(next(ag.intention_ids))
-        i.reply = ev.reply
+        i = Intention(next(ag.intention_ids), ev.reply)
     elif trig.op == ADD and i.ims:
         if ag.options.tro:
             _tail_call(ag, i, im)
@@ -386,10 +398,7 @@ def exec_int(ag: Agent, i: Intention) -> None:
     im.current = d
     ag.current = i
     try:
-        run = _EXEC_DEED.get(d.kind)
-        if run is None:
-            raise IAError(f"unknown deed {d.kind}")
-        ok = run(ag, i, im, d)
+        ok = _EXEC_DEED[d.kind](ag, i, im, d)
     except FailGoal as fg:
         if fg.annots:
             msg, extra = _fail_annots(fg.annots)
@@ -517,7 +526,10 @@ def _exec_achieve_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed)
     trig = d.self_trigger
     if trig is None:
         trig = Trigger(ADD, ACHIEVE, _goal_literal(ag, d, u))
-    ag.add_event(Event(trig))   # (its goal-state event "pending" is posted there)
+    if ag.event_waits or ag.pl.goal_state_plans:
+        ag.add_event(Event(trig))   # (its goal-state event "pending" is posted there)
+    else:
+        ag.events.append(Event(trig))   # (add_event inlined: a goal's event is always kept)
     return True
 
 
@@ -548,12 +560,11 @@ def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) ->
     if type(lit) is not Literal:
         lit = _self_sourced(ag, d, im.u, "cannot add {} as a belief")
     # remove the first belief matching b(_,...)[source(self)] (external event), then add
-    annots = lit.annots
-    for b in ag.bb.live((lit.functor, len(lit.args), lit.neg)):   # the loop ends at a change
-        if type(b) is Literal and (b.annots == annots or all(a in b.annots for a in annots)):
-            ag.remove_belief(b if b.annots == annots else b.with_annots(annots))
-            break
-    return _await_own_event(i, im, d, ag.add_belief(lit, front=True, focus=i))
+    if ag.replace_belief(lit, i):   # (_await_own_event inlined)
+        im.stack.append(d)
+        i.suspended = Suspension.EVENT
+        return False
+    return True
 
 
 def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
@@ -749,13 +760,16 @@ def clr_int(ag: Agent, i: Intention) -> None:
             ag.suspend(i, Suspension.GOAL_CONDITION)
             i.pi_key = str(i.id)   # pending (Jason's PI), under the intention's number
             return
-        im = i.pop()
+        im = ims.pop()   # (Intention.pop inlined)
+        if im.plan.atomic:
+            i.atomic_count -= 1
         if ag.pl.goal_state_plans and im.trigger.is_goal and im.trigger.op != GOAL_STATE:
             # a -!g plan that finishes achieves g too (Jason: the goal of the top means)
             ag.goal_state(im.trigger, "achieved")
             ag.goal_state(im.trigger, "finished")
         if not ims:
-            ag.intention_finished(i, im)
+            if i.reply is not None:
+                ag.intention_finished(i, im)
             return
         if im.fail_target is not None:
             i.truncate(im.fail_target)
