@@ -20,7 +20,9 @@ class BeliefBase:
     """
 
     def __init__(self) -> None:
-        self._index: dict[tuple, deque] = {}
+        #: the beliefs and rules of each key, in order (read directly, never changed, by
+        #: compiled contexts: see :meth:`live`)
+        self.by_key: dict[tuple, deque] = {}
         self._by_args: dict[tuple, dict[tuple, Literal]] = {}
         self._by_first: dict[tuple, dict[Any, list]] = {}    # lists: most hold one belief
         #: per key, how many entries the first-argument index cannot hold (rules, beliefs whose
@@ -34,7 +36,7 @@ class BeliefBase:
         """Beliefs and rules with this key, in order: a snapshot, unchanged by later updates."""
         snap = self._snapshots.get(key)
         if snap is None:
-            entries = self._index.get(key)
+            entries = self.by_key.get(key)
             if not entries:
                 return ()
             snap = self._snapshots[key] = tuple(entries)
@@ -43,7 +45,7 @@ class BeliefBase:
     def live(self, key: tuple) -> deque | tuple:
         """The beliefs and rules of ``key`` themselves, not a snapshot: only for a reader that
         changes no belief while it iterates (it may change them once it stopped)."""
-        return self._index.get(key) or ()
+        return self.by_key.get(key) or ()
 
     def candidates_by_first(self, key: tuple, first: Any) -> tuple:
         """:meth:`candidates` narrowed to the beliefs whose first argument may unify with
@@ -57,7 +59,7 @@ class BeliefBase:
         return tuple(bucket) if bucket else ()
 
     def __iter__(self):
-        for key in list(self._index):
+        for key in list(self.by_key):
             yield from self.candidates(key)
 
     def beliefs(self) -> list[Literal]:
@@ -71,7 +73,7 @@ class BeliefBase:
         return self._by_args.get(lit.key, {}).get(lit.args)
 
     def size(self) -> int:
-        return sum(len(v) for v in self._index.values())
+        return sum(len(v) for v in self.by_key.values())
 
     # ------------------------------------------------------------ update
     def namespaces(self) -> list[str]:
@@ -97,9 +99,9 @@ class BeliefBase:
     def _entries(self, key: tuple) -> deque:
         """The live entries of ``key`` (created if needed), about to change."""
         self._snapshots.pop(key, None)
-        entries = self._index.get(key)
+        entries = self.by_key.get(key)
         if entries is None:
-            entries = self._index[key] = deque()
+            entries = self.by_key[key] = deque()
             self._by_args[key] = {}
             self._by_first[key] = {}
         return entries
@@ -150,7 +152,7 @@ class BeliefBase:
         """Make the first-argument index of ``key`` anew from its entries."""
         self._by_first[key] = {}
         self._unindexed[key] = 0
-        for e in self._index.get(key, ()):
+        for e in self.by_key.get(key, ()):
             if type(e) is Literal:
                 self._index_first(key, e, front=False)
             else:
@@ -177,7 +179,7 @@ class BeliefBase:
         key = (lit.functor, len(lit.args), lit.neg)
         held = self._by_args.get(key)
         if held is None:
-            self._index[key] = deque((lit,))
+            self.by_key[key] = deque((lit,))
             self._by_args[key] = {lit.args: lit}
             self._by_first[key] = {}
             self._index_first(key, lit, front)
@@ -192,9 +194,9 @@ class BeliefBase:
         if self._snapshots:
             self._snapshots.pop(key, None)
         if front:
-            self._index[key].appendleft(lit)
+            self.by_key[key].appendleft(lit)
         else:
-            self._index[key].append(lit)
+            self.by_key[key].append(lit)
         held[lit.args] = lit
         fk = lit.args[0] if lit.args else None
         if type(fk) is float and fk == fk:   # inlined _index_first: a number, new in its bucket
@@ -215,12 +217,12 @@ class BeliefBase:
 
     def remove_rule(self, rule: Rule) -> None:
         key = rule.head.key
-        lst = [r for r in self._index.get(key, ()) if r is not rule]
+        lst = [r for r in self.by_key.get(key, ()) if r is not rule]
         if lst:
-            self._index[key] = deque(lst)
+            self.by_key[key] = deque(lst)
             self._reindex_first(key)
         else:
-            self._index.pop(key, None)
+            self.by_key.pop(key, None)
             self._by_args.pop(key, None)     # no beliefs either: the key is gone
             self._by_first.pop(key, None)
             self._unindexed.pop(key, None)
@@ -260,7 +262,7 @@ class BeliefBase:
         returns it."""
         if self._snapshots:
             self._snapshots.pop(key, None)
-        entries = self._index[key]
+        entries = self.by_key[key]
         if entries[0] is b:
             entries.popleft()
         else:
@@ -283,7 +285,7 @@ class BeliefBase:
         annotations include all of ``lit``'s loses them (a whole belief when they are all it
         has). Returns the literal for the ``-b`` event, or None when no belief matched."""
         key = (lit.functor, len(lit.args), lit.neg)
-        entries = self._index.get(key)
+        entries = self.by_key.get(key)
         if not entries:
             return None
         annots = lit.annots
@@ -302,7 +304,7 @@ class BeliefBase:
         its key's first entry and no other belief has ``lit``'s arguments) ``lit`` takes its
         place in every index, which leaves them as the two steps would."""
         key = (lit.functor, len(lit.args), lit.neg)
-        entries = self._index.get(key)
+        entries = self.by_key.get(key)
         b = entries[0] if entries else None
         if type(b) is not Literal or b.annots != lit.annots:
             return self.remove_first_holding(lit), self.add(lit, front=True)
@@ -331,11 +333,11 @@ class BeliefBase:
     def abolish(self, pattern: Literal) -> list[Literal]:
         """Remove every belief unifying with ``pattern`` (any annotations)."""
         key = pattern.key
-        if key not in self._index:
+        if key not in self.by_key:
             return []
         keep, gone = [], []
         plain = pattern.no_annots()
-        for b in self._index[key]:
+        for b in self.by_key[key]:
             if isinstance(b, Literal) and unify(plain, b, {}):
                 gone.append(b)
             else:
@@ -349,7 +351,7 @@ class BeliefBase:
         return gone
 
     def clear(self) -> None:
-        self._index.clear()
+        self.by_key.clear()
         self._by_args.clear()
         self._by_first.clear()
         self._unindexed.clear()

@@ -165,7 +165,8 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
         lines = ["def context(ag, s):",
                  f"    f0 = s.get({first.name!r})",
                  "    bb = ag.bb",
-                 "    cands = bb.live(KEY) if f0 is None else bb.candidates_by_first(KEY, walk(f0, s))"]
+                 "    if f0 is None: cands = bb.by_key.get(KEY, ())   # (BeliefBase.live inlined)",
+                 "    else: cands = bb.candidates_by_first(KEY, walk(f0, s))"]
     else:
         lines = ["def context(ag, s):",
                  "    cands = ag.bb.candidates_by_first(KEY, A0)"]
