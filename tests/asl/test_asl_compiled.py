@@ -81,3 +81,42 @@ def test_compiled_context_finds_the_first_solution(text, binding):
 def test_other_contexts_are_left_to_first_solution(text):
     from rason.asl.logic import compile_context
     assert compile_context(parse_term(text)) is None
+
+
+@pytest.mark.parametrize(("held", "new"), [
+    (["v(1)[source(self)]"], "v(2)[source(self)]"),                      # in place, number keys
+    (["v(1)[source(self)]", "v(5)[source(self)]"], "v(2)[source(self)]"),
+    (["v(1)[source(self)]"], "v(1)[source(self)]"),                      # the same arguments
+    (["v(1)[source(self)]", "v(2)[source(self)]"], "v(2)[source(self)]"),  # held by the second
+    (["v(1)[source(self)]", "v(1, 2)[source(self)]"], "v(3)[source(self)]"),
+    (["v(1)[source(ag)]", "v(4)[source(self)]"], "v(2)[source(self)]"),  # not the first entry
+    (["v(1)[source(ag),source(self)]"], "v(2)[source(self)]"),           # keeps source(ag)
+    (["v(a)[source(self)]"], "v(b)[source(self)]"),                      # atoms
+    (["v(f(1))[source(self)]"], "v(2)[source(self)]"),                   # a structure: unindexed
+    (["v(1, x)[source(self)]", "v(1, y)[source(self)]"], "v(1, z)[source(self)]"),  # one bucket
+    ([], "v(2)[source(self)]"),
+])
+def test_replace_in_place_leaves_the_belief_base_as_remove_then_add(held, new):
+    """-+b's one-call update of the belief base gives what removing then adding gives: the
+    same events' literals, the same beliefs in the same order, the same first-argument index."""
+    from rason.asl.beliefs import BeliefBase
+
+    def base() -> BeliefBase:
+        bb = BeliefBase()
+        for text in reversed(held):
+            bb.add(parse_literal(text), front=True)
+        return bb
+
+    lit = parse_literal(new)
+    fast, slow = base(), base()
+    got = fast.replace_first_holding(lit)
+    want = (slow.remove_first_holding(lit), slow.add(lit, front=True))
+    assert [term_str(x) if x is not None else None for x in got] == \
+        [term_str(x) if x is not None else None for x in want]
+    assert [term_str(b) for b in fast] == [term_str(b) for b in slow]
+    probes = [parse_literal(t) for t in ("v(1)", "v(2)", "v(5)", "v(a)", "v(b)", "v(1, z)")]
+    probes += [parse_term("1"), parse_term("2")]
+    for key in {(b.functor, len(b.args), b.neg) for b in slow} | {("v", 1, False), ("v", 2, False)}:
+        for first in probes:
+            assert [term_str(b) for b in fast.candidates_by_first(key, first)] == \
+                [term_str(b) for b in slow.candidates_by_first(key, first)]
