@@ -306,7 +306,7 @@ class BeliefBase:
         key = (lit.functor, len(lit.args), lit.neg)
         entries = self.by_key.get(key)
         b = entries[0] if entries else None
-        if type(b) is not Literal or b.annots != lit.annots:
+        if entries is None or type(b) is not Literal or b.annots != lit.annots:
             return self.remove_first_holding(lit), self.add(lit, front=True)
         held = self._by_args[key]
         args = lit.args
