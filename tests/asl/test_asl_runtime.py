@@ -114,6 +114,17 @@ def test_percept_diffing() -> None:
     assert sorted(beliefs(ag)) == ["pos(2)[source(percept)]", "pos(3)[source(percept)]"]
 
 
+def test_a_perceive_given_to_the_architecture_instance_is_asked() -> None:
+    # perceive set on an instance, not overridden in a subclass (a cycle skips sensing only
+    # when nothing can give percepts)
+    arch = AgentArch(VirtualClock())
+    given = [[parse_literal("pos(7)")]]
+    arch.perceive = lambda: given.pop() if given else None      # type: ignore[method-assign]
+    ag = Agent("p", PERC_SRC, arch)
+    run_until_idle(ag)
+    assert beliefs(ag) == ["pos(7)[source(percept)]"]
+
+
 # ------------------------------------------------------------------ messages / inbox
 def test_inbox_is_thread_safe() -> None:
     arch = RecordingArch()

@@ -108,8 +108,10 @@ class Agent:
         #: folders where included files (and agents created by this one) are looked for
         self.source_path = list(source_path or [])
         self.arch = arch
-        #: the architecture has percepts to give (it overrides ``perceive``): each cycle asks
-        self._perceives = type(arch).perceive is not AgentArch.perceive
+        #: the architecture has percepts to give (it overrides ``perceive``, in its class or on
+        #: the instance): each cycle asks
+        self._perceives = (type(arch).perceive is not AgentArch.perceive
+                           or "perceive" in getattr(arch, "__dict__", {}))
         self.filename = filename
         if src_name is None:
             src_name = os.path.basename(filename) if filename != "<string>" else filename
