@@ -55,6 +55,8 @@ class World:
         self.occlusion_bias = 0.0   # deg the yaw is pushed away from the occlusion angle near it
         self.helper_turns: list[float] = []
         self.faulty_turns: list[float] = []
+        self.odom_bearings = False  # the synthesizer adds seen_at(faulty, Heading)
+        self.brake = 0.0   # deg Helper coasts on after a turn is given up (braking, latency)
 
     # -- geometry -------------------------------------------------------------------------
     @property
@@ -72,13 +74,16 @@ class World:
         depth = round(self.distance * math.cos(math.radians(rel)), 3)
         facing = wrap(self.faulty_heading - self.heading)          # heading in the camera
         relative = wrap(self.faulty_heading - self.bearing)        # heading - line of sight
+        # Helper's odometry frame is the world's here: the heading of the sighting
+        seen = [parse_literal(f"seen_at(faulty,{wrap(self.heading + rel):.1f})")] \
+            if self.odom_bearings else []
         if abs(wrap(relative - 90.0)) < OCCLUDED:
-            return [parse_literal(f"robot_partial(faulty,{rel:.2f},{depth},orange)")]
+            return [parse_literal(f"robot_partial(faulty,{rel:.2f},{depth},orange)"), *seen]
         off = wrap(relative - 90.0)
         if abs(off) < 15.0:       # as the real detector: near occlusion the yaw is pushed away
             facing += math.copysign(self.occlusion_bias, off)
         yaw = wrap(facing + rel)
-        return [parse_literal(f"robot(faulty,{rel:.2f},{depth},{yaw:.2f})")]
+        return [parse_literal(f"robot(faulty,{rel:.2f},{depth},{yaw:.2f})"), *seen]
 
     def _advance(self, dist: float, turn: float) -> None:
         """Faulty drives ``dist`` m while turning ``turn`` degrees (the chord of the arc)."""
@@ -166,7 +171,11 @@ class RobotArch(LocalArch):
 
     def action_abandoned(self, agent, action_id: int) -> None:
         """The agent gave the action up (e.g. a sweep ended by a sighting): stop it, as the
-        motion decomposer does on jason/cancel."""
+        motion decomposer does on jason/cancel; the base coasts ``world.brake`` degrees on)."""
+        for entry in [e for e in self._running if e[2] == action_id]:
+            if entry[5]:
+                coast = math.copysign(min(self.world.brake, abs(entry[5])), entry[5])
+                self.world.heading = wrap(self.world.heading + coast)
         self._running = [e for e in self._running if e[2] != action_id]
 
     def act(self, agent, action: Literal, action_id: int) -> None:
@@ -183,6 +192,10 @@ class RobotArch(LocalArch):
         elif action.functor == "turn" and self.name == "helper":
             w.helper_turns.append(value)
             ok, reason, turn = True, None, value
+        elif action.functor == "turn_to" and self.name == "helper":   # the short way
+            turn = wrap(value - w.heading)
+            w.helper_turns.append(turn)
+            ok, reason = True, None
         elif action.functor == "move" and self.name == "helper":
             w.helper_move(value)
             ok, reason = True, None
@@ -325,9 +338,11 @@ def test_turn_close_to_the_limit_names_no_component():
         assert "too close to the limit" in out
 
 
+@pytest.mark.parametrize("odom_bearings", [False, True])
 @pytest.mark.parametrize("bearing", [-150.0, -100.0, -30.0, 0.0, 120.0, 179.0])
-def test_found_from_any_bearing_within_one_turn(bearing):
+def test_found_from_any_bearing_within_one_turn(bearing, odom_bearings):
     world = World("right_actuator", bearing=bearing, relative_heading=-90.0 - 40.0)
+    world.odom_bearings = odom_bearings
     diagnosis, out = diagnosis_of(world)
     assert diagnosis == "right_actuator", out
     sweeps = [t for t in world.helper_turns if abs(t) == 360]
@@ -335,6 +350,22 @@ def test_found_from_any_bearing_within_one_turn(bearing):
     # at most one sweep, cut short at the first sighting, then a few small centring turns
     assert len(sweeps) <= 1 and sum(abs(t) for t in centring) < 60.0, (world.helper_turns, out)
     assert (len(sweeps) == 0) == (abs(bearing) < FOV_HALF), world.helper_turns
+
+
+@pytest.mark.parametrize("bearing", [-60.0, -150.0, 100.0])
+def test_sighting_braked_past_is_turned_back_to(bearing):
+    """A fast sweep brakes (and coasts while the frame is processed) 62 degrees past the
+    sighting, and Faulty leaves the view: Helper turns back to the heading where it saw it
+    (turn_to, from seen_at), without a second sweep, and centres it."""
+    world = World("right_actuator", bearing=bearing, relative_heading=-90.0 - 40.0)
+    world.odom_bearings = True
+    world.brake = 62.0
+    diagnosis, out = diagnosis_of(world)
+    assert [t for t in world.helper_turns if abs(t) == 360] == [360.0], world.helper_turns
+    back = [t for t in world.helper_turns if abs(t) < 360]
+    assert back and back[0] < -20.0, world.helper_turns     # back against the sweep
+    assert abs(wrap(world.bearing - world.heading)) < FOV_HALF, world.helper_turns
+    assert diagnosis == "right_actuator", out
 
 
 def test_far_away_helper_moves_closer_first():

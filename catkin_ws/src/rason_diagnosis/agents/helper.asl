@@ -7,6 +7,8 @@
 //   robot(Name, Angle, Depth, Yaw)            both cylinders seen: bearing, depth, yaw
 //   robot_partial(Name, Angle, Depth, Colour) one cylinder only: bearing and depth of that
 //                                             cylinder, Faulty's heading unknown
+//   seen_at(Name, Heading)                    with either: the bearing as a heading of Helper's
+//                                             odometry frame at the frame's time (for turn_to)
 // Angles in degrees, positive clockwise (to the right); yaw in (-180, 180].
 
 /* Initial beliefs and rules */
@@ -17,6 +19,7 @@ samples(5).             // full sightings averaged into one observation
 sampleTries(16).        // frames tried per observation (one per framePeriod)
 framePeriod(70).        // ms: about one Kinect frame (15 Hz)
 settleTime(300).        // ms after a motion before frames count (newer than its end)
+sweepBrake(550).        // ms a cut sweep takes to stop: 120 deg/s at the base's 229 deg/s^2
 goodRange(1.0, 3.3).    // m: depths where the yaw is reliable and a 0.3 m move stays in view
 viewDepth(1.8).         // m: the depth Helper moves to when Faulty is outside goodRange
 occlusionMargin(20).    // deg: relative headings this close to +90 (orange hides green) are weak
@@ -29,6 +32,19 @@ wrap(A, W) :- W = A - 360 * math.ceil((A - 180) / 360).
 // Faulty in view (a full or a partial sighting, only a current percept: never a memory).
 sees(R, Deg, Depth) :- robot(R, Deg, Depth, _)[source(percept)].
 sees(R, Deg, Depth) :- robot_partial(R, Deg, Depth, _)[source(percept)].
+
+// Where Faulty was last seen, as a heading of Helper's odometry frame: the current percept's, else
+// the last one remembered during this search (Faulty may have left the view while Helper braked).
+sightedAt(R, H) :- seen_at(R, H)[source(percept)].
+sightedAt(R, H) :- not seen_at(R, _)[source(percept)] & sighting(R, H).
+
+// Centred (the thesis: |bearing| < centerThreshold). Once Helper has turned to a heading, the
+// bearing is read in its odometry frame, where a frame taken while turning (or late) is as good
+// as one taken at rest; before that (Helper at rest, not swept), on the percept as the thesis.
+centred(R)
+   :- facing(R, F) & sightedAt(R, H) & wrap(H - F, E) & centerThreshold(DT) & math.abs(E) < DT.
+centred(R)
+   :- not facing(R, _) & not swept(R) & sees(R, Deg, _) & centerThreshold(DT) & math.abs(Deg) < DT.
 
 // Search direction: back against the last sweep when a sighting was lost by overshooting it;
 // otherwise clockwise, as the thesis' Helper.
@@ -80,7 +96,7 @@ currTerm(lost, currLost) :- true.
       -fullTurn(R);
       -flankAsked(R);
       -relooked(R);
-      !findRobot(R, 0, 0);
+      !locate(R);
       .print("helper ready.");
       .send(R, tell, found(R)).
 
@@ -97,10 +113,15 @@ currTerm(lost, currLost) :- true.
       -sweeping(R);
       .send(R, tell, notFound(R)).
 
+// A search from here: nothing remembered of an earlier one (Helper or Faulty may have moved).
++!locate(Robot)
+   <- -facing(Robot, _);
+      -sighting(Robot, _);
+      -swept(Robot);
+      !findRobot(Robot, 0, 0).
+
 +!findRobot(Robot, _, _)
-   : sees(Robot, Deg, _)
-   & centerThreshold(DT)
-   & math.abs(Deg) < DT
+   : centred(Robot)
    <- .print("Found ", Robot).
 
 +!findRobot(Robot, _, Steps)
@@ -109,9 +130,20 @@ currTerm(lost, currLost) :- true.
    <- .print("Could not centre ", Robot, " in ", Steps, " turns, giving up");
       .fail(not_centred(Robot)).
 
+// Centring on the heading where Faulty was seen (turn_to: the motion decomposer turns the short
+// way to that heading of the odometry frame, however far Helper braked past it).
++!findRobot(Robot, Sweeps, Steps)
+   : sightedAt(Robot, H)
+   <- .print("Found ", Robot, ", but I need to reposition myself...");
+      turn_to(H);
+      -+facing(Robot, H);
+      !findRobot(Robot, Sweeps, Steps + 1).
+
+// Without seen_at (a synthesizer without ~odom_bearings): the thesis' turn by the bearing.
 +!findRobot(Robot, Sweeps, Steps)
    : sees(Robot, Deg, _)
    <- .print("Found ", Robot, ", but I need to reposition myself...");
+      -swept(Robot);
       turn(Deg);
       !findRobot(Robot, Sweeps, Steps + 1).
 
@@ -128,11 +160,12 @@ currTerm(lost, currLost) :- true.
       .fail(not_found(Robot)).
 
 +!findRobot(Robot, Sweeps, Steps)
-   : searchSide(Robot, Dir) & settleTime(S)
+   : searchSide(Robot, Dir) & sweepBrake(S)
    <- .print("Searching ", Robot, ": sweeping ", Dir * 360, " degrees");
       !sweep(Robot, Dir);
-      .wait(S);       // stopped at a sighting: centre on a frame taken at rest, not on the
-      !findRobot(Robot, Sweeps + 1, Steps).   // one that stopped the sweep (Helper was turning)
+      +swept(Robot);
+      .wait(S);       // cut at a sighting: let the base stop, then turn to where Faulty was
+      !findRobot(Robot, Sweeps + 1, Steps).   // seen (a turn from rest ends where it should)
 
 +!sweep(Robot, Dir)
    <- -+lastSweep(Robot, Dir);
@@ -143,8 +176,13 @@ currTerm(lost, currLost) :- true.
 
 -!sweep(Robot, _) <- -sweeping(Robot).
 
-// A sighting during a sweep ends it: the search goes on from here (its centring turn
-// preempts the sweep's turn at the motion decomposer).
+// Every sighting's heading is remembered during a search (sightedAt).
++seen_at(Robot, H)[source(percept)]
+   : helping(Robot)
+   <- -+sighting(Robot, H).
+
+// A sighting during a sweep ends it: the dropped turn is cancelled at the motion decomposer,
+// which stops the base at once; the search goes on from where it comes to rest.
 +robot(Robot, _, _, _)[source(percept)]
    : sweeping(Robot)
    <- -sweeping(Robot);
@@ -208,7 +246,7 @@ currTerm(lost, currLost) :- true.
    <- Dist = math.round((Depth - V) * 100) / 100;
       .print(R, " is ", Depth, " m away: moving ", Dist, " m for a better view");
       move(Dist);
-      !findRobot(R, 0, 0).
+      !locate(R).
 +!viewpoint(_).
 
 +!trackMe[source(R)]
@@ -230,7 +268,7 @@ currTerm(lost, currLost) :- true.
    : obs(R, init, lost) & not relooked(R)
    <- +relooked(R);
       .print("I lost sight of ", R, ", looking again");
-      !findRobot(R, 0, 0);
+      !locate(R);
       !observe(R, init);
       !ready(R).
 

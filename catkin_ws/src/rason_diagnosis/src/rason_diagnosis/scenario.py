@@ -69,9 +69,17 @@ def _diff(a: float | None, b: float | None) -> float | None:
     return round(b - a, 2) if a is not None and b is not None else None
 
 
-#: Helper's motion decomposer turns at 90 deg/s (Kobuki: up to 180) so that its search sweep
-#: (one full turn, cut short at the first sighting) covers the room in about 4 s.
-HELPER_MOTION: dict[str, object] = {"angular_speed": 90.0, "angular_accel": 180.0, "angular_decel": 120.0}
+#: Helper's motion decomposer: its search sweep (one full turn, cut short at the first sighting)
+#: cruises at 120 deg/s (Kobuki: up to 180) and every turn speeds up at 220 deg/s^2, just under
+#: the base's 4 rad/s^2 (turtlebot_sim.kobuki.ACCEL_W), and brakes to its goal at 180 deg/s^2.
+#: A cut sweep stops at the base's own limit in 0.52 s (31 deg) plus what it turned while the
+#: frame was detected and acted on (0.1-0.5 s of simulated time, more on a busy machine): Faulty
+#: may be out of view by then; Helper turns back to the heading where it saw it (`turn_to`,
+#: with the synthesizer's `seen_at`). helper.asl's `sweepBrake` counts on these figures.
+HELPER_MOTION: dict[str, object] = {"angular_speed": 120.0, "angular_accel": 220.0,
+                                    "angular_decel": 180.0}
+#: Helper's vision synthesizer also reports where it saw Faulty in the odometry frame.
+HELPER_VISION: dict[str, object] = {"odom_bearings": True}
 
 
 def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, echo: bool = True,
@@ -131,7 +139,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         ros.rosrun("kobuki_fault_injector", "fault_injector", ns=f"/{robot}")
         ros.rosrun("rason", "motion_decomposer", ns=f"/{robot}",
                    params=HELPER_MOTION if robot == "helper" else None)
-    ros.rosrun("rason_vision", "robot_synthesizer", ns="/helper")
+    ros.rosrun("rason_vision", "robot_synthesizer", ns="/helper", params=HELPER_VISION)
     for robot in ROBOTS:
         ros.wait_for_service(f"/{robot}/fault_injector", timeout=30)
         ros.wait_for_subscriber(f"/{robot}/jason/action", timeout=30)

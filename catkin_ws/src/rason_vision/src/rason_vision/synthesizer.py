@@ -12,6 +12,12 @@ publishes a ``jason_msgs/Perception`` on ``jason/perception`` with source
 ``["robot_partial(faulty,Angle,Depth,Colour)"]``: that cylinder's bearing and depth, yaw
 unknown. Conventions of Angle/Depth/Yaw: :mod:`rason_vision.geometry`.
 
+With ``~odom_bearings`` it also subscribes ``odom`` (nav_msgs/Odometry) and adds to a sighting
+``seen_at(Name,Heading)``: the sighting's Angle as a heading of the robot's own odometry frame
+(degrees, positive clockwise as Angle, in (-180, 180]), from the robot's heading at the frame's
+stamp. A motion decomposer's ``turn_to(Heading)`` then faces what was seen however late the
+percept reached the agent, and while the robot was still turning.
+
 Private parameters: :class:`RobotParams` (``rosrun rason_vision robot_synthesizer --help``
 prints them), those of every synthesizer (:mod:`rason.execution.synthesizer`) included.
 
@@ -21,11 +27,17 @@ depth at all) are rejected with a rate-limited warning and publish nothing; the 
 
 from __future__ import annotations
 
+import bisect
+import math
 import sys
+import threading
+from collections import deque
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import rospy
+from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Image, PointCloud2
 
 from rason.execution.synthesizer import BadFrame, Synthesizer, SynthesizerParams, run
@@ -33,6 +45,7 @@ from rason.ros.params import param
 from rason_vision.convert import MAX_PIXELS, cloud_to_xyz, image_to_rgb
 from rason_vision.detector import DetectorConfig, HsvRange, detect
 from rason_vision.geometry import format_literal, format_partial_literal
+from turtlebot_model.geometry import wrap_deg, yaw_from_quaternion
 
 _BASE = DetectorConfig()
 
@@ -57,6 +70,44 @@ class RobotParams(SynthesizerParams):
     max_pixels: int = param(MAX_PIXELS, "larger frames are refused", minimum=1)
     perception_ttl: float = param(0.5, "s the robot(...) percept stays valid after the last "
                                   "frame: about 7 periods of the 15 Hz Kinect", minimum=0.0)
+    odom_bearings: bool = param(False, "also report seen_at(Name, Heading): a sighting's bearing "
+                                "as a heading of the robot's odometry frame (odom) at the "
+                                "frame's time, degrees clockwise")
+
+
+class HeadingHistory:
+    """The robot's recent odometry headings (degrees clockwise, as a camera bearing) by time,
+    to read the heading at a camera frame's stamp."""
+
+    def __init__(self, seconds: float = 5.0) -> None:
+        self.seconds = seconds
+        self._samples: deque[tuple[float, float]] = deque()
+        self._lock = threading.Lock()
+
+    def add(self, t: float, heading: float) -> None:
+        with self._lock:
+            if self._samples and t < self._samples[-1][0]:   # time went back (a sim reset)
+                self._samples.clear()
+            self._samples.append((t, heading))
+            while self._samples and self._samples[0][0] < t - self.seconds:
+                self._samples.popleft()
+
+    def at(self, t: float, tolerance: float = 0.1) -> float | None:
+        """The heading at time `t`, interpolated between the samples around it; None when no
+        sample lies within `tolerance` s of it."""
+        with self._lock:
+            samples = list(self._samples)
+        if not samples:
+            return None
+        i = bisect.bisect_left(samples, (t, -math.inf))
+        if i == len(samples):
+            t0, h0 = samples[-1]
+            return h0 if t - t0 <= tolerance else None
+        t1, h1 = samples[i]
+        if i == 0 or t1 == t:
+            return h1 if t1 - t <= tolerance else None
+        t0, h0 = samples[i - 1]
+        return wrap_deg(h0 + wrap_deg(h1 - h0) * (t - t0) / (t1 - t0))
 
 
 def _hsv(name: str, value: list[str]) -> tuple[int, int, int]:
@@ -90,6 +141,26 @@ class RobotSynthesizer(Synthesizer):
         self.config = config_from_params(self.params)
         self.robot_name: str = self.params.robot_name
         self.max_pixels: int = self.params.max_pixels
+        self.headings: HeadingHistory | None = None
+        if self.params.odom_bearings:
+            self.headings = HeadingHistory()
+            rospy.Subscriber("odom", Odometry, self.on_odom, queue_size=50)
+
+    def on_odom(self, msg: Odometry) -> None:
+        q = msg.pose.pose.orientation
+        yaw = yaw_from_quaternion(q.x, q.y, q.z, q.w)
+        if math.isfinite(yaw):
+            assert self.headings is not None
+            self.headings.add(msg.header.stamp.to_sec(), wrap_deg(-math.degrees(yaw)))
+
+    def seen_at(self, stamp: Any, angle: float) -> list[str]:
+        """``[seen_at(Name,Heading)]`` for a sighting at `angle` in a frame of `stamp`, or []."""
+        if self.headings is None:
+            return []
+        heading = self.headings.at(stamp.to_sec())
+        if heading is None:
+            return []
+        return [f"seen_at({self.robot_name},{wrap_deg(heading + angle):.1f})"]
 
     def perceive(self, image_msg: Any, cloud_msg: Any) -> list[str]:
         """The complete perception list for one frame pair."""
@@ -102,11 +173,14 @@ class RobotSynthesizer(Synthesizer):
             raise BadFrame("the cloud has no valid depth point")
         result = detect(rgb, xyz, self.config)
         det = result.detection
+        stamp = image_msg.header.stamp
         if det is not None:
-            return [format_literal(self.robot_name, det.angle, det.depth, det.yaw)]
+            return [format_literal(self.robot_name, det.angle, det.depth, det.yaw),
+                    *self.seen_at(stamp, det.angle)]
         if result.partial is not None:
             part = result.partial
-            return [format_partial_literal(self.robot_name, part.angle, part.depth, part.colour)]
+            return [format_partial_literal(self.robot_name, part.angle, part.depth, part.colour),
+                    *self.seen_at(stamp, part.angle)]
         return []
 
 

@@ -4,7 +4,11 @@ Turns the agents' ``move(meters)`` and ``turn(degrees)`` into velocity commands 
 how they ended. Names are relative: run it inside the robot's namespace.
 
 Topics:
-    ``jason/action`` (jason_msgs/Action, in): handles ``move`` and ``turn``, ignores the rest.
+    ``jason/action`` (jason_msgs/Action, in): handles ``move``, ``turn`` and ``turn_to``,
+        ignores the rest. ``turn_to(degrees)`` turns the short way to a heading of the robot's
+        own odometry frame (degrees, positive clockwise with ``turn_clockwise``, as a turn's),
+        e.g. a bearing a camera took there (rason_vision's ``seen_at``): the angle is taken from
+        the pose when the action starts, so it does not depend on how late the action comes.
     ``jason/event`` (jason_msgs/Event, out): ``action_accepted [action_id]`` when a motion
         starts; ``action_feedback [RESULT, action_id, message]`` when it ends, RESULT one of
         ``OK``, ``no_progress``, ``bad_move``, ``bad_parameters``, ``preempted``, ``cancelled``.
@@ -52,7 +56,9 @@ from rason.execution.progress import (
 )
 from rason.execution.ramp import SpeedLimits, next_speed
 from rason.ros.params import param
-from turtlebot_model.geometry import yaw_from_quaternion
+from turtlebot_model.geometry import wrap_rad, yaw_from_quaternion
+
+TURN_TO = "turn_to"
 
 
 @dataclass(frozen=True)
@@ -106,7 +112,7 @@ def pose_of(msg: Odometry) -> Pose2D:
 class MotionDecomposer(Decomposer):
     """move(m) and turn(deg) actions to cmd_vel, checked against odom (thesis 6.3)."""
 
-    actions = (MOVE, TURN)
+    actions = (MOVE, TURN, TURN_TO)
     Params = MotionParams
 
     def setup(self) -> None:
@@ -126,6 +132,8 @@ class MotionDecomposer(Decomposer):
     # -- the protocol's hooks ----------------------------------------------------------------
     def parse(self, action: str, parameters: list[str]) -> float:
         p: MotionParams = self.params
+        if action == TURN_TO:       # a heading (rad, counter-clockwise); the turn: in begin()
+            return parse_target(TURN, parameters, p.turn_clockwise, p.max_distance, 360.0)
         return parse_target(action, parameters, p.turn_clockwise, p.max_distance, p.max_angle)
 
     def start(self, goal: Goal) -> Verdict | None:
@@ -172,7 +180,10 @@ class MotionDecomposer(Decomposer):
     def begin(self, goal: Goal, pose: Pose2D, now: float) -> Verdict | None:
         """Start monitoring `goal` from `pose`, then take the first step."""
         motion: Motion = goal.state
-        motion.monitor = MotionMonitor(goal.action, goal.target, pose, now, self.checks)
+        if goal.action == TURN_TO:  # from the heading to the turn that reaches it from here
+            goal.target = wrap_rad(goal.target - pose.yaw)
+        kind = TURN if goal.action == TURN_TO else goal.action
+        motion.monitor = MotionMonitor(kind, goal.target, pose, now, self.checks)
         if motion.monitor.remaining <= 0.0:          # move(0), turn(0)
             return Verdict(OK, f"nothing to do for {goal.action}(0)")
         return self.control(goal, pose, now)
