@@ -215,6 +215,22 @@ def test_turn_ends_within_2_degrees(robot: Robot, degrees: str, expected: float)
     assert out.distance < 0.02
 
 
+@pytest.mark.parametrize(("ahead", "expected"), [(120.0, -120.0), (200.0, 160.0)])
+def test_turn_to_faces_a_heading_of_the_odometry_frame_the_short_way(robot: Robot, ahead: float,
+                                                                      expected: float):
+    # turn_to(H): H a heading of the robot's odometry frame, clockwise degrees as turn's; the
+    # decomposer turns the short way from wherever the robot stands when the action starts.
+    odom = rospy.wait_for_message(f"{NS}/odom", Odometry, timeout=10)
+    here = -math.degrees(yaw_of(odom))                      # clockwise, as a camera bearing
+    goal = math.remainder(here + ahead, 360.0)
+    out = robot.perform("turn_to", f"{goal:.2f}")
+    assert out.result == "OK", out.message
+    # (within 6 degrees: on a loaded machine the base coasts a few degrees past a long turn)
+    assert out.turned == pytest.approx(expected, abs=6.0)
+    odom = rospy.wait_for_message(f"{NS}/odom", Odometry, timeout=10)
+    assert math.remainder(-math.degrees(yaw_of(odom)) - goal, 360.0) == pytest.approx(0.0, abs=6.0)
+
+
 # -- faults ---------------------------------------------------------------------------------------
 def test_both_actuators_gives_no_progress_and_the_robot_stays(robot: Robot):
     assert "both_actuators" in robot.inject("both_actuators")
