@@ -87,9 +87,11 @@ currTerm(lost, currLost) :- true.
 +!start : true <- .wait(4000); .print("ZZzzz...").
 
 // FIX(F9): the thesis searched in 5-degree steps, always clockwise (9-13 s of every run, the long
-// way round when Faulty was on the left). Helper now sweeps a full turn in one action and cuts
-// it short at the first sighting (a new turn preempts the sweep); the 5-degree-precision
-// centring only starts once Faulty is in view.
+// way round when Faulty was on the left). Helper now sweeps a full turn in one action (120 deg/s)
+// and cuts it short at the first sighting; once the base has braked it turns to the heading of
+// its odometry frame where it saw Faulty (seen_at, turn_to: right however late the percept came,
+// and though braking took Faulty out of view again), and the thesis' centring (7 degrees) is
+// read in that frame. Budget and alternatives: docs/thesis-fixes.md, F9.
 +!helpme[source(R)]
    <- +helping(R);
       -lastSweep(R, _);
