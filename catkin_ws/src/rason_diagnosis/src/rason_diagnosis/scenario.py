@@ -76,11 +76,8 @@ def _diff(a: float | None, b: float | None) -> float | None:
 #: frame was detected and acted on (0.1-0.5 s of simulated time, more on a busy machine): Faulty
 #: may be out of view by then; Helper turns back to the heading where it saw it (`turn_to`,
 #: with the synthesizer's `seen_at`). helper.asl's `sweepBrake` counts on these figures.
-#: A motion ends 0.1 s after the base came to rest (the default waits 0.3 s so that the next
-#: frame is taken at rest): Helper centres in its odometry frame, where a frame's time does not
-#: matter, and its observations wait for frames taken at rest themselves (`settleTime`).
 HELPER_MOTION: dict[str, object] = {"angular_speed": 120.0, "angular_accel": 220.0,
-                                    "angular_decel": 180.0, "settle_time": 0.1}
+                                    "angular_decel": 180.0}
 #: Helper's vision synthesizer also reports where it saw Faulty in the odometry frame.
 HELPER_VISION: dict[str, object] = {"odom_bearings": True}
 
