@@ -57,6 +57,15 @@ class World:
         self.faulty_turns: list[float] = []
         self.odom_bearings = False  # the synthesizer adds seen_at(faulty, Heading)
         self.brake = 0.0   # deg Helper coasts on after a turn is given up (braking, latency)
+        # The synthesizer's ~frame_stamps and [moving] (issue 15, F10): every Helper turn step
+        # takes `step_s` of the clock; Helper's camera frames are taken every reasoning cycle,
+        # annotated [stamp(Ms)] and, when Helper turned or drove between the frame and its
+        # delivery, [moving]; each reaches Helper `latency_ms` after it was taken.
+        self.stamps = False
+        self.step_s = 0.0
+        self.latency_ms = 0.0
+        self.helper_moves = 0       # Helper's drives so far (a frame before one is [moving])
+        self.frames: list[tuple[float, float, int, list[str]]] = []  # (ms, heading, moves, texts)
 
     # -- geometry -------------------------------------------------------------------------
     @property
@@ -68,6 +77,21 @@ class World:
         return math.hypot(self.x, self.y)
 
     def percepts(self) -> list:
+        return [parse_literal(text) for text in self.percept_texts()]
+
+    def camera(self, now_ms: float) -> list:
+        """What Helper perceives at `now_ms` with stamped frames: the newest frame taken at
+        least `latency_ms` before, [moving] when Helper's camera moved since it was taken."""
+        self.frames.append((now_ms, self.heading, self.helper_moves, self.percept_texts()))
+        late = [f for f in self.frames if f[0] <= now_ms - self.latency_ms]
+        if not late:
+            return []
+        taken, heading, moves, texts = late[-1]
+        moving = abs(wrap(self.heading - heading)) > 0.3 or moves != self.helper_moves
+        annots = f"[{'moving,' if moving else ''}stamp({taken:.0f})]"
+        return [parse_literal(t + annots if t.startswith("robot") else t) for t in texts]
+
+    def percept_texts(self) -> list[str]:
         rel = wrap(self.bearing - self.heading)
         if not self.visible or abs(rel) > FOV_HALF or not 0.5 < self.distance < 4.5:
             return []
@@ -75,15 +99,14 @@ class World:
         facing = wrap(self.faulty_heading - self.heading)          # heading in the camera
         relative = wrap(self.faulty_heading - self.bearing)        # heading - line of sight
         # Helper's odometry frame is the world's here: the heading of the sighting
-        seen = [parse_literal(f"seen_at(faulty,{wrap(self.heading + rel):.1f})")] \
-            if self.odom_bearings else []
+        seen = [f"seen_at(faulty,{wrap(self.heading + rel):.1f})"] if self.odom_bearings else []
         if abs(wrap(relative - 90.0)) < OCCLUDED:
-            return [parse_literal(f"robot_partial(faulty,{rel:.2f},{depth},orange)"), *seen]
+            return [f"robot_partial(faulty,{rel:.2f},{depth},orange)", *seen]
         off = wrap(relative - 90.0)
         if abs(off) < 15.0:       # as the real detector: near occlusion the yaw is pushed away
             facing += math.copysign(self.occlusion_bias, off)
         yaw = wrap(facing + rel)
-        return [parse_literal(f"robot(faulty,{rel:.2f},{depth},{yaw:.2f})"), *seen]
+        return [f"robot(faulty,{rel:.2f},{depth},{yaw:.2f})", *seen]
 
     def _advance(self, dist: float, turn: float) -> None:
         """Faulty drives ``dist`` m while turning ``turn`` degrees (the chord of the arc)."""
@@ -124,6 +147,7 @@ class World:
     def helper_move(self, dist: float) -> None:
         """Helper drives along its heading: Faulty's relative position shifts back."""
         h = math.radians(self.heading)
+        self.helper_moves += 1
         self.x -= dist * math.sin(h)
         self.y -= dist * math.cos(h)
 
@@ -151,6 +175,8 @@ class RobotArch(LocalArch):
                 step = math.copysign(min(TURN_STEP, abs(entry[5])), entry[5])
                 self.world.heading = wrap(self.world.heading + step)
                 entry[5] -= step
+                if self.world.step_s:
+                    self.clock.advance(self.world.step_s)
                 if abs(entry[5]) > 1e-9:
                     continue
             entry[0] -= 1
@@ -163,7 +189,8 @@ class RobotArch(LocalArch):
         self._tick()
         if self.name != "helper":
             return None
-        p = self.world.percepts()
+        w = self.world
+        p = w.camera(self.clock.now() * 1000.0) if w.stamps else w.percepts()
         if p == self._last:
             return None
         self._last = p
@@ -382,3 +409,51 @@ def test_out_of_range_is_not_found():
     diagnosis, out = diagnosis_of(world)
     assert "Turned 360 degrees without finding faulty" in out
     assert diagnosis == "unknown", out
+
+
+# -- late frames (issue 15, F10): observations from frames taken at rest, after they started -------
+
+def late_frames_world(scenario: str, latency_ms: float, **layout) -> World:
+    world = World(scenario, **layout)
+    world.odom_bearings = True
+    world.stamps = True
+    world.step_s = 0.02          # Helper turns TURN_STEP = 2 degrees in 20 ms: 100 deg/s
+    world.latency_ms = latency_ms
+    return world
+
+
+def ready_position(out: str) -> tuple[float, float, float]:
+    """Helper's initial observation, from its 'I'm ready: faulty is at pos(Deg,Depth,Yaw)'."""
+    line = [t for t in out.splitlines() if "I'm ready: faulty is at pos(" in t][-1]
+    deg, depth, yaw = line.split("pos(")[1].split(")")[0].split(",")
+    return float(deg), float(depth), float(yaw)
+
+
+@pytest.mark.parametrize("latency_ms", [0.0, 400.0, 900.0])
+@pytest.mark.parametrize("scenario,curve", [("right_actuator", 20.0), ("left_actuator", -20.0),
+                                            ("odometry", 0.0), ("both_actuators", 0.0)])
+def test_late_frames_from_a_turning_camera_are_not_observed(scenario, curve, latency_ms):
+    """Frames reach Helper up to 0.9 s after they were taken; those taken while it centred
+    Faulty (a 40-degree turn) show Faulty where it no longer is. Helper's initial observation
+    averages only frames taken at rest after it started, so it sees Faulty centred (where it
+    faces it now), and the diagnosis is right."""
+    world = late_frames_world(scenario, latency_ms, bearing=40.0, relative_heading=-90.0 - 40.0,
+                              curve=curve)
+    diagnosis, out = diagnosis_of(world)
+    assert world.helper_turns and abs(world.helper_turns[0]) > 30.0, world.helper_turns
+    deg, _, _ = ready_position(out)
+    assert abs(deg) < 7.0, out
+    assert diagnosis == scenario, out
+
+
+def test_frames_from_before_faultys_move_ended_are_not_observed():
+    """Frames 0.9 s late: when Helper is asked to track Faulty, and when Faulty asks for
+    feedback, the newest frames Helper has show Faulty before its last move. Each observation
+    counts only frames stamped after it started (plus settleTime), so the two observations
+    enclose exactly the test move: the 20-degree turn of that one move is what Faulty sees
+    (frames from before its first moves gave 40: two moves)."""
+    world = late_frames_world("right_actuator", 900.0, bearing=0.0, relative_heading=-90.0 - 40.0,
+                              curve=20.0)
+    diagnosis, out = diagnosis_of(world)
+    assert "): turned 20" in out, out
+    assert diagnosis == "right_actuator", out

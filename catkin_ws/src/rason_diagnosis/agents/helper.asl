@@ -9,6 +9,8 @@
 //                                             cylinder, Faulty's heading unknown
 //   seen_at(Name, Heading)                    with either: the bearing as a heading of Helper's
 //                                             odometry frame at the frame's time (for turn_to)
+// A sighting may carry the annotations [moving] (its frame was not taken with Helper's camera at
+// rest, or the camera has moved since) and [stamp(Ms)] (its frame's time, ms of ROS time).
 // Angles in degrees, positive clockwise (to the right); yaw in (-180, 180].
 
 /* Initial beliefs and rules */
@@ -16,9 +18,9 @@ centerThreshold(7).     // |bearing| below this: Faulty is centred (thesis)
 maxSweeps(3).           // search sweeps (each a full turn cut short by a sighting) before giving up
 maxCentring(8).         // centring turns per search before giving up
 samples(5).             // full sightings averaged into one observation
-sampleTries(16).        // frames tried per observation (one per framePeriod)
+sampleTries(16).        // polls per observation that bring no new full sighting (one per framePeriod)
 framePeriod(70).        // ms: about one Kinect frame (15 Hz)
-settleTime(300).        // ms after a motion before frames count (newer than its end)
+settleTime(300).        // ms after an observation starts before its frames may be stamped
 sweepBrake(550).        // ms a cut sweep takes to stop: 120 deg/s at the base's 229 deg/s^2
 goodRange(1.0, 3.3).    // m: depths where the yaw is reliable and a 0.3 m move stays in view
 viewDepth(1.8).         // m: the depth Helper moves to when Faulty is outside goodRange
@@ -32,6 +34,22 @@ wrap(A, W) :- W = A - 360 * math.ceil((A - 180) / 360).
 // Faulty in view (a full or a partial sighting, only a current percept: never a memory).
 sees(R, Deg, Depth) :- robot(R, Deg, Depth, _)[source(percept)].
 sees(R, Deg, Depth) :- robot_partial(R, Deg, Depth, _)[source(percept)].
+
+// FIX(F10): a sighting an observation may use: from a frame taken with Helper's camera at rest
+// (not [moving]) and, when frames are stamped, stamped after After (ms of ROS time: the
+// observation's start plus settleTime, then the last frame used, so no frame counts twice).
+// Without stamps (a synthesizer without ~frame_stamps) any current percept at rest counts.
+usable(R, D, Dp, Y, After, T)
+   :- robot(R, D, Dp, Y)[source(percept), stamp(T)] & T > After & not robot(R, D, Dp, Y)[moving].
+usable(R, D, Dp, Y, After, After)
+   :- robot(R, D, Dp, Y)[source(percept)] & not robot(R, D, Dp, Y)[stamp(_)]
+    & not robot(R, D, Dp, Y)[moving].
+usablePart(R, D, Dp, C, After)
+   :- robot_partial(R, D, Dp, C)[source(percept), stamp(T)] & T > After
+    & not robot_partial(R, D, Dp, C)[moving].
+usablePart(R, D, Dp, C, _)
+   :- robot_partial(R, D, Dp, C)[source(percept)] & not robot_partial(R, D, Dp, C)[stamp(_)]
+    & not robot_partial(R, D, Dp, C)[moving].
 
 // Where Faulty was last seen, as a heading of Helper's odometry frame: the current percept's, else
 // the last one remembered during this search (Faulty may have left the view while Helper braked).
@@ -202,43 +220,47 @@ currTerm(lost, currLost) :- true.
 
 // ---- evidence ------------------------------------------------------------------------------
 // FIX(F10): the thesis compared two single frames, the second possibly older than the end of the
-// move. An observation waits until the motion has settled, then averages `samples` full
-// sightings from fresh frames: obs(R, Label, pos(Deg, Depth, Yaw)); with too few full
-// sightings it is part(Deg, Depth, Colour) (one cylinder seen: yaw unknown) or lost.
+// move. An observation averages `samples` full sightings from frames taken with Helper's camera
+// at rest and stamped at least settleTime after the observation started (after Helper's own
+// motion ended and after Faulty's request, which Faulty sends once its move has ended), however
+// late those frames reach Helper: obs(R, Label, pos(Deg, Depth, Yaw)); with too few full
+// sightings it is part(Deg, Depth, Colour) (one cylinder seen: yaw unknown) or lost. A poll
+// that brings a new full sighting costs no try, so late frames do not shorten the observation.
 +!observe(R, Label)
    : settleTime(S) & sampleTries(M)
    <- -obs(R, Label, _);
+      .time(Now);
       .wait(S);
-      !collect(R, Label, M, [], []).
+      !collect(R, Label, Now + S, M, [], []).
 
-+!collect(R, Label, _, Full, _)
++!collect(R, Label, _, _, Full, _)
    : samples(K) & .length(Full, N) & N >= K & meanObs(Full, Obs)
    <- +obs(R, Label, Obs).
 
-+!collect(R, Label, 0, Full, _)
++!collect(R, Label, _, 0, Full, _)
    : .length(Full, N) & N >= 3 & meanObs(Full, Obs)
    <- +obs(R, Label, Obs).
 
-+!collect(R, Label, 0, _, [p(D, Dp, C) | _])
++!collect(R, Label, _, 0, _, [p(D, Dp, C) | _])
    <- +obs(R, Label, part(D, Dp, C)).
 
-+!collect(R, Label, 0, _, _)
++!collect(R, Label, _, 0, _, _)
    <- +obs(R, Label, lost).
 
-+!collect(R, Label, Tries, Full, Part)
-   : robot(R, D, Dp, Y)[source(percept)] & framePeriod(P)
++!collect(R, Label, After, Tries, Full, Part)
+   : usable(R, D, Dp, Y, After, T) & framePeriod(P)
    <- .wait(P);
-      !collect(R, Label, Tries - 1, [s(D, Dp, Y) | Full], Part).
+      !collect(R, Label, T, Tries, [s(D, Dp, Y) | Full], Part).
 
-+!collect(R, Label, Tries, Full, Part)
-   : robot_partial(R, D, Dp, C)[source(percept)] & framePeriod(P)
++!collect(R, Label, After, Tries, Full, Part)
+   : usablePart(R, D, Dp, C, After) & framePeriod(P)
    <- .wait(P);
-      !collect(R, Label, Tries - 1, Full, [p(D, Dp, C) | Part]).
+      !collect(R, Label, After, Tries - 1, Full, [p(D, Dp, C) | Part]).
 
-+!collect(R, Label, Tries, Full, Part)
++!collect(R, Label, After, Tries, Full, Part)
    : framePeriod(P)
    <- .wait(P);
-      !collect(R, Label, Tries - 1, Full, Part).
+      !collect(R, Label, After, Tries - 1, Full, Part).
 
 // FIX(F12) (future work of the thesis: repositioning the observer): beyond goodRange the yaw is
 // noisy (far) or Faulty's test move may leave the view (near); Helper drives along its line of

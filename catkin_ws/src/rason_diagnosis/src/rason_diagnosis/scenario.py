@@ -78,8 +78,11 @@ def _diff(a: float | None, b: float | None) -> float | None:
 #: with the synthesizer's `seen_at`). helper.asl's `sweepBrake` counts on these figures.
 HELPER_MOTION: dict[str, object] = {"angular_speed": 120.0, "angular_accel": 220.0,
                                     "angular_decel": 180.0}
-#: Helper's vision synthesizer also reports where it saw Faulty in the odometry frame.
-HELPER_VISION: dict[str, object] = {"odom_bearings": True}
+#: Helper's vision synthesizer also reports where it saw Faulty in the odometry frame, marks
+#: sightings from frames not taken with the camera at rest ([moving]) and stamps every sighting
+#: with its frame's time ([stamp(Ms)]): Helper's observations count only frames at rest and
+#: newer than the start of the observation (helper.asl, !observe; docs/thesis-fixes.md F10).
+HELPER_VISION: dict[str, object] = {"odom_bearings": True, "frame_stamps": True}
 
 
 def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, echo: bool = True,

@@ -72,25 +72,61 @@ class RobotParams(SynthesizerParams):
                                   "frame: about 7 periods of the 15 Hz Kinect", minimum=0.0)
     odom_bearings: bool = param(False, "also report seen_at(Name, Heading): a sighting's bearing "
                                 "as a heading of the robot's odometry frame (odom) at the "
-                                "frame's time, degrees clockwise")
+                                "frame's time, degrees clockwise; and annotate [moving] a "
+                                "sighting whose frame was not taken with the camera at rest")
+    frame_stamps: bool = param(False, "annotate every sighting [stamp(Ms)]: its frame's time, "
+                               "milliseconds of ROS time (the agents' .time(T))")
+    rest_margin: float = param(0.1, "s the odometry must show the camera at rest before a "
+                               "frame's stamp (and up to its newest message) for the frame "
+                               "not to be [moving]", minimum=0.0)
+
+
+#: the camera is at rest while its odometry pose stays within these of the newest one
+REST_TURN_DEG = 0.3
+REST_MOVE_M = 0.005
+#: the newest odometry may be this much older than a frame (one or two 50 Hz periods)
+ODOM_LAG_S = 0.05
 
 
 class HeadingHistory:
-    """The robot's recent odometry headings (degrees clockwise, as a camera bearing) by time,
-    to read the heading at a camera frame's stamp."""
+    """The robot's recent odometry headings (degrees clockwise, as a camera bearing) and
+    positions by time, to read the heading at a camera frame's stamp and whether the camera was
+    at rest then."""
 
     def __init__(self, seconds: float = 5.0) -> None:
         self.seconds = seconds
         self._samples: deque[tuple[float, float]] = deque()
+        self._places: deque[tuple[float, float]] = deque()      # (x, y) of each sample
         self._lock = threading.Lock()
 
-    def add(self, t: float, heading: float) -> None:
+    def add(self, t: float, heading: float, x: float = 0.0, y: float = 0.0) -> None:
         with self._lock:
             if self._samples and t < self._samples[-1][0]:   # time went back (a sim reset)
                 self._samples.clear()
+                self._places.clear()
             self._samples.append((t, heading))
+            self._places.append((x, y))
             while self._samples and self._samples[0][0] < t - self.seconds:
                 self._samples.popleft()
+                self._places.popleft()
+
+    def at_rest(self, t: float, margin: float) -> bool:
+        """Whether the odometry shows the robot at rest from `margin` s before `t` up to its
+        newest sample (so at `t`, and in the pose it has now): the newest sample must be at
+        most ODOM_LAG_S older than `t`, and the history must reach back to `t` - `margin`."""
+        with self._lock:
+            samples = list(self._samples)
+            places = list(self._places)
+        if not samples or samples[-1][0] < t - ODOM_LAG_S:
+            return False                       # the odometry does not know `t` yet
+        first = bisect.bisect_right(samples, (t - margin, math.inf)) - 1
+        if first < 0:
+            return False                       # nothing as old as `t` - `margin`
+        _, h1 = samples[-1]
+        x1, y1 = places[-1]
+        return all(abs(wrap_deg(h - h1)) <= REST_TURN_DEG
+                   and math.hypot(x - x1, y - y1) <= REST_MOVE_M
+                   for (_, h), (x, y) in zip(samples[first:], places[first:], strict=True))
 
     def at(self, t: float, tolerance: float = 0.1) -> float | None:
         """The heading at time `t`, interpolated between the samples around it; None when no
@@ -108,6 +144,19 @@ class HeadingHistory:
             return h1 if t1 - t <= tolerance else None
         t0, h0 = samples[i - 1]
         return wrap_deg(h0 + wrap_deg(h1 - h0) * (t - t0) / (t1 - t0))
+
+
+def sighting_annotations(t: float, headings: HeadingHistory | None, rest_margin: float,
+                         stamps: bool) -> str:
+    """``[moving,stamp(Ms)]`` for a frame taken at `t` (s): ``moving`` when `headings` (the
+    robot's odometry) does not show the camera at rest from `rest_margin` s before `t` up to
+    now; ``stamp`` when `stamps`, in whole milliseconds. ``""`` when neither applies."""
+    annots = []
+    if headings is not None and not headings.at_rest(t, rest_margin):
+        annots.append("moving")
+    if stamps:
+        annots.append(f"stamp({round(t * 1000.0)})")
+    return f"[{','.join(annots)}]" if annots else ""
 
 
 def _hsv(name: str, value: list[str]) -> tuple[int, int, int]:
@@ -149,9 +198,10 @@ class RobotSynthesizer(Synthesizer):
     def on_odom(self, msg: Odometry) -> None:
         q = msg.pose.pose.orientation
         yaw = yaw_from_quaternion(q.x, q.y, q.z, q.w)
-        if math.isfinite(yaw):
+        p = msg.pose.pose.position
+        if math.isfinite(yaw) and math.isfinite(p.x) and math.isfinite(p.y):
             assert self.headings is not None
-            self.headings.add(msg.header.stamp.to_sec(), wrap_deg(-math.degrees(yaw)))
+            self.headings.add(msg.header.stamp.to_sec(), wrap_deg(-math.degrees(yaw)), p.x, p.y)
 
     def seen_at(self, stamp: Any, angle: float) -> list[str]:
         """``[seen_at(Name,Heading)]`` for a sighting at `angle` in a frame of `stamp`, or []."""
@@ -161,6 +211,12 @@ class RobotSynthesizer(Synthesizer):
         if heading is None:
             return []
         return [f"seen_at({self.robot_name},{wrap_deg(heading + angle):.1f})"]
+
+    def annotations(self, stamp: Any) -> str:
+        """The annotations of a sighting in a frame of `stamp`: ``[moving,stamp(Ms)]``, each
+        when its parameter asks for it; ``""`` for none."""
+        return sighting_annotations(stamp.to_sec(), self.headings, self.params.rest_margin,
+                                    self.params.frame_stamps)
 
     def perceive(self, image_msg: Any, cloud_msg: Any) -> list[str]:
         """The complete perception list for one frame pair."""
@@ -175,12 +231,12 @@ class RobotSynthesizer(Synthesizer):
         det = result.detection
         stamp = image_msg.header.stamp
         if det is not None:
-            return [format_literal(self.robot_name, det.angle, det.depth, det.yaw),
-                    *self.seen_at(stamp, det.angle)]
+            return [format_literal(self.robot_name, det.angle, det.depth, det.yaw)
+                    + self.annotations(stamp), *self.seen_at(stamp, det.angle)]
         if result.partial is not None:
             part = result.partial
-            return [format_partial_literal(self.robot_name, part.angle, part.depth, part.colour),
-                    *self.seen_at(stamp, part.angle)]
+            return [format_partial_literal(self.robot_name, part.angle, part.depth, part.colour)
+                    + self.annotations(stamp), *self.seen_at(stamp, part.angle)]
         return []
 
 
