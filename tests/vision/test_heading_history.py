@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from rason_vision.synthesizer import HeadingHistory, sighting_annotations
+from rason_vision.synthesizer import HeadingHistory, frame_literal, sighting_annotations
 
 
 def test_heading_at_a_frame_stamp_is_interpolated_across_plus_minus_180():
@@ -86,3 +86,8 @@ def test_a_frame_the_odometry_has_not_caught_up_with_or_older_than_it_is_moving(
     assert history.at_rest(11.03, 0.1)              # within ODOM_LAG_S
     assert not history.at_rest(10.05, 0.1)          # the history does not reach 9.95
     assert not HeadingHistory().at_rest(10.0, 0.1)  # no odometry at all
+
+
+def test_every_frame_is_stamped_in_whole_milliseconds():
+    assert frame_literal(12.3456) == "frame(12346)"
+    assert frame_literal(1795461797.4567) == "frame(1795461797457)"   # wall-clock ROS time

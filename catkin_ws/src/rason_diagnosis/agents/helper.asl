@@ -10,7 +10,9 @@
 //   seen_at(Name, Heading)                    with either: the bearing as a heading of Helper's
 //                                             odometry frame at the frame's time (for turn_to)
 // A sighting may carry the annotations [moving] (its frame was not taken with Helper's camera at
-// rest, or the camera has moved since) and [stamp(Ms)] (its frame's time, ms of ROS time).
+// rest, or the camera has moved since) and [stamp(Ms)] (its frame's time, ms of ROS time);
+//   frame(Ms)                                 with stamps: the time of the newest frame processed,
+//                                             with or without a sighting
 // Angles in degrees, positive clockwise (to the right); yaw in (-180, 180].
 
 /* Initial beliefs and rules */
@@ -18,7 +20,8 @@ centerThreshold(7).     // |bearing| below this: Faulty is centred (thesis)
 maxSweeps(3).           // search sweeps (each a full turn cut short by a sighting) before giving up
 maxCentring(8).         // centring turns per search before giving up
 samples(5).             // full sightings averaged into one observation
-sampleTries(16).        // polls per observation that bring no new full sighting (one per framePeriod)
+sampleTries(16).        // new frames without a usable full sighting before an observation ends
+frameWait(1500).        // ms after settleTime that waiting for late frames costs no try
 framePeriod(70).        // ms: about one Kinect frame (15 Hz)
 settleTime(300).        // ms after an observation starts before its frames may be stamped
 sweepBrake(550).        // ms a cut sweep takes to stop: 120 deg/s at the base's 229 deg/s^2
@@ -39,11 +42,13 @@ sees(R, Deg, Depth) :- robot_partial(R, Deg, Depth, _)[source(percept)].
 // (not [moving]) and, when frames are stamped, stamped after After (ms of ROS time: the
 // observation's start plus settleTime, then the last frame used, so no frame counts twice).
 // Without stamps (a synthesizer without ~frame_stamps) any current percept at rest counts.
+// newFrame: a frame processed since After (a try when it brings no usable full sighting).
 usable(R, D, Dp, Y, After, T)
    :- robot(R, D, Dp, Y)[source(percept), stamp(T)] & T > After & not robot(R, D, Dp, Y)[moving].
 usable(R, D, Dp, Y, After, After)
    :- robot(R, D, Dp, Y)[source(percept)] & not robot(R, D, Dp, Y)[stamp(_)]
     & not robot(R, D, Dp, Y)[moving].
+newFrame(After, T) :- frame(T)[source(percept)] & T > After.
 usablePart(R, D, Dp, C, After)
    :- robot_partial(R, D, Dp, C)[source(percept), stamp(T)] & T > After
     & not robot_partial(R, D, Dp, C)[moving].
@@ -224,43 +229,63 @@ currTerm(lost, currLost) :- true.
 // at rest and stamped at least settleTime after the observation started (after Helper's own
 // motion ended and after Faulty's request, which Faulty sends once its move has ended), however
 // late those frames reach Helper: obs(R, Label, pos(Deg, Depth, Yaw)); with too few full
-// sightings it is part(Deg, Depth, Colour) (one cylinder seen: yaw unknown) or lost. A poll
-// that brings a new full sighting costs no try, so late frames do not shorten the observation.
+// sightings it is part(Deg, Depth, Colour) (one cylinder seen: yaw unknown) or lost. It ends
+// after `sampleTries` new frames without a usable full sighting; until frameWait has passed, a
+// poll that brings no new frame at all (frames late, or a gap) costs no try, so late frames do
+// not shorten the observation. Each frame is used once (After: the newest frame used).
 +!observe(R, Label)
-   : settleTime(S) & sampleTries(M)
+   : settleTime(S) & sampleTries(M) & frameWait(W)
    <- -obs(R, Label, _);
       .time(Now);
       .wait(S);
-      !collect(R, Label, Now + S, M, [], []).
+      !collect(R, Label, Now + S, Now + S + W, M, [], []).
 
-+!collect(R, Label, _, _, Full, _)
++!collect(R, Label, _, _, _, Full, _)
    : samples(K) & .length(Full, N) & N >= K & meanObs(Full, Obs)
    <- +obs(R, Label, Obs).
 
-+!collect(R, Label, _, 0, Full, _)
++!collect(R, Label, _, _, 0, Full, _)
    : .length(Full, N) & N >= 3 & meanObs(Full, Obs)
    <- +obs(R, Label, Obs).
 
-+!collect(R, Label, _, 0, _, [p(D, Dp, C) | _])
++!collect(R, Label, _, _, 0, _, [p(D, Dp, C) | _])
    <- +obs(R, Label, part(D, Dp, C)).
 
-+!collect(R, Label, _, 0, _, _)
++!collect(R, Label, _, _, 0, _, _)
    <- +obs(R, Label, lost).
 
-+!collect(R, Label, After, Tries, Full, Part)
+// a usable full sighting: a sample
++!collect(R, Label, After, Until, Tries, Full, Part)
    : usable(R, D, Dp, Y, After, T) & framePeriod(P)
    <- .wait(P);
-      !collect(R, Label, T, Tries, [s(D, Dp, Y) | Full], Part).
+      !collect(R, Label, T, Until, Tries, [s(D, Dp, Y) | Full], Part).
 
-+!collect(R, Label, After, Tries, Full, Part)
+// a new frame without one: a try (a partial sighting in it is kept)
++!collect(R, Label, After, Until, Tries, Full, Part)
+   : newFrame(After, T) & usablePart(R, D, Dp, C, After) & framePeriod(P)
+   <- .wait(P);
+      !collect(R, Label, T, Until, Tries - 1, Full, [p(D, Dp, C) | Part]).
+
++!collect(R, Label, After, Until, Tries, Full, Part)
+   : newFrame(After, T) & framePeriod(P)
+   <- .wait(P);
+      !collect(R, Label, T, Until, Tries - 1, Full, Part).
+
+// no new frame: free while frames may still be on their way (until Until), then a try
++!collect(R, Label, After, Until, Tries, Full, Part)
+   : framePeriod(P) & .time(Now) & Now < Until
+   <- .wait(P);
+      !collect(R, Label, After, Until, Tries, Full, Part).
+
++!collect(R, Label, After, Until, Tries, Full, Part)
    : usablePart(R, D, Dp, C, After) & framePeriod(P)
    <- .wait(P);
-      !collect(R, Label, After, Tries - 1, Full, [p(D, Dp, C) | Part]).
+      !collect(R, Label, After, Until, Tries - 1, Full, [p(D, Dp, C) | Part]).
 
-+!collect(R, Label, After, Tries, Full, Part)
++!collect(R, Label, After, Until, Tries, Full, Part)
    : framePeriod(P)
    <- .wait(P);
-      !collect(R, Label, After, Tries - 1, Full, Part).
+      !collect(R, Label, After, Until, Tries - 1, Full, Part).
 
 // FIX(F12) (future work of the thesis: repositioning the observer): beyond goodRange the yaw is
 // noisy (far) or Faulty's test move may leave the view (near); Helper drives along its line of

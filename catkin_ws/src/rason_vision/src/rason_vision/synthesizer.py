@@ -74,8 +74,9 @@ class RobotParams(SynthesizerParams):
                                 "as a heading of the robot's odometry frame (odom) at the "
                                 "frame's time, degrees clockwise; and annotate [moving] a "
                                 "sighting whose frame was not taken with the camera at rest")
-    frame_stamps: bool = param(False, "annotate every sighting [stamp(Ms)]: its frame's time, "
-                               "milliseconds of ROS time (the agents' .time(T))")
+    frame_stamps: bool = param(False, "annotate every sighting [stamp(Ms)] and add frame(Ms) to "
+                               "every frame's list, with or without a sighting: the frame's "
+                               "time, milliseconds of ROS time (the agents' .time(T))")
     rest_margin: float = param(0.1, "s the odometry must show the camera at rest before a "
                                "frame's stamp (and up to its newest message) for the frame "
                                "not to be [moving]", minimum=0.0)
@@ -159,6 +160,11 @@ def sighting_annotations(t: float, headings: HeadingHistory | None, rest_margin:
     return f"[{','.join(annots)}]" if annots else ""
 
 
+def frame_literal(t: float) -> str:
+    """``frame(Ms)``: a frame was processed, taken at `t` (s), in whole milliseconds."""
+    return f"frame({round(t * 1000.0)})"
+
+
 def _hsv(name: str, value: list[str]) -> tuple[int, int, int]:
     try:
         h, s, v = (int(float(x)) for x in value)
@@ -227,9 +233,15 @@ class RobotSynthesizer(Synthesizer):
                            f"{xyz.shape[1]}x{xyz.shape[0]} differ in size")
         if not np.isfinite(xyz[..., 2]).any():
             raise BadFrame("the cloud has no valid depth point")
-        result = detect(rgb, xyz, self.config)
-        det = result.detection
         stamp = image_msg.header.stamp
+        percepts = self.sightings(detect(rgb, xyz, self.config), stamp)
+        if self.params.frame_stamps:
+            percepts.append(frame_literal(stamp.to_sec()))
+        return percepts
+
+    def sightings(self, result: Any, stamp: Any) -> list[str]:
+        """The percepts of one detection result in a frame of `stamp`."""
+        det = result.detection
         if det is not None:
             return [format_literal(self.robot_name, det.angle, det.depth, det.yaw)
                     + self.annotations(stamp), *self.seen_at(stamp, det.angle)]
