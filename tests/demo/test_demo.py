@@ -88,8 +88,7 @@ def test_demo_in_a_user_world(world, fault, seed, tmp_path):
     assert printed["total_s"] is not None
 
 
-@pytest.mark.parametrize(("sig", "started"), [(signal.SIGTERM, 1), (signal.SIGINT, 1),
-                                              (signal.SIGTERM, 4)])
+@pytest.mark.parametrize(("sig", "started"), [(signal.SIGTERM, 1), (signal.SIGINT, 4)])
 def test_an_interrupted_demo_leaves_no_process_behind(tmp_path, sig: int, started: int):
     # interrupted while roscore starts (1 process of the run up) or while the nodes start (4)
     demo = subprocess.Popen([sys.executable, "-m", "rason_diagnosis", "--fault", "none",
