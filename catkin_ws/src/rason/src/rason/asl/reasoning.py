@@ -197,17 +197,7 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     i = ev.intention
     if not relevant:
         if i is not None and not trig.is_goal:
-            # the common case, inlined (_resume_after_belief_event): +b of a plan body
-            ims = i.ims
-            if ims:
-                stack = ims[-1].stack
-                if stack:
-                    stack.pop()
-                i.suspended = None
-                if not i.dropped:
-                    ag.running.append(i)
-            else:
-                i.suspended = None
+            _resume_after_belief_event(ag, i)       # the common case: +b of a plan body
             return True
         return _no_plan(ag, trig, i, "relevant")
     lit = trig.literal
