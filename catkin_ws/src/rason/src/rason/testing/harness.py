@@ -264,30 +264,37 @@ class RosHarness:
                         ROS_HOME=str(ros_home), ROS_LOG_DIR=str(ros_home / "log"),
                         PYTHONUNBUFFERED="1", RASON_HARNESS_PARENT=str(os.getpid()))
         self.env.pop("ROS_HOSTNAME", None)
-        roscore = ["roscore", "-p", str(self.port)]
-        if self.master_host:
-            roscore = self.master_host.command(roscore)
         # `with RosHarness()` calls stop() only once start() has returned: whatever ends the
         # start (a timeout, Ctrl-C, SIGTERM turned into KeyboardInterrupt) stops roscore here
         try:
-            with interrupts_deferred():
-                self.roscore = Process("roscore", roscore, self.env,
-                                       self.log_dir / "roscore.log", echo=False)
-            deadline = time.monotonic() + timeout
-            while not self._master_up():
-                if not self.roscore.alive():
-                    raise HarnessError(f"roscore exited:\n{self.roscore.output()}")
-                if time.monotonic() > deadline:
-                    raise HarnessError(f"roscore did not answer within {timeout} s")
-                time.sleep(0.05)
-            # rosout must be up too, or the first node's log calls race it.
-            self.wait_for_node("/rosout", timeout)
-            if self.sim_time:
-                self.set_param("/use_sim_time", True)
+            self._launch_roscore("roscore.log", "roscore", timeout)
         except BaseException:
             self.stop()
             raise
         return self
+
+    def _launch_roscore(self, log_name: str, what: str, timeout: float) -> float:
+        """Start roscore on ``self.port`` (on the master's host) and wait until the master
+        and rosout answer; the ``time.monotonic()`` at which the master first answered."""
+        argv = ["roscore", "-p", str(self.port)]
+        if self.master_host:
+            argv = self.master_host.command(argv)
+        with interrupts_deferred():
+            self.roscore = Process("roscore", argv, self.env, self.log_dir / log_name,
+                                   echo=False)
+        deadline = time.monotonic() + timeout
+        while not self._master_up():
+            if not self.roscore.alive():
+                raise HarnessError(f"{what} exited:\n{self.roscore.output()}")
+            if time.monotonic() > deadline:
+                raise HarnessError(f"{what} did not answer within {timeout} s")
+            time.sleep(0.05)
+        answered = time.monotonic()
+        # rosout must be up too, or the first node's log calls race it.
+        self.wait_for_node("/rosout", timeout)
+        if self.sim_time:
+            self.set_param("/use_sim_time", True)
+        return answered
 
     def restart_master(self, down: float = 0.0, timeout: float = 20.0) -> float:
         """Stop roscore (master and rosout), wait `down` seconds, start it again on the same
@@ -301,20 +308,7 @@ class RosHarness:
         time.sleep(down)
         count = self._names.get("roscore", 1)
         self._names["roscore"] = count + 1
-        self.roscore = Process("roscore", ["roscore", "-p", str(self.port)], self.env,
-                               self.log_dir / f"roscore.{count}.log", echo=False)
-        deadline = time.monotonic() + timeout
-        while not self._master_up():
-            if not self.roscore.alive():
-                raise HarnessError(f"roscore exited:\n{self.roscore.output()}")
-            if time.monotonic() > deadline:
-                raise HarnessError(f"the restarted roscore did not answer within {timeout} s")
-            time.sleep(0.05)
-        answered = time.monotonic()
-        self.wait_for_node("/rosout", timeout)
-        if self.sim_time:
-            self.set_param("/use_sim_time", True)
-        return answered
+        return self._launch_roscore(f"roscore.{count}.log", "the restarted roscore", timeout)
 
     def stop(self) -> None:
         """Stop every node (newest first), then roscore; leaves no process behind."""
