@@ -105,10 +105,12 @@ occlusionMargin(20).
    <- .print(R, " found me, asking to track me");
       !ask(R, achieve, trackMe).                              // HOSTS: was .send, see !ask
 
-// FIX(F6): Helper gives up after a full turn and tells us so; we report unknown.
+// FIX(F6): Helper gives up after a full turn (or after losing sight of us) and tells us so; we
+// report unknown, saying why.
 +notFound(Me)[source(R)]
    : .my_name(Me)
    <- .print(R, " could not find me: the fault is unknown");
+      -+unknownBecause("the helper could not find me or keep me in view");
       -+diagnosis(unknown).                                   // ADDED: outcome belief
 
 // HOSTS (robots on their own machines, ./run.sh demo --hosts --cut ...): a .send fails with

@@ -21,8 +21,12 @@ import yaml
 from rason.inspector.main import InspectorParams
 from rason_diagnosis import thesis
 from rason_diagnosis.hosts import LinkCut, interrupt
-from rason_diagnosis.scenario import FAULTS, default_fault, run_scenario
+from rason_diagnosis.scenario import FAULTS, Outcome, default_fault, run_scenario
 from turtlebot_sim.config import resolve
+
+#: What the demo prints for each outcome of the run.
+VERDICTS = {Outcome.RIGHT: "CORRECT", Outcome.UNKNOWN: "UNKNOWN (no component named)",
+            Outcome.WRONG: "WRONG"}
 
 
 def _link_cut(text: str) -> LinkCut:
@@ -97,7 +101,7 @@ def main(argv: list[str] | None = None) -> int:
     print("\n[demo] ---------------- result ----------------")
     print(f"[demo] injected fault : {fault}")
     print(f"[demo] diagnosis      : {result.diagnosis}  (expected {result.expected}) -> "
-          f"{'CORRECT' if result.correct else 'WRONG'}")
+          f"{VERDICTS[result.outcome]}")
     for label, value, index in (("fault detection", result.detection_s, 0),
                                 ("robot location", result.location_s, 1),
                                 ("diagnosis", result.diagnosis_s, 2),

@@ -27,7 +27,7 @@ import yaml
 from rason.testing.harness import processes_left_by
 from rason_diagnosis import thesis
 from rason_diagnosis.paths import world_file
-from rason_diagnosis.scenario import FAULTS
+from rason_diagnosis.scenario import FAULTS, outcome_of
 
 FIELDS = ("fault", "seed", "diagnosis", "expected", "correct", "detection_s", "location_s",
           "diagnosis_s", "total_s", "wall_s", "orphans", "error")
@@ -209,11 +209,7 @@ OUTCOME_COLOURS = {"right": "tab:green", "unknown": "tab:orange", "wrong": "tab:
 
 def outcome(result: dict) -> str:
     """right, unknown (no component named, or no answer) or wrong (a wrong component)."""
-    if result.get("correct"):
-        return "right"
-    if result.get("diagnosis") in (None, "unknown"):
-        return "unknown"
-    return "wrong"
+    return outcome_of(result.get("correct"), result.get("diagnosis")).value
 
 
 def random_campaign(args: argparse.Namespace) -> int:

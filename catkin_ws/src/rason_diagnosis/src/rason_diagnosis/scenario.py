@@ -14,6 +14,7 @@ import re
 import time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
+from enum import StrEnum
 from pathlib import Path
 
 from rason.testing.harness import HarnessError, RosHarness
@@ -33,6 +34,22 @@ RECORDED_TOPICS = [
 def expected_diagnosis(fault: str) -> str:
     """What Faulty should conclude for an injected fault."""
     return "no_fault" if fault == "none" else fault
+
+
+class Outcome(StrEnum):
+    """How a run's answer counts: the worst answer is a wrong component, not `unknown`."""
+
+    RIGHT = "right"        # the injected fault
+    UNKNOWN = "unknown"    # no component named (or no answer)
+    WRONG = "wrong"        # a wrong component
+
+
+def outcome_of(correct: object, diagnosis: str | None) -> Outcome:
+    if correct:
+        return Outcome.RIGHT
+    if diagnosis in (None, "unknown"):
+        return Outcome.UNKNOWN
+    return Outcome.WRONG
 
 
 @dataclass
@@ -60,6 +77,10 @@ class RunResult:
     presence: list[dict] = field(default_factory=list)
     dead: list[str] = field(default_factory=list)
     unknown_reason: str = ""
+
+    @property
+    def outcome(self) -> Outcome:
+        return outcome_of(self.correct, self.diagnosis)
 
     def to_json(self) -> str:
         return json.dumps(asdict(self), indent=2)
