@@ -99,6 +99,13 @@ def _history(driver: webdriver.Chrome) -> tuple[str, int | None]:
     return mode, int(index) if index else None
 
 
+def _step_into_history(driver: webdriver.Chrome, wait: WebDriverWait) -> int:
+    """Leave live view with one click on back; the index of the state now held."""
+    driver.find_element(By.ID, "history-back").click()
+    wait.until(lambda d: _history(d)[0] == "history")
+    return _history(driver)[1]
+
+
 def _beliefs(driver: webdriver.Chrome) -> list[str]:
     return driver.execute_script(
         "return [...document.querySelectorAll('#beliefs li.belief')].map(b => b.dataset.belief);")
@@ -132,12 +139,13 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
         wait.until(lambda d: d.find_element(By.ID, "mind-title").text.startswith("faulty")
                    and _history(d)[0] == "live" and (_history(d)[1] or 0) >= 3)
 
-        # the history steps back while the run goes on, and back to live
-        live_index = _history(driver)[1]
+        # the history steps back while the run goes on, and back to live (the live state may
+        # move on between reading it and the click, so the step is checked once held)
+        held = _step_into_history(driver, wait)
         driver.find_element(By.ID, "history-back").click()
-        wait.until(lambda d: _history(d)[0] == "history" and _history(d)[1] < live_index)
+        wait.until(lambda d: _history(d) == ("history", held - 1))
         driver.find_element(By.ID, "history-live").click()
-        wait.until(lambda d: _history(d)[0] == "live" and _history(d)[1] >= live_index)
+        wait.until(lambda d: _history(d)[0] == "live" and _history(d)[1] > held)
 
         # mid-run: Faulty's intentions as stacks of plan instances, the current step marked
         WebDriverWait(driver, 150, poll_frequency=0.2).until(lambda d: d.execute_script(
@@ -163,6 +171,7 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
 
         # step back from the diagnosis until the state before it (the page's history)
         final_index = _history(driver)[1]
+        _step_into_history(driver, wait)
         for _ in range(40):
             if _diagnosis(driver) is None:
                 break

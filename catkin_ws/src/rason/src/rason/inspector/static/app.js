@@ -6,6 +6,7 @@ const ui = {
   agents: [],              // [{name, present, topic, namespace, first, last}]
   selected: null,          // agent name
   live: true,              // follow the newest state; false = stepping through the history
+  step: 0,                 // counts history steps and returns to live: the newest one wins
   shown: null,             // the entry on screen {agent, index, first, last, state, ...}
   latest: {},              // agent -> {index, first}
   cache: {},               // agent -> Map(index -> entry): the states this page has seen
@@ -132,19 +133,22 @@ async function loadLive() {
 }
 
 async function goTo(index) {
+  // history mode starts when the state asked for is on screen, so the bar never names a state
+  // that is not shown; a later step (or live) wins over this one if it comes first
   const agent = ui.selected;
   const latest = ui.latest[agent];
   if (!agent || !latest) return;
   if (index >= latest.index) { goLive(); return; }
   index = Math.max(index, latest.first);
-  ui.live = false;
+  const step = ++ui.step;
   let entry = null;
   try { entry = await fetchEntry(agent, index); } catch (err) { entry = null; }
-  if (entry && agent === ui.selected && !ui.live) show(entry);
-  else updateHistoryBar();
+  if (step !== ui.step || agent !== ui.selected) return;
+  if (entry) { ui.live = false; show(entry); } else updateHistoryBar();
 }
 
 function goLive() {
+  ui.step++;
   ui.live = true;
   const agent = ui.selected;
   const latest = ui.latest[agent];
