@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import re
+import time
+
 import pytest
 
 from rason.testing.agent_nodes import start_agent, write_agent
@@ -176,9 +179,17 @@ def test_a_node_that_subscribes_late_hears_who_is_there_at_once(ros, tmp_path):
     start_agent(ros, tmp_path, "greeter", "!idle.\n+!idle <- .wait(60000).\n", ns="/b8",
                 presence_period=60.0, presence_timeout=200.0)
     listener = ros.run(["rostopic", "echo", "/jason/messages"], label="late listener")
-    match = listener.wait_for_line(r"sender: \"?greeter\"?", timeout=20)
-    assert "performative: \"presence\"" in listener.output()[match.start():] \
-        or "performative: presence" in listener.output()[match.start():]
+    listener.wait_for_line(r"sender: \"?greeter\"?", timeout=20)
+    # rostopic echo ends each message with "---": read greeter's first whole message
+    deadline = time.monotonic() + 10
+    while True:
+        whole = listener.output().split("\n---")[:-1]
+        first = next((m for m in whole if re.search(r'sender: "?greeter"?', m)), None)
+        if first is not None or time.monotonic() > deadline:
+            break
+        time.sleep(0.05)
+    assert first is not None, listener.output()
+    assert re.search(r'performative: "?presence"?', first), first
 
 
 def test_an_action_waits_until_its_decomposer_can_answer(ros, tmp_path):

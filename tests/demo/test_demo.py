@@ -88,12 +88,19 @@ def test_demo_in_a_user_world(world, fault, seed, tmp_path):
     assert printed["total_s"] is not None
 
 
+def _default_sigint() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.parametrize(("sig", "started"), [(signal.SIGTERM, 1), (signal.SIGINT, 4)])
 def test_an_interrupted_demo_leaves_no_process_behind(tmp_path, sig: int, started: int):
     # interrupted while roscore starts (1 process of the run up) or while the nodes start (4)
+    # Ctrl-C as from a terminal: a suite started in the background (`cmd &` without job
+    # control) hands its children SIGINT ignored, and the demo rightly keeps ignoring it then
     demo = subprocess.Popen([sys.executable, "-m", "rason_diagnosis", "--fault", "none",
                              "--quiet", "--no-inspector", "--out", str(tmp_path / "run")],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            preexec_fn=_default_sigint)
     try:
         deadline = time.monotonic() + 120
         while len(processes_left_by(demo.pid)) < started:
