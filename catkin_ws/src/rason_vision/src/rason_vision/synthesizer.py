@@ -33,7 +33,7 @@ import sys
 import threading
 from collections import deque
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import rospy
@@ -45,7 +45,7 @@ from rason.ros.params import param
 from rason_vision.convert import MAX_PIXELS, cloud_to_xyz, image_to_rgb
 from rason_vision.detector import DetectorConfig, HsvRange, detect
 from rason_vision.geometry import format_literal, format_partial_literal
-from turtlebot_model.geometry import wrap_deg, yaw_from_quaternion
+from turtlebot_model.geometry import angle_diff_deg, wrap_deg, yaw_from_quaternion
 
 _BASE = DetectorConfig()
 
@@ -89,6 +89,15 @@ REST_MOVE_M = 0.005
 ODOM_LAG_S = 0.05
 
 
+class OdomSample(NamedTuple):
+    """One odometry message: its time (s), heading (degrees clockwise) and position (m)."""
+
+    t: float
+    heading: float
+    x: float
+    y: float
+
+
 class HeadingHistory:
     """The robot's recent odometry headings (degrees clockwise, as a camera bearing) and
     positions by time, to read the heading at a camera frame's stamp and whether the camera was
@@ -96,20 +105,16 @@ class HeadingHistory:
 
     def __init__(self, seconds: float = 5.0) -> None:
         self.seconds = seconds
-        self._samples: deque[tuple[float, float]] = deque()
-        self._places: deque[tuple[float, float]] = deque()      # (x, y) of each sample
+        self._samples: deque[OdomSample] = deque()
         self._lock = threading.Lock()
 
     def add(self, t: float, heading: float, x: float = 0.0, y: float = 0.0) -> None:
         with self._lock:
-            if self._samples and t < self._samples[-1][0]:   # time went back (a sim reset)
+            if self._samples and t < self._samples[-1].t:    # time went back (a sim reset)
                 self._samples.clear()
-                self._places.clear()
-            self._samples.append((t, heading))
-            self._places.append((x, y))
-            while self._samples and self._samples[0][0] < t - self.seconds:
+            self._samples.append(OdomSample(t, heading, x, y))
+            while self._samples and self._samples[0].t < t - self.seconds:
                 self._samples.popleft()
-                self._places.popleft()
 
     def at_rest(self, t: float, margin: float) -> bool:
         """Whether the odometry shows the robot at rest from `margin` s before `t` up to its
@@ -117,17 +122,15 @@ class HeadingHistory:
         most ODOM_LAG_S older than `t`, and the history must reach back to `t` - `margin`."""
         with self._lock:
             samples = list(self._samples)
-            places = list(self._places)
-        if not samples or samples[-1][0] < t - ODOM_LAG_S:
+        if not samples or samples[-1].t < t - ODOM_LAG_S:
             return False                       # the odometry does not know `t` yet
-        first = bisect.bisect_right(samples, (t - margin, math.inf)) - 1
+        first = bisect.bisect_right(samples, t - margin, key=_time_of) - 1
         if first < 0:
             return False                       # nothing as old as `t` - `margin`
-        _, h1 = samples[-1]
-        x1, y1 = places[-1]
-        return all(abs(wrap_deg(h - h1)) <= REST_TURN_DEG
-                   and math.hypot(x - x1, y - y1) <= REST_MOVE_M
-                   for (_, h), (x, y) in zip(samples[first:], places[first:], strict=True))
+        now = samples[-1]
+        return all(abs(angle_diff_deg(s.heading, now.heading)) <= REST_TURN_DEG
+                   and math.hypot(s.x - now.x, s.y - now.y) <= REST_MOVE_M
+                   for s in samples[first:])
 
     def at(self, t: float, tolerance: float = 0.1) -> float | None:
         """The heading at time `t`, interpolated between the samples around it; None when no
@@ -136,15 +139,20 @@ class HeadingHistory:
             samples = list(self._samples)
         if not samples:
             return None
-        i = bisect.bisect_left(samples, (t, -math.inf))
+        i = bisect.bisect_left(samples, t, key=_time_of)
         if i == len(samples):
-            t0, h0 = samples[-1]
-            return h0 if t - t0 <= tolerance else None
-        t1, h1 = samples[i]
-        if i == 0 or t1 == t:
-            return h1 if t1 - t <= tolerance else None
-        t0, h0 = samples[i - 1]
-        return wrap_deg(h0 + wrap_deg(h1 - h0) * (t - t0) / (t1 - t0))
+            last = samples[-1]
+            return last.heading if t - last.t <= tolerance else None
+        after = samples[i]
+        if i == 0 or after.t == t:
+            return after.heading if after.t - t <= tolerance else None
+        before = samples[i - 1]
+        turned = angle_diff_deg(after.heading, before.heading)
+        return wrap_deg(before.heading + turned * (t - before.t) / (after.t - before.t))
+
+
+def _time_of(sample: OdomSample) -> float:
+    return sample.t
 
 
 def sighting_annotations(t: float, headings: HeadingHistory | None, rest_margin: float,
