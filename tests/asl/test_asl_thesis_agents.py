@@ -238,6 +238,7 @@ def run_scenario(scenario: str, **layout) -> tuple[list[str], str]:
 
 
 def run_world(world: World) -> tuple[list[str], str]:
+    """Run both agents in `world`: Faulty's beliefs at the end, and the console."""
     out = io.StringIO()
     mas = LocalMas(clock=VirtualClock(), out=out,
                    arch_factory=lambda m, name: RobotArch(m, name, world))
@@ -250,10 +251,11 @@ def run_world(world: World) -> tuple[list[str], str]:
             a._tick()
         return bool(busy)
     assert mas.run(timeout=3600, max_cycles=200000, idle_hook=finish_actions), "agents did not settle"
-    faulty = mas.agents["faulty"]
-    diags = [str(b) for b in faulty.mind()["beliefs"]
-             if str(b).startswith(("diagnosis(", "unknownBecause("))]
-    return diags, out.getvalue()
+    return [str(b) for b in mas.agents["faulty"].mind()["beliefs"]], out.getvalue()
+
+
+def diagnoses(beliefs: list[str]) -> list[str]:
+    return [b for b in beliefs if b.startswith("diagnosis(")]
 
 
 @pytest.mark.parametrize("scenario,expected", [
@@ -268,9 +270,8 @@ def run_world(world: World) -> tuple[list[str], str]:
     ("unknown", "unknown"),
 ])
 def test_diagnosis(scenario: str, expected: str) -> None:
-    diags, out = run_scenario(scenario)
-    assert [d for d in diags if d.startswith("diagnosis(")] == \
-        [f"diagnosis({expected})[source(self)]"], out
+    beliefs, out = run_scenario(scenario)
+    assert diagnoses(beliefs) == [f"diagnosis({expected})[source(self)]"], out
     assert "No failure event" not in out, out
 
 
@@ -286,11 +287,11 @@ def test_console_story_both_actuators() -> None:
 
 
 def test_helper_gives_up_after_full_turn() -> None:
-    diags, out = run_scenario("unknown")
+    beliefs, out = run_scenario("unknown")
     assert "[helper] Turned 360 degrees without finding faulty, giving up" in out
     assert "[faulty] helper could not find me: the fault is unknown" in out
     assert 'unknownBecause("the helper could not find me or keep me in view")[source(self)]' \
-        in diags, diags
+        in beliefs, beliefs
 
 
 # -- layouts other than the thesis' (issue 15) ---------------------------------------------------
@@ -298,8 +299,8 @@ def test_helper_gives_up_after_full_turn() -> None:
 # Faulty's heading is at the test move: start = test heading - 2 * curve.
 
 def diagnosis_of(world: World) -> tuple[str, str]:
-    diags, out = run_world(world)
-    diags = [d for d in diags if d.startswith("diagnosis(")]
+    beliefs, out = run_world(world)
+    diags = diagnoses(beliefs)
     assert len(diags) == 1, out
     return diags[0].split("(")[1].split(")")[0], out
 
