@@ -27,7 +27,7 @@ import yaml
 from rason.testing.harness import processes_left_by
 from rason_diagnosis import thesis
 from rason_diagnosis.paths import world_file
-from rason_diagnosis.scenario import FAULTS, outcome_of
+from rason_diagnosis.scenario import FAULTS, Outcome, outcome_of
 
 FIELDS = ("fault", "seed", "diagnosis", "expected", "correct", "detection_s", "location_s",
           "diagnosis_s", "total_s", "wall_s", "orphans", "error")
@@ -204,7 +204,8 @@ def main(argv: list[str] | None = None) -> int:
 
 LAYOUT_FIELDS = ("distance", "bearing", "relative_heading", "helper_x", "helper_y", "helper_yaw",
                  "faulty_x", "faulty_y", "faulty_yaw")
-OUTCOME_COLOURS = {"right": "tab:green", "unknown": "tab:orange", "wrong": "tab:red"}
+OUTCOME_COLOURS = {Outcome.RIGHT: "tab:green", Outcome.UNKNOWN: "tab:orange",
+                   Outcome.WRONG: "tab:red"}
 
 
 def outcome(result: dict) -> str:
@@ -239,7 +240,7 @@ def random_campaign(args: argparse.Namespace) -> int:
     write_layout_plot(results, args.out)
     print(write_layout_report(results, layouts, args.out))
     print(f"wrote {args.out / 'runs.csv'}, {args.out / 'report.md'}, {args.out / 'plots'}")
-    wrong = sum(1 for r in results if r["outcome"] == "wrong")
+    wrong = sum(1 for r in results if r["outcome"] == Outcome.WRONG)
     orphans = sum(r.get("orphans", 0) for r in results)
     return 0 if wrong == 0 and not orphans else 1
 
@@ -297,14 +298,15 @@ def write_layout_report(results: list[dict], layouts: list, out: Path) -> str:
         count = {k: sum(1 for r in mine if r["outcome"] == k) for k in OUTCOME_COLOURS}
         loc = [r["location_s"] for r in mine if r.get("location_s") is not None]
         tot = [r["total_s"] for r in mine if r.get("total_s") is not None]
-        lines.append(f"| {fault} | {count['right']}/{len(mine)} | {count['unknown']} | "
-                     f"{count['wrong']} | {fmt(_mean(loc))} ({fmt(max(loc, default=None))}) | "
+        lines.append(f"| {fault} | {count[Outcome.RIGHT]}/{len(mine)} | {count[Outcome.UNKNOWN]} | "
+                     f"{count[Outcome.WRONG]} | {fmt(_mean(loc))} ({fmt(max(loc, default=None))}) | "
                      f"{fmt(_mean(tot))} ({fmt(max(tot, default=None))}) |")
     total = {k: sum(1 for r in results if r["outcome"] == k) for k in OUTCOME_COLOURS}
     orphans = sum(r.get("orphans", 0) for r in results)
-    lines += ["", f"Overall: {total['right']}/{len(results)} right "
-              f"({100.0 * total['right'] / max(1, len(results)):.0f}%), {total['unknown']} unknown, "
-              f"{total['wrong']} wrong. Processes left running: {orphans}.", "",
+    lines += ["", f"Overall: {total[Outcome.RIGHT]}/{len(results)} right "
+              f"({100.0 * total[Outcome.RIGHT] / max(1, len(results)):.0f}%), "
+              f"{total[Outcome.UNKNOWN]} unknown, "
+              f"{total[Outcome.WRONG]} wrong. Processes left running: {orphans}.", "",
               "![outcome against the layout](plots/layouts.png)", "",
               "## Layouts", "",
               "| seed | distance (m) | bearing (deg) | relative heading (deg) | Helper x, y, yaw | "
