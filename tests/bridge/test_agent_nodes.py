@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import re
-import time
 
 import pytest
 
-from rason.testing.agent_nodes import start_agent, write_agent
+from rason.testing.agent_nodes import start_agent, wait_until, write_agent
 
 pytestmark = pytest.mark.ros
 
@@ -180,16 +179,14 @@ def test_a_node_that_subscribes_late_hears_who_is_there_at_once(ros, tmp_path):
                 presence_period=60.0, presence_timeout=200.0)
     listener = ros.run(["rostopic", "echo", "/jason/messages"], label="late listener")
     listener.wait_for_line(r"sender: \"?greeter\"?", timeout=20)
-    # rostopic echo ends each message with "---": read greeter's first whole message
-    deadline = time.monotonic() + 10
-    while True:
+
+    def greeters_first() -> str | None:
+        """greeter's first whole message (rostopic echo ends each one with "---")."""
         whole = listener.output().split("\n---")[:-1]
-        first = next((m for m in whole if re.search(r'sender: "?greeter"?', m)), None)
-        if first is not None or time.monotonic() > deadline:
-            break
-        time.sleep(0.05)
-    assert first is not None, listener.output()
-    assert re.search(r'performative: "?presence"?', first), first
+        return next((m for m in whole if re.search(r'sender: "?greeter"?', m)), None)
+    wait_until(lambda: greeters_first() is not None, 10, "greeter's whole first message")
+    first = greeters_first()
+    assert first is not None and re.search(r'performative: "?presence"?', first), first
 
 
 def test_an_action_waits_until_its_decomposer_can_answer(ros, tmp_path):
