@@ -11,6 +11,7 @@ Its private parameters: ``rosrun rason mind_inspector --help``.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import signal
 import sys
 from dataclasses import dataclass
@@ -58,10 +59,17 @@ async def serve(app: web.Application, host: str, port: int) -> int:
     stop = asyncio.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):
         loop.add_signal_handler(sig, stop.set)
-    rospy.on_shutdown(lambda: loop.call_soon_threadsafe(stop.set))
+    rospy.on_shutdown(lambda: _wake(loop, stop))
     await stop.wait()
     await runner.cleanup()
     return 0
+
+
+def _wake(loop: asyncio.AbstractEventLoop, stop: asyncio.Event) -> None:
+    """ROS shutdown: end `serve`; nothing to do once its loop has closed (the server stopped
+    first, e.g. on SIGTERM, and main's own signal_shutdown runs this hook afterwards)."""
+    with contextlib.suppress(RuntimeError):      # "Event loop is closed"
+        loop.call_soon_threadsafe(stop.set)
 
 
 def main() -> int:

@@ -49,7 +49,7 @@ function connect() {
   source.addEventListener("agents", (e) => setAgents(JSON.parse(e.data).agents));
   source.addEventListener("mind", (e) => {
     const data = JSON.parse(e.data);
-    ui.latest[data.agent] = {index: data.index, first: data.first};
+    noteLatest(data.agent, data.index, data.first);
     if (data.agent === ui.selected) {
       if (ui.live) loadLive(); else updateHistoryBar();
     }
@@ -74,11 +74,20 @@ function tick() {
   if (ui.shown && ui.live) renderActions(ui.shown);
 }
 
+// The newest state an agent is known to have. Pushed events and fetched states can arrive out of
+// order (an "agents" event summarised before a newer "mind" event): the newest index seen wins,
+// or stepping back from the state on screen could be taken for a step past the newest one.
+function noteLatest(agent, index, first) {
+  const known = ui.latest[agent];
+  ui.latest[agent] = known ? {index: Math.max(known.index, index), first: Math.max(known.first, first)}
+                           : {index, first};
+}
+
 // ---------------------------------------------------------------- agents
 function setAgents(agents) {
   ui.agents = agents;
   for (const a of agents) {
-    if (a.last !== null && a.last !== undefined) ui.latest[a.name] = {index: a.last, first: a.first};
+    if (a.last !== null && a.last !== undefined) noteLatest(a.name, a.last, a.first);
   }
   const list = $("agent-list");
   list.replaceChildren(...agents.map((a) => {
@@ -110,8 +119,7 @@ async function fetchEntry(agent, index) {
   const entry = await response.json();
   (ui.cache[agent] = ui.cache[agent] || new Map()).set(entry.index, entry);
   if (ui.cache[agent].size > 2000) ui.cache[agent].delete(ui.cache[agent].keys().next().value);
-  ui.latest[agent] = {index: Math.max(entry.last, (ui.latest[agent] || {index: -1}).index),
-                      first: entry.first};
+  noteLatest(agent, entry.last, entry.first);
   return entry;
 }
 
