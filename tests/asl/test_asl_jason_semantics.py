@@ -7,10 +7,13 @@ the Jason class/method that decides the result when it is not obvious.
 from __future__ import annotations
 
 import io
+from unittest import mock
 
 from asl_helpers import lines, run_source
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from rason.asl import LocalMas, VirtualClock
+from rason.asl import Agent, LocalMas, VirtualClock
 
 
 def run(body: str, extra: str = "") -> list[str]:
@@ -528,3 +531,45 @@ d(3).
 def test_annotated_variable_as_a_plan_trigger() -> None:
     # PlanLibrary: a plan whose trigger literal is a variable is relevant for every goal
     assert run("!g(1)[k]", '+!X[source(A),k] <- .print(X, " ", A).') == ["g(1) self"]
+
+
+# ------------------------------------------------------------------ a body's own belief events
+def test_body_belief_event_without_plan_keeps_jasons_interleaving() -> None:
+    # TransitionSystem: a body's +b (intBels=sameFocus) waits in the event queue behind +!b, and
+    # the intention goes on only when that event is selected (no relevant plan: it just resumes)
+    prog = ('!a. !b.\n+!a <- +x(1); .print(a1); .print(a2).\n'
+            '+!b <- .print(b1); .print(b2); .print(b3).')
+    assert lines(run_source(prog)) == ["b1", "b2", "a1", "b3", "a2"]
+
+
+def test_body_belief_event_with_plan_runs_on_top_of_the_intention() -> None:
+    prog = '!a.\n+!a <- +x(1); -+x(2); .print(done).\n+x(N) <- .print(added, N).'
+    assert lines(run_source(prog)) == ["added1", "added2", "done"]
+
+
+def test_body_belief_event_without_plan_beside_another_intention() -> None:
+    # +x(1) and -x(1) run when no other event is queued: each one's event is the next one
+    # selected, and +!a goes on behind +!b in the running queue, as in Jason
+    prog = ('!a. !b.\n+!a <- .print(a0); +x(1); .print(a1); -x(1); .print(a2).\n'
+            '+!b <- .print(b1); .print(b2); .print(b3).')
+    assert lines(run_source(prog)) == ["a0", "b1", "a1", "b2", "b3", "a2"]
+
+
+_DEEDS = st.sampled_from(["+x(1)", "-x(1)", "-+y(2)", "+z(3)", "-z(3)", "+w", ".print(p)", "!!h",
+                          "?y(_)", "!sub"])
+
+
+@settings(max_examples=60, deadline=None)
+@given(bodies=st.lists(st.lists(_DEEDS, min_size=1, max_size=6), min_size=1, max_size=4))
+def test_skipping_unseen_belief_events_changes_no_order(bodies: list[list[str]]) -> None:
+    # every goal prints where it is after each deed; the run with every body's belief event
+    # posted (the shortcut off) prints the same lines in the same order
+    plans = [f"+!g{k} <- " + "; ".join(f'{d}; .print("g{k}.{n}")' for n, d in enumerate(body)) + "."
+             for k, body in enumerate(bodies)]
+    prog = ("y(0).\n" + "".join(f"!g{k}. " for k in range(len(bodies))) + "\n" + "\n".join(plans)
+            + '\n+z(N) <- .print(z, N).\n+!h <- .print(h).\n+!sub <- +x(9); .print(sub).')
+    with_shortcut = lines(run_source(prog))
+    with mock.patch.object(Agent, "_own_event_unseen", lambda self, op, lit: False):
+        posted = lines(run_source(prog))
+    assert with_shortcut == posted
+    assert len([ln for ln in posted if ln.startswith("g")]) == sum(map(len, bodies))

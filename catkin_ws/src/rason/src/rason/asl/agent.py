@@ -917,14 +917,30 @@ class Agent:
         if removed is not None and ((DEL, BELIEF, removed.functor, len(removed.args), removed.neg)
                                     in self.pl.by_key or self.pl.var_plans):
             self._belief_changed(DEL, removed, None)   # (not called when no plan would see it)
-        if added is None:
+        if added is None or self._own_event_unseen(ADD, added):
             return False
         self.events.append(Event(Trigger(ADD, BELIEF, added), focus))   # (_belief_changed inlined)
         return True
 
+    def _own_event_unseen(self, op: str, lit: Literal) -> bool:
+        """True when the ``+b``/``-b`` event of a plan body's belief change need not be posted,
+        because posting it changes nothing the program can see: no plan is relevant for it, and
+        the next cycle's deliberation would select it first (no other event is queued, nothing
+        will be sensed before: no percepts, mail, feedback or timers) only to put its intention
+        back at the end of the running queue (Jason's Rel2 rule for an internal belief event).
+        The intention goes there at once instead: the same order, without an event's work."""
+        pl = self.pl
+        return (not self.events and not self.event_waits and not self._perceives
+                and not self._inbox and not self._mail and not self.timers
+                and not self.action_results and not pl.var_plans and not pl.goal_condition_plans
+                and not pl.goal_state_plans
+                and (op, BELIEF, lit.functor, len(lit.args), lit.neg) not in pl.by_key)
+
     def _belief_changed(self, op: str, lit: Literal, focus: Intention | None) -> bool:
         """Post the ``+b``/``-b`` event of a belief change (see :meth:`add_belief`)."""
         if focus is not None:
+            if self._own_event_unseen(op, lit):
+                return False
             ev = Event(Trigger(op, BELIEF, lit), focus)
             if not self.event_waits:   # the common case: nobody waits for events
                 self.events.append(ev)
