@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from .terms import SOURCE_SELF, AnnotVar, Literal, NsLit, PlanTerm, Var, is_constant, term_str
+from .terms import SOURCE_SELF, AnnotVar, Literal, NsLit, PlanTerm, Var, calls_code, is_constant, term_str
 from .unify import compile_resolve
 
 # triggering event operators and types
@@ -68,6 +68,11 @@ _SELF_SOURCED = (K_ACHIEVE, K_ACHIEVE_NEW, K_ADD_BEL, K_DEL_BEL, K_DEL_ADD_BEL, 
                  K_DEL_BEL_NEW)
 
 
+#: deeds that run no internal action or rule of their own (their terms may still call some)
+_PLAIN_KINDS = frozenset({K_ACHIEVE, K_ACHIEVE_NEW, K_ADD_BEL, K_DEL_BEL, K_DEL_ADD_BEL,
+                          K_ADD_BEL_NEW, K_DEL_BEL_NEW, K_ACTION})
+
+
 class Deed:
     """One formula of a plan body, with the source line it came from.
 
@@ -76,7 +81,7 @@ class Deed:
     reasoning cycle then only applies the unifier. None means: add the source at run time.
     """
 
-    __slots__ = ("build", "extra", "kind", "line", "self_term", "self_trigger", "term")
+    __slots__ = ("build", "extra", "kind", "line", "plain", "self_term", "self_trigger", "term")
 
     def __init__(self, kind: str, term: Any, line: int, extra: Any = None) -> None:
         self.kind = kind
@@ -90,6 +95,9 @@ class Deed:
         self.self_trigger = (Trigger(ADD, ACHIEVE, self.self_term)
                              if kind == K_ACHIEVE_NEW and self.self_term is not None
                              and self.self_term.known_constant else None)
+        #: running it cannot look at the agent's circumstance (a goal, a belief change or an
+        #: environment action whose term calls no internal action, function or rule)
+        self.plain = kind in _PLAIN_KINDS and not calls_code(term)
 
     def __repr__(self) -> str:
         return deed_str(self)

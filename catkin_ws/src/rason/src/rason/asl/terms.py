@@ -592,6 +592,19 @@ def is_constant(t: Any) -> bool:
     return False
 
 
+def calls_code(t: Any) -> bool:
+    """True when `t` holds a term that runs code when evaluated: an internal action or a
+    function (``.count(...)``, ``math.abs(X)``), a plan or rule term, or a namespaced literal."""
+    if type(t) is Literal:
+        return ("." in t.functor or any(calls_code(a) for a in t.args)
+                or any(calls_code(a) for a in t.annots))
+    if type(t) is ListTerm:
+        return any(calls_code(a) for a in t.items) or calls_code(t.tail)
+    if isinstance(t, _Expr):
+        return calls_code(t.left) or calls_code(t.right)
+    return isinstance(t, (PlanTerm, NsLit))
+
+
 def is_ground(t: Any) -> bool:
     """True if the term has no variables (expressions are checked recursively)."""
     if isinstance(t, (float, str)):
