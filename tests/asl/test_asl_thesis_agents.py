@@ -57,6 +57,11 @@ class World:
         self.faulty_turns: list[float] = []
         self.odom_bearings = False  # the synthesizer adds seen_at(faulty, Heading)
         self.brake = 0.0   # deg Helper coasts on after a turn is given up (braking, latency)
+        # Helper's link to Faulty goes down when Helper first sends a message of this functor
+        # (its .send then fails, as it does on a real network while Faulty's presence lapsed)
+        self.cut_on: str | None = None
+        self.cut = False
+        self.beliefs: dict[str, list[str]] = {}   # each agent's, when the run ended
         # The synthesizer's ~frame_stamps and [moving] (issue 15, F10): every Helper turn step
         # takes `step_s` of the clock; Helper's camera frames are taken every reasoning cycle,
         # annotated [stamp(Ms)] and, when Helper turned or drove between the frame and its
@@ -198,6 +203,13 @@ class RobotArch(LocalArch):
         self._last = p
         return p
 
+    def send(self, agent, message) -> None:
+        w = self.world
+        if self.name == "helper" and (w.cut or getattr(message.content, "functor", None) == w.cut_on):
+            w.cut = True
+            raise ConnectionError(f"{message.receiver} not heard for 3.5 s")
+        super().send(agent, message)
+
     def action_abandoned(self, agent, action_id: int) -> None:
         """The agent gave the action up (e.g. a sweep ended by a sighting): stop it, as the
         motion decomposer does on jason/cancel; the base coasts ``world.brake`` degrees on)."""
@@ -251,6 +263,7 @@ def run_world(world: World) -> tuple[list[str], str]:
             a._tick()
         return bool(busy)
     assert mas.run(timeout=3600, max_cycles=200000, idle_hook=finish_actions), "agents did not settle"
+    world.beliefs = {name: [str(b) for b in ag.mind()["beliefs"]] for name, ag in mas.agents.items()}
     return [str(b) for b in mas.agents["faulty"].mind()["beliefs"]], out.getvalue()
 
 
@@ -275,6 +288,15 @@ def test_diagnosis(scenario: str, expected: str) -> None:
     assert "No failure event" not in out, out
 
 
+def test_helper_forgets_faulty_once_thanked() -> None:
+    world = World("odometry")
+    beliefs, out = run_world(world)
+    assert diagnoses(beliefs) == ["diagnosis(odometry)[source(self)]"], out
+    assert "[helper] You're welcome, faulty" in out
+    kept = [b for b in world.beliefs["helper"] if b.startswith(("helping(faulty", "obs(faulty"))]
+    assert not kept, kept
+
+
 def test_console_story_both_actuators() -> None:
     _, out = run_scenario("both_actuators")
     for text in ["[faulty] Moving to Destination", "[faulty] something went wrong...no_progress",
@@ -284,6 +306,20 @@ def test_console_story_both_actuators() -> None:
                  "[faulty]  fault in both actuators , thanks helper", "[helper] You're welcome, helper"
                  if False else "[helper] You're welcome, faulty"]:
         assert text in out, out
+
+
+@pytest.mark.parametrize("cut_on", ["tryMove", "feedback"])
+def test_helper_stops_helping_a_robot_it_cannot_reach(cut_on: str) -> None:
+    # the link goes down as Helper tells Faulty to move (-!ready) or sends it what it saw
+    # (-!giveFeedback): Helper says why and forgets Faulty; Faulty names no component
+    world = World("right_actuator")
+    world.cut_on = cut_on
+    beliefs, out = run_world(world)
+    assert world.cut
+    assert "[helper] cannot reach faulty: cannot send to faulty: faulty not heard for 3.5 s" in out, out
+    helper = world.beliefs["helper"]
+    assert not [b for b in helper if b.startswith(("helping(faulty", "obs(faulty"))], helper
+    assert diagnoses(beliefs) in ([], ["diagnosis(unknown)[source(self)]"]), (beliefs, out)
 
 
 def test_helper_gives_up_after_full_turn() -> None:

@@ -333,18 +333,13 @@ currTerm(lost, currLost) :- true.
 // HOSTS (robots on their own machines): a .send to R fails with error(ia_failed) and the
 // reason in error_msg while R's presence has lapsed (its link is down). Helper stops helping R
 // and says why; R ends its diagnosis unknown when no answer comes. (-!helpme: above.)
--!trackMe[source(R), error(ia_failed), error_msg(Why)]
+-!trackMe[source(R), error(ia_failed), error_msg(Why)] <- !unreachable(R, Why).
+-!giveFeedback[source(R), error(ia_failed), error_msg(Why)] <- !unreachable(R, Why).
+-!ready(R)[error(ia_failed), error_msg(Why)] <- !unreachable(R, Why).
++!unreachable(R, Why)
    <- .print("cannot reach ", R, ": ", Why);
       -helping(R);
-      -obs(R, _, _).
--!giveFeedback[source(R), error(ia_failed), error_msg(Why)]
-   <- .print("cannot reach ", R, ": ", Why);
-      -helping(R);
-      -obs(R, _, _).
--!ready(R)[error(ia_failed), error_msg(Why)]
-   <- .print("cannot reach ", R, ": ", Why);
-      -helping(R);
-      -obs(R, _, _).
+      .abolish(obs(R, _, _)).   // both of them: init and curr
 
 -!trackMe[source(R)]
    <- .print("could not track ", R);
@@ -388,4 +383,4 @@ currTerm(lost, currLost) :- true.
       .print("You're welcome, ", R);
       -helping(R);
       -flankAsked(R);
-      -obs(R, _, _).
+      .abolish(obs(R, _, _)).   // both of them: init and curr
