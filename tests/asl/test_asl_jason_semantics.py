@@ -294,11 +294,19 @@ def test_intend_desire_intention_states_and_suspended() -> None:
         "has_waiting", "w_suspended", "has_suspended", "w_suspended", "running", "same_id"]
 
 
-def test_intend_sees_the_selected_event_and_the_selected_intention() -> None:
-    # Circumstance.resetDeliberate runs only at the start of deliberate: in the first step of
-    # +!h both C.SE's intention and C.SI are the same intention, and intend answers twice
-    src = "!g.\n+!g <- !h.\n+!h <- .findall(G, .intend(G), L); .print(L).\n"
-    assert lines(run_source(src)) == ["[h[source(self)],h[source(self)]]"]
+def test_intend_answers_each_goal_means_of_an_intention_once() -> None:
+    # Circumstance.getAllIntentions visits C.SE's intention, then C.SI unless it is the same
+    # one (Jason 3.3: "some appears twice" fixed), and every later place without those two;
+    # intend.allIntentions answers for each +!g means of an intention, the top first, and its
+    # second argument is the intention's number (checked with Jason 3.3.2)
+    src = "!g.\n+!g <- !h.\n+!h <- .findall(G, .intend(G), L); .print(L); .intend(g, I); .print(I).\n"
+    out = lines(run_source(src))
+    assert out[0] == "[h[source(self)],g[source(self)]]"
+    assert float(out[1]) >= 1
+    src = ("!g(0).\n+!g(N) : N < 2 <- !g(N+1); .print(back).\n"
+           "+!g(N) <- .findall(X, .intend(g(X)), L); .print(L); .findall(Y, .desire(g(Y)), M); "
+           ".print(M); .count(.intention(_, _), C); .print(C).\n")
+    assert lines(run_source(src)) == ["[2,1,0]", "[2,1,0]", "1", "back", "back"]
 
 
 def test_wait_for_a_logical_condition_binds_its_variables() -> None:
@@ -558,15 +566,17 @@ def test_body_belief_event_without_plan_beside_another_intention() -> None:
 
 _DEEDS = st.sampled_from(["+x(1)", "-x(1)", "-+y(2)", "+z(3)", "-z(3)", "+w", ".print(p)", "!!h",
                           "?y(_)", "!sub", "act(1)", "-+v(.count(.intend(_))); ?v(CV); .print(v, CV)",
-                          ".findall(x, .intend(_), LV); .length(LV, NV); .print(intends, NV)",
+                          ".findall(GV, .intend(GV), LV); .print(intends, LV)",
                           "NV = .count(.desire(_)); .print(desires, NV)"])   # V: the deed's place
 
 
 def test_a_belief_event_without_plan_is_selected_where_the_next_deed_can_see_it() -> None:
-    # the cycle after +x(1) selects its event: .intend lists the intention as the selected
-    # event's and as the current one (jason.stdlib.intend visits SE, then SI)
-    prog = '!a.\n+!a <- +x(1); .findall(x, .intend(a), L); .length(L, N); .print(N); .print(end).'
-    assert lines(run_source(prog)) == ["2", "end"]
+    # +x(1) runs when no other event is queued; its event is selected in the cycle where
+    # +!b's .findall runs, and .intend visits the selected event's intention (+!a's) first
+    # (checked with Jason 3.3.2)
+    prog = ('!a. !b.\n+!a <- .print(a0); .print(a00); +x(1); .print(a1).\n'
+            '+!b <- .print(b1); .findall(G, .intend(G), L); .print(L).')
+    assert lines(run_source(prog)) == ["a0", "a00", "b1", "a1", "[a[source(self)],b[source(self)]]"]
 
 
 @settings(max_examples=60, deadline=None)

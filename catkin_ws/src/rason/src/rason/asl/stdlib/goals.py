@@ -12,29 +12,31 @@ from . import SUSPEND, IAError, arg_count, internal_action, wrong_arg
 
 
 def _places(ag: Any) -> list:
-    """The intentions as Jason's ``Circumstance`` visits them, with their place: the selected
-    event's (SE), the current one (SI), those of queued events (E), of held events (PE),
-    waiting for an action (PA), pending (PI: ``.wait``, ask, ``.suspend``), running (I).
-    An intention held by ``.suspend`` while waiting for an action is in PA and in PI."""
+    """The intentions as Jason's ``Circumstance.getAllIntentions`` visits them, with their
+    place: the selected event's (SE), the current one (SI) unless it is the same, then those of
+    queued events (E), of held events (PE), waiting for an action (PA), pending (PI: ``.wait``,
+    ask, ``.suspend``) and running (I), each time without the SE and SI intentions. An
+    intention held by ``.suspend`` while waiting for an action is in PA and in PI."""
     out: list = []
     se = ag.selected_event
-    if se is not None and se.intention is not None:
-        out.append(("SE", se.intention))
-    if ag.current is not None:
-        out.append(("SI", ag.current))
-    for ev in ag.events:
-        if ev.intention is not None:
-            out.append(("E", ev.intention))
-    for held in java_map_order(ag.pending_events, lambda p: p.key):
-        if held.event.intention is not None:
-            out.append(("PE", held.event.intention))
+    by_se = se.intention if se is not None else None
+    if by_se is not None:
+        out.append(("SE", by_se))
     cur = ag.current
+    by_si = cur if cur is not by_se else None
+    if by_si is not None:
+        out.append(("SI", by_si))
+
+    def others(place: str, intentions: Any) -> None:
+        out.extend((place, i) for i in intentions
+                   if i is not None and i is not by_se and i is not by_si)
+    others("E", (ev.intention for ev in ag.events))
+    others("PE", (held.event.intention
+                  for held in java_map_order(ag.pending_events, lambda p: p.key)))
     pend = [i for i in ag.suspended.values() if i is not cur]
-    pa = [i for i in pend if i.suspended is Suspension.ACTION]
-    out.extend(("PA", i) for i in sorted(pa, key=lambda i: i.id & 15))
-    pi = [i for i in pend if i.pi_key is not None]
-    out.extend(("PI", i) for i in java_map_order(pi, lambda i: i.pi_key))
-    out.extend(("I", i) for i in ag.running)
+    others("PA", sorted((i for i in pend if i.suspended is Suspension.ACTION), key=lambda i: i.id & 15))
+    others("PI", java_map_order([i for i in pend if i.pi_key is not None], lambda i: i.pi_key))
+    others("I", ag.running)
     return out
 
 
@@ -64,19 +66,20 @@ def intention_term(i: Any) -> Literal:
     return Literal("intention", (float(i.id), make_list([im_term(im) for im in reversed(i.ims)])))
 
 
-def _intend_solutions(ctx: Any, pattern: Any, int_term: Any, with_suspended: bool):
-    """jason.stdlib.intend.allIntentions: one solution per visited intention that has a
-    ``+!G`` means (the topmost one); an intention met at two places answers twice. An
-    intention held by ``.suspend`` counts for ``.desire`` but not for ``.intend``."""
+def _intend_solutions(ctx: Any, pattern: Any, int_id: Any, with_suspended: bool):
+    """jason.stdlib.intend.allIntentions: one solution per ``+!G`` intended means of each
+    visited intention, top of its stack first (``int_id``: unified with the intention's
+    number). An intention held by ``.suspend`` counts for ``.desire`` but not for ``.intend``."""
     for _place, i in _places(ctx.ag):
         if i.sus_ia and not with_suspended:
             continue
-        s2 = has_goal(i, pattern, ctx.s)
-        if s2 is None:
-            continue
-        if int_term is not None and not unify(int_term, intention_term(i), s2):
-            continue
-        yield s2
+        for im in reversed(i.ims):
+            t = im.trigger
+            if t.op != ADD or t.type != ACHIEVE:
+                continue
+            s2 = dict(ctx.s)
+            if unify(pattern, t.literal, s2) and (int_id is None or unify(int_id, float(i.id), s2)):
+                yield s2
 
 
 @internal_action(".intend")
@@ -93,6 +96,8 @@ def desire(ctx: Any, args: list) -> Any:
     pattern = args[0]
     ag = ctx.ag
 
+    int_id = args[1] if len(args) == 2 else None
+
     def gen():
         evs = [ag.selected_event] if ag.selected_event is not None else []
         held = [ev for _, ev in java_map_order(ag.pending_events, lambda kv: kv[0])]
@@ -100,9 +105,11 @@ def desire(ctx: Any, args: list) -> Any:
             t = ev.trigger
             if t.op == ADD and t.type == ACHIEVE:
                 s2 = dict(ctx.s)
-                if unify(pattern, t.literal, s2):
+                # (desire.testEvent: an event without intention answers whatever int_id is)
+                if unify(pattern, t.literal, s2) and (
+                        int_id is None or ev.intention is None or unify(int_id, float(ev.intention.id), s2)):
                     yield s2
-        yield from _intend_solutions(ctx, pattern, args[1] if len(args) == 2 else None, True)
+        yield from _intend_solutions(ctx, pattern, int_id, True)
     return gen()
 
 
@@ -128,13 +135,7 @@ def intention(ctx: Any, args: list) -> Any:
         return s2 if ok else False
 
     def gen():
-        prev = None
         for place, i in _places(ag):
-            if place == "SI" and i is prev:
-                continue
-            if place == "E" and i is ag.current:
-                continue
-            prev = i
             state = ("suspended" if i.sus_ia else "waiting") if place == "PI" else _STATE[place]
             s2 = dict(ctx.s)
             if not (unify(args[0], float(i.id), s2) and unify(args[1], Literal(state), s2)):
