@@ -318,6 +318,18 @@ def test_wait_for_a_logical_condition_binds_its_variables() -> None:
 
 
 # ------------------------------------------------------------------ failure handling
+def test_subgoal_without_plan_runs_its_own_failure_plan_then_the_caller_goes_on() -> None:
+    # TransitionSystem.findEventForFailure starts with the event's own goal, which has no
+    # intended means yet: its -!g runs on the intention, then +!g goes on after the subgoal
+    # (checked with Jason 3.3.2); without a -! plan of its own, the caller's -!g handles it
+    assert run("!maybe; .print(after)", "+!maybe : w <- .print(maybe_w).\n"
+               "-!maybe[error(E)] <- .print(maybe_failed, E).") == ["maybe_failedno_applicable", "after"]
+    assert run("!nothere(1); .print(after)", "-!nothere(N)[error(E)] <- .print(failed, N, E).\n"
+               "-!s <- .print(s_failed).") == ["failed1no_relevant", "after"]
+    assert run("!maybe; .print(after)", "+!maybe : w <- .print(maybe_w).\n"
+               "-!s[error(E)] <- .print(s_failed, E).") == ["s_failedno_applicable"]
+
+
 def test_failure_plan_not_applicable_gives_up_the_intention() -> None:
     # TransitionSystem.generateGoalDeletionFromEvent on a -!g event: "Could not finish intention"
     out = run_source("""!s.

@@ -797,6 +797,12 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
         d = im.stack[-1] if im is not None and im.stack else None
         annots = error_annots(ag, im, d, kind or "ia_failed", msg, code=code)
     ims = i.ims
+    if (from_event is not None and from_event.op == ADD and from_event.is_goal
+            and ag.pl.has_candidate(DEL, from_event.type, from_event.literal)):
+        # findEventForFailure starts with the goal of the event itself (it has no means yet):
+        # its -!g runs on top of the intention, then the caller goes on after the subgoal
+        _post_failure_of(ag, i, from_event, annots, len(ims), from_event)
+        return
     idx = len(ims) - 1
     target = ims[idx].fail_target if from_event is None and idx >= 0 else None
     if target is not None:
@@ -858,7 +864,13 @@ def _post_failure(ag: Agent, i: Intention, im: IntendedMeans, annots: list, idx:
     """Post ``-!g`` for the goal of ``im``; ``failed`` is the goal whose failure started it
     (default: the top means'), whose state becomes ``failed`` (reason: the error) and then
     ``executing`` (reason: ``has_failure_plan``), as Jason's goal listener posts them."""
-    t = im.trigger
+    _post_failure_of(ag, i, im.trigger, annots, idx, failed)
+
+
+def _post_failure_of(ag: Agent, i: Intention, t: Trigger, annots: list, idx: int,
+                     failed: Trigger | None = None) -> None:
+    """Post ``-!g`` for the goal of trigger ``t`` (see :func:`_post_failure`); when it is
+    handled, the means from ``idx`` up are given up and the caller goes on after its deed."""
     if ag.pl.goal_state_plans:
         top = i.top()
         ft = failed or (top.trigger if top is not None else t)
