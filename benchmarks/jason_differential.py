@@ -1,0 +1,156 @@
+#!/usr/bin/env python3
+"""Random AgentSpeak programs run by real Jason and by rason.asl: the same lines, in order?
+
+Needs a Jason jar built on this machine, given with ``--jason-jar`` as a Java classpath with
+the javax.json jars (docs/jason-compatibility.md: how, and the results). Each seed makes
+``--programs`` random programs (one agent each) of several intentions interleaving goals,
+subgoals, new-focus goals, belief changes with and without plans, test goals, failures and
+failure plans, loops, control actions and introspection (``.intend``, ``.desire``,
+``.intention``, ``.count``); every deed prints where its intention is. All the programs of a
+seed run as the agents of one Jason MAS (an agent's console lines do not depend on the others:
+they share nothing) and one by one in rason.asl's ``LocalMas``; the lines of each agent are
+compared, fresh variable names aside.
+
+    python benchmarks/jason_differential.py --jason-jar CLASSPATH [--seeds 1 2 3] [--programs 40]
+
+Prints each program whose lines differ (with both outputs) and the count of equal ones; exits
+1 when any differs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import random
+import re
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / "catkin_ws" / "src" / "rason" / "src"))
+
+from rason.asl import LocalMas, VirtualClock  # noqa: E402
+
+#: Deeds of the random plan bodies; ``V`` becomes the deed's place (fresh variables per deed).
+DEEDS = (
+    "+x(1)", "-x(1)", "-+y(2)", "+z(3)", "-z(3)", "+w", "-w", ".print(p)", "!!h", "?y(_)",
+    "!sub", "!deep(2)", "?q(QV)", "+z(4)", "!maybe",
+    ".findall(GV, .intend(GV), LV); .print(intends, LV)",
+    ".findall(DV, .desire(DV), LV); .print(desires, LV)",
+    "NV = .count(.desire(_)); .print(desire_count, NV)",
+    ".findall(SV, .intention(_, SV), LV); .print(states, LV)",
+    "-+v(.count(.intend(_))); ?v(CV); .print(v, CV)",
+    "if (.intend(sub)) { .print(in_sub) } else { .print(not_in_sub) }",
+    "for (.member(MV, [1, 2])) { .print(m, MV) }", "while (x(_)) { -x(_); .print(wx) }",
+    ".succeed_goal(g0)", ".drop_desire(g1)", "!!k(V)", ".fail",
+)
+# Not here: .fail_goal(g2) of another intention's goal with a -!g2 plan, which Jason 3.3.2
+# answers with a NullPointerException in the internal action (rason runs -!g2).
+
+#: Plans every program has besides its goals' plans.
+COMMON_PLANS = """
++z(N) <- .print(z, N).
+-z(N) <- .print(not_z, N).
++!h <- .print(h).
++!sub <- +x(9); .print(sub).
++!deep(0) <- .findall(G, .intend(G), L); .print(deep, L).
++!deep(N) <- !deep(N - 1); .print(up, N).
++?q(7) <- .print(asked).
++!maybe : w <- .print(maybe_w).
+-!maybe <- .print(maybe_failed).
++!k(N) <- .print(k, N).
+-!g2 <- .print(g2_failed).
+"""
+
+FRESH = re.compile(r"\b_\d+\w*")
+
+
+@dataclass
+class Difference:
+    """A program whose lines differ, and both outputs."""
+
+    agent: str
+    program: str
+    jason: list[str]
+    rason: list[str]
+
+
+def random_program(rng: random.Random) -> str:
+    """One agent: 1-4 initial goals, each a plan of 1-6 deeds that print their place."""
+    bodies = [[rng.choice(DEEDS) for _ in range(rng.randint(1, 6))] for _ in range(rng.randint(1, 4))]
+    plans = [f"+!g{k} <- " + "; ".join(f'{d.replace("V", str(n))}; .print("g{k}.{n}")'
+                                       for n, d in enumerate(body)) + "."
+             for k, body in enumerate(bodies)]
+    goals = "".join(f"!g{k}. " for k in range(len(bodies)))
+    return "y(0).\n" + goals + "\n" + "\n".join(plans) + "\n" + COMMON_PLANS
+
+
+def agent_lines(text: str, agent: str) -> list[str]:
+    """The console lines of ``agent`` (``[agent] ...``), fresh variable names made equal."""
+    prefix = f"[{agent}] "
+    return [FRESH.sub("_", ln[len(prefix):]) for ln in text.splitlines() if ln.startswith(prefix)]
+
+
+def run_jason(programs: dict[str, str], classpath: str, folder: Path, timeout: float) -> str:
+    """All the programs as the agents of one Jason MAS (a last agent stops it); its console."""
+    for name, source in programs.items():
+        (folder / f"{name}.asl").write_text(source)
+    (folder / "stopper.asl").write_text("!s.\n+!s <- .wait(4000); .stopMAS.\n")
+    (folder / "m.mas2j").write_text("MAS m { agents: " + "; ".join([*programs, "stopper"]) + "; }\n")
+    (folder / "logging.properties").write_text(   # Jason's own console format: "[agent] text"
+        "handlers = java.util.logging.ConsoleHandler\n.level = INFO\n"
+        "java.util.logging.ConsoleHandler.formatter = jason.runtime.MASConsoleLogFormatter\n")
+    done = subprocess.run(["java", "-cp", classpath, "jason.infra.local.RunLocalMAS", "m.mas2j",
+                           "--log-conf", "logging.properties"], cwd=folder, timeout=timeout,
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return done.stdout
+
+
+def run_rason(name: str, source: str) -> str:
+    out = io.StringIO()
+    mas = LocalMas(clock=VirtualClock(), out=out)
+    mas.add_agent(name, source, f"{name}.asl")
+    mas.run(timeout=10.0)
+    return out.getvalue()
+
+
+def compare(seed: int, count: int, classpath: str, timeout: float) -> tuple[int, list[Difference]]:
+    rng = random.Random(seed)
+    programs = {f"s{seed}a{k}": random_program(rng) for k in range(count)}
+    with tempfile.TemporaryDirectory() as tmp:
+        jason_out = run_jason(programs, classpath, Path(tmp), timeout)
+    if not any(f"[{name}]" in jason_out for name in programs):
+        raise RuntimeError(f"Jason printed nothing of the programs:\n{jason_out[-2000:]}")
+    differences = []
+    for name, source in programs.items():
+        jason, rason = agent_lines(jason_out, name), agent_lines(run_rason(name, source), name)
+        if jason != rason:
+            differences.append(Difference(name, source, jason, rason))
+    return count, differences
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--jason-jar", required=True,
+                        help="Java classpath: Jason's jar and the javax.json jars it needs")
+    parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3, 4, 5])
+    parser.add_argument("--programs", type=int, default=40, help="programs per seed")
+    parser.add_argument("--timeout", type=float, default=120.0, help="s for one Jason MAS")
+    args = parser.parse_args()
+    total = same = 0
+    for seed in args.seeds:
+        count, differences = compare(seed, args.programs, args.jason_jar, args.timeout)
+        for d in differences:
+            print(f"=== {d.agent}\n{d.program}\njason: {d.jason}\nrason: {d.rason}\n")
+        total += count
+        same += count - len(differences)
+        print(f"seed {seed}: {count - len(differences)}/{count} programs print the same lines")
+    print(f"\n{same}/{total} random programs print the same lines in real Jason and in rason.asl")
+    return 0 if same == total else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
