@@ -46,6 +46,14 @@ DEEDS = (
     "if (.intend(sub)) { .print(in_sub) } else { .print(not_in_sub) }",
     "for (.member(MV, [1, 2])) { .print(m, MV) }", "while (x(_)) { -x(_); .print(wx) }",
     ".succeed_goal(g0)", ".drop_desire(g1)", "!!k(V)", ".fail",
+    # values: arithmetic, lists, strings, rules, annotations, printed
+    "AV = 7 / 2 + 3 * 2 - 10 mod 3; .print(arith, AV)", "BV = 2 ** 10 div 3; .print(pow, BV)",
+    ".findall(RV, r(RV), LV); .print(rules, LV)", ".sort([c, 3, \"s\", b(1), [2], 1.5, a], LV); .print(LV)",
+    ".concat(\"ab\", [1, x], \"c\", LV); .print(LV)", ".length([a, b | [c]], LV); .print(len, LV)",
+    "?r(RV); .print(first_r, RV)", "+t(1)[k(V)]; ?t(TV)[k(KV)]; .print(t, TV, KV)",
+    ".term2string(f(X, \"s\", [1.0, -2.5e3]), SV); .print(SV)", ".print(math.round(2.5), math.abs(-3.2))",
+    ".setof(QV, .member(QV, [b, a, b]), LV); .print(LV)", ".nth(1, [a, b, c], EV); .print(EV)",
+    ".substring(\"ell\", \"hello\", PV); .print(sub, PV)", "if (r(3) & not r(5)) { .print(yes) }",
 )
 # Not here: .fail_goal(g2) of another intention's goal with a -!g2 plan, which Jason 3.3.2
 # answers with a NullPointerException in the internal action (rason runs -!g2).
@@ -62,6 +70,10 @@ COMMON_PLANS = """
 +!maybe : w <- .print(maybe_w).
 -!maybe <- .print(maybe_failed).
 +!k(N) <- .print(k, N).
+r(1). r(2).
+r(X) :- X = 3.
+r(X) :- q2(X).
+q2(40).
 -!g2 <- .print(g2_failed).
 """
 
