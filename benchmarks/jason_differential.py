@@ -77,6 +77,30 @@ q2(40).
 -!g2 <- .print(g2_failed).
 """
 
+#: Deeds of an asker talking to its answerer ``R``. The asker has one intention and waits for
+#: an answer after every deed (a tell and the next one arriving together would let the
+#: answerer's reactions interleave as the timing falls), so both agents' lines have one order.
+KQML_DEEDS = (
+    ".send(R, tell, hello(V))", ".send(R, tell, [a(V), b(V)])", ".send(R, achieve, do(V))",
+    ".send(R, askOne, v(XV), AV); .print(ans, AV)", ".send(R, askOne, v(XV)[k(KV)], AV); .print(ans, AV)",
+    ".send(R, askAll, v(XV), LV); .print(all, LV)", ".send(R, askOne, nothing(XV), AV); .print(none, AV)",
+    ".send(R, askOne, rv(XV), AV); .print(rule, AV)", ".send(R, untell, hello(1))",
+    ".send(R, askOne, hello(XV), AV); .print(told, AV)", ".send(R, askAll, hello(XV), LV); .print(LV)",
+    ".send(R, tellHow, \"+!extra(N) <- .print(extra, N).\"); .send(R, askOne, v(_), _); "
+    ".send(R, achieve, extra(V))",
+    ".send(R, askOne, b(XV)[source(SV)], AV); .print(src, AV)",
+)
+
+#: The answerer: what it believes, its rules and how it reacts (it never acts on its own).
+ANSWERER = """
+v(1)[k(a)]. v(2).
+rv(X) :- v(X) & X > 1.
++hello(N)[source(S)] <- .print(hello, N, S).
+-hello(N) <- .print(untold, N).
++!do(N)[source(S)] <- .print(do, N, S).
++a(N) <- .print(a, N).
+"""
+
 FRESH = re.compile(r"\b_\d+\w*")
 
 
@@ -100,6 +124,15 @@ def random_program(rng: random.Random) -> str:
     return "y(0).\n" + goals + "\n" + "\n".join(plans) + "\n" + COMMON_PLANS
 
 
+def random_asker(rng: random.Random, answerer: str) -> str:
+    """One intention of 1-8 KQML deeds to ``answerer``, each printing its place."""
+    body = [rng.choice(KQML_DEEDS) for _ in range(rng.randint(1, 8))]
+    deeds = "; ".join(f'{d.replace("V", str(n)).replace("R", answerer)}; '
+                      f'.send({answerer}, askOne, v(_), _); .print("q.{n}")'
+                      for n, d in enumerate(body))
+    return f"!go.\n+!go <- {deeds}.\n"
+
+
 def agent_lines(text: str, agent: str) -> list[str]:
     """The console lines of ``agent`` (``[agent] ...``), fresh variable names made equal."""
     prefix = f"[{agent}] "
@@ -121,26 +154,37 @@ def run_jason(programs: dict[str, str], classpath: str, folder: Path, timeout: f
     return done.stdout
 
 
-def run_rason(name: str, source: str) -> str:
+def run_rason(programs: dict[str, str]) -> str:
+    """The agents in one rason.asl ``LocalMas``; its console."""
     out = io.StringIO()
     mas = LocalMas(clock=VirtualClock(), out=out)
-    mas.add_agent(name, source, f"{name}.asl")
+    for name, source in programs.items():
+        mas.add_agent(name, source, f"{name}.asl")
     mas.run(timeout=10.0)
     return out.getvalue()
 
 
-def compare(seed: int, count: int, classpath: str, timeout: float) -> tuple[int, list[Difference]]:
+def compare(seed: int, count: int, classpath: str, timeout: float,
+            kqml: bool = False) -> tuple[int, list[Difference]]:
+    """``count`` programs of ``seed`` (lone agents, or with ``kqml`` askers and their answerers)."""
     rng = random.Random(seed)
-    programs = {f"s{seed}a{k}": random_program(rng) for k in range(count)}
+    if kqml:
+        groups = [{f"s{seed}q{k}": random_asker(rng, f"s{seed}r{k}"), f"s{seed}r{k}": ANSWERER}
+                  for k in range(count)]
+    else:
+        groups = [{f"s{seed}a{k}": random_program(rng)} for k in range(count)]
+    everyone = {name: source for group in groups for name, source in group.items()}
     with tempfile.TemporaryDirectory() as tmp:
-        jason_out = run_jason(programs, classpath, Path(tmp), timeout)
-    if not any(f"[{name}]" in jason_out for name in programs):
+        jason_out = run_jason(everyone, classpath, Path(tmp), timeout)
+    if not any(f"[{name}]" in jason_out for name in everyone):
         raise RuntimeError(f"Jason printed nothing of the programs:\n{jason_out[-2000:]}")
     differences = []
-    for name, source in programs.items():
-        jason, rason = agent_lines(jason_out, name), agent_lines(run_rason(name, source), name)
+    for group in groups:
+        rason_out = run_rason(group)
+        jason = [f"{n}: {ln}" for n in group for ln in agent_lines(jason_out, n)]
+        rason = [f"{n}: {ln}" for n in group for ln in agent_lines(rason_out, n)]
         if jason != rason:
-            differences.append(Difference(name, source, jason, rason))
+            differences.append(Difference(", ".join(group), "\n".join(group.values()), jason, rason))
     return count, differences
 
 
@@ -151,10 +195,12 @@ def main() -> int:
     parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3, 4, 5])
     parser.add_argument("--programs", type=int, default=40, help="programs per seed")
     parser.add_argument("--timeout", type=float, default=120.0, help="s for one Jason MAS")
+    parser.add_argument("--kqml", action="store_true",
+                        help="pairs of agents: one asks and tells, the other answers and reacts")
     args = parser.parse_args()
     total = same = 0
     for seed in args.seeds:
-        count, differences = compare(seed, args.programs, args.jason_jar, args.timeout)
+        count, differences = compare(seed, args.programs, args.jason_jar, args.timeout, args.kqml)
         for d in differences:
             print(f"=== {d.agent}\n{d.program}\njason: {d.jason}\nrason: {d.rason}\n")
         total += count

@@ -407,6 +407,16 @@ def test_askone_answers_carry_nested_sources() -> None:
     assert lines(out, "a") == ["x(1)[source(b)[source(a)]]", "y(2)[source(b)[source(c)]]"]
 
 
+def test_askone_answer_has_no_annotation_when_the_question_names_some() -> None:
+    # bel_no_source_self's NS::Content[|LA]: LA is the belief's annotations (source(self)
+    # dropped) when the question has none, and [] when it has some (checked with Jason 3.3.2)
+    out = mas(a="""!s.
++!s <- .send(b, askOne, v(X), A); .print(A); .send(b, askOne, v(Y)[k(K)], B); .print(B);
+       .send(b, askOne, w(W)[source(S)], C); .print(C).""",
+              b="v(1)[k(a)].\nw(3)[k(b), source(c)].")
+    assert lines(out, "a") == ["v(1)[k(a),source(b)]", "v(1)[source(b)]", "w(3)[source(b)]"]
+
+
 def test_askall_keeps_other_sources_and_drops_self() -> None:
     # kqmlPlans.asl @kqmlReceivedAskAll2: findall of Content[source(AGS)], then clear_source(self)
     out = mas(a="""!s.

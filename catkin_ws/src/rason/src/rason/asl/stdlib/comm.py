@@ -116,7 +116,9 @@ def kqml_belief_answer(ctx: Any, args: list) -> Any:
     ``kqml::bel_no_source_self`` rule (askOne/askAll answers). Content and Ans are literals
     without namespace; NS is their namespace (free: each namespace of the belief base, in
     Jason's order, never a local one). Each belief ``NS::Content`` gives Ans, the belief
-    without namespace and with every annotation but ``source(self)``."""
+    without namespace and with every annotation but ``source(self)`` when Content names none;
+    when it names some, with none (the rule's ``NS::Content[|LA]`` leaves ``LA`` free then,
+    and ``clear_source_self`` makes it ``[]``: checked with Jason 3.3.2)."""
     arg_count(args, 3)
     ns_arg, content = args[0], args[1]
     if not isinstance(content, Literal):
@@ -136,7 +138,8 @@ def kqml_belief_answer(ctx: Any, args: list) -> Any:
             pattern = in_ns(ns, bare)
             for sol in ctx.query_beliefs(pattern):
                 b = split_ns(resolve(pattern, sol))[1]
-                ans = b.with_annots(tuple(a for a in b.annots if a != self_src), None)
+                others = [] if content.annots else list_to_python(resolve(tail, sol)) or []
+                ans = b.with_annots(merge_annots((), [a for a in others if a != self_src]), None)
                 s2 = dict(ctx.s)
                 if (unify(ns_arg, Literal(ns), s2) and unify(content.with_annots(()), ans.with_annots(()), s2)
                         and unify(args[2], ans, s2)):
