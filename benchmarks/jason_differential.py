@@ -54,6 +54,10 @@ DEEDS = (
     ".term2string(f(X, \"s\", [1.0, -2.5e3]), SV); .print(SV)", ".print(math.round(2.5), math.abs(-3.2))",
     ".setof(QV, .member(QV, [b, a, b]), LV); .print(LV)", ".nth(1, [a, b, c], EV); .print(EV)",
     ".substring(\"ell\", \"hello\", PV); .print(sub, PV)", "if (r(3) & not r(5)) { .print(yes) }",
+    # more control: contexts, suspension, dropping, plans added at run time
+    "!c", ".suspend(g1)", ".resume(g1)", ".drop_intention(g2)", ".abolish(z(_))",
+    ".add_plan({+!ap <- .print(added)}); !ap", ".relevant_plans({+!c}, LV); .length(LV, NV); .print(NV)",
+    "while (not x(_) & y(YV) & YV < 3) { -+y(YV + 1); .print(yv) }",
 )
 # Not here: .fail_goal(g2) of another intention's goal with a -!g2 plan, which Jason 3.3.2
 # answers with a NullPointerException in the internal action (rason runs -!g2).
@@ -70,6 +74,9 @@ COMMON_PLANS = """
 +!maybe : w <- .print(maybe_w).
 -!maybe <- .print(maybe_failed).
 +!k(N) <- .print(k, N).
++!c : x(_) & not w <- .print(c1).
++!c : w <- .print(c2).
++!c <- .print(c3).
 r(1). r(2).
 r(X) :- X = 3.
 r(X) :- q2(X).
