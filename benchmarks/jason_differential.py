@@ -58,9 +58,13 @@ DEEDS = (
     "!c", ".suspend(g1)", ".resume(g1)", ".drop_intention(g2)", ".abolish(z(_))",
     ".add_plan({+!ap <- .print(added)}); !ap", ".relevant_plans({+!c}, LV); .length(LV, NV); .print(NV)",
     "while (not x(_) & y(YV) & YV < 3) { -+y(YV + 1); .print(yv) }",
+    # failures whose annotations g2's failure plan prints
+    "?nothing(_)", ".nth(9, [a], _)", "!nothere(V)", "XV = 1 / 0", ".length(a, _)",
 )
 # Not here: .fail_goal(g2) of another intention's goal with a -!g2 plan, which Jason 3.3.2
-# answers with a NullPointerException in the internal action (rason runs -!g2).
+# answers with a NullPointerException in the internal action (rason runs -!g2); a failed
+# constraint in a body (3 > 4), whose error_msg Jason writes with the rest of the plan body
+# and the unifier (in Java's hash order), rason with the constraint only.
 
 #: Plans every program has besides its goals' plans.
 COMMON_PLANS = """
@@ -81,7 +85,7 @@ r(1). r(2).
 r(X) :- X = 3.
 r(X) :- q2(X).
 q2(40).
--!g2 <- .print(g2_failed).
+-!g2[error(E), error_msg(M), code(C), code_line(L)] <- .print(g2_failed, E, "|", M, "|", C, "|", L).
 """
 
 #: Deeds of an asker talking to its answerer ``R``. The asker has one intention and waits for

@@ -56,6 +56,17 @@ def test_nth_out_of_bounds_is_an_internal_action_error() -> None:
     assert run(".nth(5, [a,b], X)", ERR) == ["internal_action | nth: index 5 is out of bounds (2)"]
 
 
+def test_internal_action_error_without_failure_plan_is_logged() -> None:
+    # TransitionSystem.applyExecInt: when generateGoalDeletion finds no failure plan, Jason logs
+    # the internal action's error after dropping the intention (checked with Jason 3.3.2);
+    # with a failure plan it does not
+    out = run(".nth(9, [a], _); .print(b)")
+    assert out[-1].startswith("Error in internal action '.nth(9,[a],_") and out[-1].endswith(
+        "' (file:main.asl:2): nth: index 9 is out of bounds (1)"), out
+    assert "b" not in out
+    assert run(".nth(9, [a], _)", ERR) == ["internal_action | nth: index 9 is out of bounds (1)"]
+
+
 def test_wrong_argument_messages() -> None:
     # JasonException.createWrongArgument / createWrongArgumentNb
     assert run(".sort(a, X)", ERR) == [

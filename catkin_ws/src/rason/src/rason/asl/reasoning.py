@@ -399,6 +399,8 @@ def exec_int(ag: Agent, i: Intention) -> None:
         ok = None
     except IAError as e:
         fail_intention(ag, i, annots=error_annots(ag, im, d, e.kind, e.message, extra=e.annots))
+        if i.dropped:   # no failure plan took it: Jason logs the internal action's error too
+            ag.warn(f"Error in internal action '{term_str(d.term)}' ({im.plan.src}:{d.line}): {e.message}")
         ok = None
     except ArithError as e:
         fail_intention(ag, i, annots=error_annots(ag, im, d, "ia_failed", f"arithmetic error: {e}"))
