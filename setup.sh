@@ -19,6 +19,8 @@ APT_PACKAGES=(
   libstd-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libsensor-msgs-dev libdiagnostic-msgs-dev
   # build tools and Debian's Python venv
   cmake g++ make python3-venv
+  # rason.asl's reasoning cycle compiled to C by mypyc (pinned with mypy): Python's headers
+  python3-dev
   # the mind inspector's browser test (headless, driven by selenium)
   chromium chromium-driver
   # ./run.sh demo --hosts: a robot host's firewall (nft), as on the robots (README)
@@ -70,4 +72,10 @@ step "catkin_make (Python: $VENV/bin/python3)"
 cd "$ROOT/catkin_ws"
 PATH="$VENV/bin:$PATH" catkin_make -DPYTHON_EXECUTABLE="$VENV/bin/python3" -DCATKIN_ENABLE_TESTING=OFF \
   > "$ROOT/catkin_ws/catkin_make.log" 2>&1 || { tail -40 "$ROOT/catkin_ws/catkin_make.log" >&2; false; }
+
+CURRENT_STEP="compiled modules"
+# rason.asl's hot modules compiled with mypyc; a no-op when the build for these sources exists
+step "rason.asl compiled with mypyc (python -m rason.asl native build)"
+PYTHONPATH="$ROOT/catkin_ws/src/rason/src" RASON_NATIVE=0 "$VENV/bin/python3" -m rason.asl native build \
+  --log "$ROOT/catkin_ws/native.log" > /dev/null
 step "done: source $ROOT/env.sh to use rosrun, rostopic, rosservice"

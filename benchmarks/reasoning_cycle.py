@@ -5,7 +5,9 @@ The agent counts ``value(X)`` up to N with ``-+value(X+1); !!goToDestination`` (
 ``++value`` is a typo for ``-+``), one new intention per loop iteration. We report the mean
 time per loop iteration (µs) for:
 
-* rason.asl (this repository), in this process;
+* rason.asl (this repository), in this process, with its reasoning cycle compiled by mypyc
+  (``rason.asl.native``, built by setup.sh), and the same modules run as Python
+  (``RASON_NATIVE=0``) in a child process;
 * the PyPI ``agentspeak==0.2.2`` stock runtime on the same program (minimally adapted to its
   dialect: no ``.time``/``.puts``), installed by this script into a throwaway venv under a
   temporary directory and run as a subprocess (skipped with --no-agentspeak or when pip
@@ -53,7 +55,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "catkin_ws", "src", "rason", "src"))
 
-from rason.asl import Agent, AgentArch, WallClock  # noqa: E402
+from rason.asl import Agent, AgentArch, WallClock, native  # noqa: E402
 
 JASON_JVM_US = 2.7
 WARM_UP = 2000      # iterations run once, untimed, before measuring (both interpreters)
@@ -157,6 +159,19 @@ class PublishingArch(QuietArch):
             hook, self.at_next_cycle = self.at_next_cycle, None
             hook()
         return None
+
+
+def bench_rason_as_python(n: int, repeat: int) -> float | None:
+    """µs per iteration of :func:`bench_rason` in a child process running rason.asl's modules as
+    Python (``RASON_NATIVE=0``): the best of ``repeat`` runs after the warm-up."""
+    code = (f"import sys; sys.path.insert(0, {HERE!r}); import reasoning_cycle as r; "
+            f"r.bench_rason(r.WARM_UP); print(min(r.bench_rason({n})[0] for _ in range({repeat})))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=3600,
+                          env={**os.environ, native.SWITCH: "0"})
+    if proc.returncode != 0:
+        print(f"note: the Python run failed: {proc.stderr.strip()[-300:]}", file=sys.stderr)
+        return None
+    return float(proc.stdout.strip().splitlines()[-1])
 
 
 def bench_mind_state(n: int, hz: float, extra: str = "") -> tuple[float, float, int, float]:
@@ -300,20 +315,24 @@ def whole_process_table(py: str | None, n: int, tmp: str, repeat: int) -> None:
     # them (kept under the temporary folder, out of the source tree)
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     env["PYTHONPYCACHEPREFIX"] = os.path.join(tmp, "pycache")
+    python_env = {**env, native.SWITCH: "0"}
     ours_cmd = [sys.executable, "-m", "rason.asl", "run", ours_path]
     theirs_cmd = None if py is None else [py, "-m", "agentspeak", theirs_path]
-    for cmd in (ours_cmd, theirs_cmd):
+    for cmd, cmd_env in ((ours_cmd, env), (ours_cmd, python_env), (theirs_cmd, env)):
         if cmd is not None:
-            subprocess.run(cmd, check=True, capture_output=True, timeout=3600, env=env)
+            subprocess.run(cmd, check=True, capture_output=True, timeout=3600, env=cmd_env)
     ours = whole_process(ours_cmd, repeat, env)
+    as_python = whole_process(ours_cmd, repeat, python_env)
     theirs = None if theirs_cmd is None else whole_process(theirs_cmd, repeat, env)
     print(f"\nWhole process, Listing 5.4 counting to {n} (start-up included), best of {repeat}")
-    print(f"{'':>10} | {'rason.asl s':>11} | {'agentspeak 0.2.2 s':>18} | {'speedup':>7} | {'target':>6}")
-    print("-" * 64)
+    print(f"{'':>10} | {'rason.asl s':>11} | {'as Python s':>11} | {'agentspeak 0.2.2 s':>18} | "
+          f"{'speedup':>7} | {'target':>6}")
+    print("-" * 78)
     for k, label in ((0, "wall"), (1, "CPU")):
         t = "n/a" if theirs is None else f"{theirs[k]:.2f}"
         r = "n/a" if theirs is None else f"{theirs[k] / ours[k]:.2f}x"
-        print(f"{label:>10} | {ours[k]:11.2f} | {t:>18} | {r:>7} | {TARGET_WHOLE_SPEEDUP:5.1f}x")
+        print(f"{label:>10} | {ours[k]:11.2f} | {as_python[k]:11.2f} | {t:>18} | {r:>7} | "
+              f"{TARGET_WHOLE_SPEEDUP:5.1f}x")
 
 
 def main() -> int:
@@ -345,20 +364,22 @@ def main() -> int:
                 us, own = bench_rason(n)
                 ours.append(us)
             theirs = None if py is None else bench_agentspeak(py, n, tmp, repeat)
-            rows.append((n, min(ours), own, theirs))
+            rows.append((n, min(ours), own, theirs, bench_rason_as_python(n, repeat)))
         jvm = {n: bench_jason_jvm(args.jason_jar, n, tmp) for n in args.counts} if args.jason_jar else {}
         if args.whole_count:
             whole_process_table(py, args.whole_count, tmp, args.repeat)
 
     print(f"\nListing 5.4 (count to N, one new intention per iteration), CPU µs per iteration (Jason: "
-          f"its own .nano_time); Python {sys.version.split()[0]}; "
+          f"its own .nano_time); Python {sys.version.split()[0]}; rason.asl's compiled modules "
+          f"{'in use' if native.in_use() else 'NOT in use (python -m rason.asl native build)'}; "
           f"load average {os.getloadavg()[0]:.1f}; Jason JVM: "
           + ("measured in this run" if jvm else "reference figure (no --jason-jar)"))
-    print(f"{'N':>8} | {'rason.asl µs/it':>15} | {'(agent .time)':>13} | {'agentspeak 0.2.2 µs/it':>22} | "
-          f"{'speedup':>7} | {'target':>6} | {'Jason JVM µs/it':>15} | {'vs JVM':>7}")
-    print("-" * 118)
+    print(f"{'N':>8} | {'rason.asl µs/it':>15} | {'(agent .time)':>13} | {'as Python':>9} | "
+          f"{'agentspeak 0.2.2 µs/it':>22} | {'speedup':>7} | {'target':>6} | {'Jason JVM µs/it':>15} | "
+          f"{'vs JVM':>7}")
+    print("-" * 130)
     ok = True
-    for n, ours, own, theirs in rows:
+    for n, ours, own, theirs, as_python in rows:
         ratio = f"{theirs / ours:6.2f}x" if theirs else "    n/a"
         if theirs and theirs / ours < TARGET_SPEEDUP:
             ok = False
@@ -366,7 +387,8 @@ def main() -> int:
         theirs_s = "n/a" if theirs is None else f"{theirs:.2f}"
         jason = jvm.get(n) or JASON_JVM_US
         jason_s = f"{jason:15.2f}" if jvm.get(n) else f"{jason:14.1f}*"
-        print(f"{n:>8} | {ours:15.2f} | {own_us:>13} | {theirs_s:>22} | "
+        python_s = "n/a" if as_python is None else f"{as_python:.2f}"
+        print(f"{n:>8} | {ours:15.2f} | {own_us:>13} | {python_s:>9} | {theirs_s:>22} | "
               f"{ratio:>7} | {TARGET_SPEEDUP:5.1f}x | {jason_s} | {ours / jason:6.1f}x")
     print("target (>= 3x faster than agentspeak per iteration):", "met" if ok else "NOT met")
     if not args.no_mind_state:

@@ -25,7 +25,7 @@ ROSDEP_KEYS = {"numpy": "python3-numpy", "cv2": "python3-opencv", "yaml": "pytho
 #: Import names of libraries installed from PyPI only (pinned in requirements.txt), by the
 #: requirement's name.
 PYPI_ONLY = {"pybullet": "pybullet", "rosbags": "rosbags", "lz4": "lz4", "aiohttp": "aiohttp",
-             "selenium": "selenium", "hypothesis": "hypothesis"}
+             "selenium": "selenium", "hypothesis": "hypothesis", "mypyc": "mypy"}
 #: Modules that come with a declared package (catkin_pkg comes with catkin, genmsg with genpy).
 BUNDLED = {"catkin_pkg": "catkin", "setuptools": "catkin", "rosgraph_msgs": "rosgraph_msgs",
            "rosbag": "rosbag"}

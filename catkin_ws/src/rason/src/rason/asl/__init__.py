@@ -8,6 +8,11 @@ library, circumstance), ``reasoning`` (the transition system), ``stdlib`` (inter
 
 from typing import TYPE_CHECKING
 
+from .native import native_path
+
+# the compiled modules first, when they were built from these very sources (see .native)
+__path__[:0] = native_path()
+
 from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, VirtualClock, WallClock
 from .parser import AslSyntaxError, parse_literal, parse_source, parse_term, parse_term_text

@@ -22,7 +22,6 @@ from .intentions import (
     EventWait,
     IntendedMeans,
     Intention,
-    IntentionQueue,
     PendingAction,
     PendingEvent,
     Suspension,
@@ -118,12 +117,18 @@ class Agent:
         parsed = parse_source(source, filename, src="file:" + src_name,
                               include=path_include_resolver(self.source_path))
         self.bb = BeliefBase()
+        #: the mind inspector's views of the beliefs of the last snapshot (a belief is an
+        #: immutable literal: equal beliefs, equal views), so a snapshot only formats the beliefs
+        #: new since the last one; only the last snapshot's are kept (see inspection.mind_state)
+        self.belief_views: dict[Literal, Any] = {}
         self.pl = PlanLibrary()
         self.events: deque[Event] = deque()
         # goal-state meta events waiting for the start of the next deliberation (Jason's
         # GoalListenerForMetaEvents posts them with runAtBeginOfNextCycle)
         self.goal_state_events: list[Event] = []
-        self.running = IntentionQueue()
+        #: Jason's queue of running intentions (a FIFO: SelInt polls the first one, an
+        #: intention that executed a step goes back to the end)
+        self.running: deque[Intention] = deque()
         self.action_results: deque[ActionResult] = deque()
         self.current: Intention | None = None
         self.suspended: dict[int, Intention] = {}
@@ -601,7 +606,8 @@ class Agent:
 
     def detach(self, i: Intention) -> None:
         """Remove ``i`` from every queue/registration (it is about to be re-attached elsewhere)."""
-        self.running.take(i)
+        if i in self.running:
+            self.running.remove(i)
         self.suspended.pop(i.id, None)
         if self.event_waits:
             self.event_waits = [w for w in self.event_waits if w.intention is not i]
@@ -622,8 +628,6 @@ class Agent:
         self.detach(i)
         i.dropped = True
         i.ims.clear()
-
-    drop_whole_intention = remove_intention
 
     def intention_finished(self, i: Intention, last: IntendedMeans) -> None:
         if i.reply is not None:

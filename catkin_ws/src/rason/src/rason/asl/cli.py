@@ -1,12 +1,13 @@
 """Command line: ``python -m rason.asl run FILE.mas2j|FILE.asl [--timeout S] [--seed N] [--no-tro]
-[--max-intention-depth N]
-[--internal-actions MODULE]``."""
+[--max-intention-depth N] [--internal-actions MODULE]``; ``python -m rason.asl native
+build|status`` (the compiled modules, :mod:`.native`)."""
 
 from __future__ import annotations
 
 import argparse
 import sys
 
+from . import native
 from .agent import AgentOptions
 from .parser import AslSyntaxError
 from .runtime import run_file
@@ -22,13 +23,20 @@ def main(argv: list[str] | None = None) -> int:
     r.add_argument("--seed", type=int, default=None, help="seed for .random / math.random")
     r.add_argument("--no-tro", dest="tro", action="store_false",
                    help="turn tail-recursion optimisation off (Jason's tro=false)")
-    r.add_argument("--max-intention-depth", type=int, default=AgentOptions.max_intention_depth,
+    r.add_argument("--max-intention-depth", type=int, default=AgentOptions().max_intention_depth,
                    metavar="N", help="fail an intention deeper than N intended means "
-                   f"(default {AgentOptions.max_intention_depth})")
+                   f"(default {AgentOptions().max_intention_depth})")
     r.add_argument("--internal-actions", metavar="MODULE", action="append", default=[],
                    help="import this Python module first: its @internal_action functions "
                         "become internal actions of every agent (repeatable)")
+    n = sub.add_parser("native", help="compile the reasoning cycle's modules with mypyc, or say "
+                       "whether they are in use")
+    n.add_argument("action", choices=("build", "status"))
+    n.add_argument("--force", action="store_true", help="build even if the current build exists")
+    n.add_argument("--log", help="keep the compiler's output in this file")
     args = ap.parse_args(argv)
+    if args.cmd == "native":
+        return _native(args.action, args.force, args.log)
     try:
         load_modules(args.internal_actions)
     except ModuleLoadError as e:
@@ -51,6 +59,19 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     if not ok:
         print(f"timeout after {args.timeout} s: agents still busy", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _native(action: str, force: bool, log: str | None) -> int:
+    if action == "status":
+        print(f"compiled modules {'in use' if native.in_use() else 'not in use'} "
+              f"(build for these sources: {native.build_folder()})")
+        return 0
+    try:
+        print(native.build(force=force, log=log))
+    except RuntimeError as e:
+        print(str(e), file=sys.stderr)
         return 1
     return 0
 

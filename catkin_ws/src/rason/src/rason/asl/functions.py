@@ -43,7 +43,7 @@ def _list_only(*args: Any) -> float:
 
 
 def _mean(xs: list) -> float:
-    return sum(xs) / len(xs) if xs else math.nan
+    return sum(xs, 0.0) / len(xs) if xs else math.nan
 
 
 def _median(xs: list, n_items: int) -> float:
@@ -57,14 +57,14 @@ def _median(xs: list, n_items: int) -> float:
 def _std_dev(xs: list) -> float:
     n = len(xs)
     mean = _mean(xs)
-    sq = sum((x - mean) * (x - mean) for x in xs)
+    sq = sum(((x - mean) * (x - mean) for x in xs), 0.0)
     return math.sqrt(divide(sq, float(n - 1))) if n != 1 else (math.nan if sq == 0 else math.inf)
 
 
 #: Jason functions over one list (``jason.functions``): math.max/min of a list start from
 #: Java's Double.MIN_VALUE/MAX_VALUE, non-numbers are skipped.
 LIST_FUNCTIONS: dict[str, Any] = {
-    "math.sum": lambda xs, n: float(sum(xs)),
+    "math.sum": lambda xs, n: sum(xs, 0.0),
     "math.average": lambda xs, n: _mean(xs),
     "math.mean": lambda xs, n: _mean(xs),
     "math.median": _median,

@@ -10,7 +10,6 @@ default=vars)`` serialises them (see :func:`to_json`).
 from __future__ import annotations
 
 import os
-import weakref
 from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import TYPE_CHECKING
@@ -90,7 +89,7 @@ class MindState:
 def mind_state(agent: Agent) -> MindState:
     """Read `agent`'s mind (call with the agent's state lock held: see Agent.mind_state)."""
     state = MindState()
-    previous = _BELIEF_VIEWS.get(agent, {})
+    previous = agent.belief_views
     views: dict[Literal, BeliefView] = {}
     for b in agent.bb:
         if isinstance(b, Rule):
@@ -99,7 +98,7 @@ def mind_state(agent: Agent) -> MindState:
             view = views.get(b) or previous.get(b) or _new_belief_view(b)
             views[b] = view
             state.beliefs.append(view)
-    _BELIEF_VIEWS[agent] = views
+    agent.belief_views = views
     held = [ev for _, ev in agent.pending_events]
     for ev in [*agent.events, *held]:
         state.events.append(_event(ev))
@@ -119,14 +118,6 @@ def to_json(value: object) -> str:
     import json  # here: an agent that is never inspected does not pay its import at start
 
     return json.dumps(value, default=vars, separators=(",", ":"))
-
-
-#: Per agent, the views of the beliefs of its last snapshot (a belief is an immutable literal:
-#: equal beliefs, equal views), so a snapshot only formats the beliefs that are new since the
-#: last one. Only the last snapshot's beliefs are kept: the memory follows the belief base (a
-#: belief that changes all the time, such as a percept, must not pile up views of its past).
-_BELIEF_VIEWS: weakref.WeakKeyDictionary[Agent, dict[Literal, BeliefView]] = \
-    weakref.WeakKeyDictionary()
 
 
 def _new_belief_view(b: Literal) -> BeliefView:

@@ -4,7 +4,6 @@ and the records of what a suspended intention waits for."""
 from __future__ import annotations
 
 import itertools
-from collections import deque
 from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, NamedTuple
@@ -249,16 +248,6 @@ class ActionResult:
     reason: str | None = None
     message: str = ""
     annots: list | None = None
-
-
-class IntentionQueue(deque):
-    """Jason's queue of running intentions (a FIFO: SelInt polls the first one, an intention
-    that executed a step goes back to the end)."""
-
-    def take(self, i: Intention) -> None:
-        """Remove ``i`` if present."""
-        if i in self:
-            self.remove(i)
 
 
 def has_goal(i: Intention, pattern: Any, s: dict) -> dict | None:

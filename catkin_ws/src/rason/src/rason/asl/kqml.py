@@ -11,7 +11,6 @@ import pickle
 import re
 import zlib
 
-from . import terms
 from .parser import parse_source, user_cache_folder
 from .plans import Plan
 from .terms import Var
@@ -137,20 +136,12 @@ def kqml_plans() -> list:
 _ANONYMOUS = re.compile(r"_[0-9]+")
 
 
-class _FreshAnonymous(dict):
-    """A renaming for :func:`~rason.asl.unify.rename_vars` that keeps every named variable
-    and gives each anonymous one (named by another process) a name fresh in this one."""
-
-    def get(self, name: str, default: object = None) -> object:
-        if name in self:
-            return self[name]
-        return None if _ANONYMOUS.fullmatch(name) else Var(name)
-
-
 def _with_fresh_anonymous(plan: Plan) -> Plan:
-    """``plan`` (read from another process) with its anonymous variables named anew."""
-    renaming = _FreshAnonymous()
-    return plan.map_terms(lambda t: rename_vars(t, renaming))
+    """``plan`` (read from another process) with its anonymous variables named anew (the named
+    ones are kept)."""
+    renaming: dict[str, Var] = {}
+    return plan.map_terms(lambda t: rename_vars(
+        t, renaming, lambda name: _ANONYMOUS.fullmatch(name) is not None))
 
 
 def _module_stamps(folder: str) -> list[tuple[str, int, int]]:
@@ -177,7 +168,7 @@ def _stored_plans() -> list[Plan]:
     it), so any change parses again; anonymous variables get names fresh in this process."""
     # every module of rason.asl: a pickled class may live in any of them
     stamp = "\n".join([KQML_PLANS] + [f"{name}:{size}:{mtime}" for name, size, mtime
-                                      in _module_stamps(os.path.dirname(terms.__file__ or ""))])
+                                      in _module_stamps(os.path.dirname(os.path.abspath(__file__)))])
     folder = user_cache_folder()
     # a checksum names the file (hashlib's import alone would cost a fifth of reading it)
     path = (None if folder is None

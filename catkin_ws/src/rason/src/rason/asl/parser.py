@@ -272,9 +272,9 @@ def _unescape(raw: str, exact: bool = False) -> str:
 class AgentSource:
     """The parsed content of one ``.asl`` file."""
 
-    beliefs: list = field(default_factory=list)     # Literal or Rule
-    goals: list = field(default_factory=list)       # Literal
-    plans: list = field(default_factory=list)       # Plan
+    beliefs: list[Literal | Rule] = field(default_factory=list)
+    goals: list[Literal] = field(default_factory=list)
+    plans: list[Plan] = field(default_factory=list)
     filename: str = "<string>"
 
 

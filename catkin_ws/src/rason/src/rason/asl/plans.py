@@ -52,6 +52,9 @@ class Trigger:
         else:
             self.key = (op, type, None, 0, False)
 
+    def __reduce__(self) -> tuple:
+        return (Trigger, (self.op, self.type, self.literal))
+
     def __str__(self) -> str:
         return self.op + self.type + term_str(self.literal)
 
@@ -108,6 +111,7 @@ class Deed:
 
     def map_terms(self, fn: Any) -> Deed:
         """This deed with ``fn`` applied to every term in it (blocks included)."""
+        extra: Any
         if self.kind == K_IF:
             branches, els = self.extra
             extra = ([(fn(c), map_deeds(b, fn)) for c, b in branches],
@@ -173,7 +177,7 @@ def deed_str(d: Deed) -> str:
 class Plan:
     """``@label trigger : context <- body.``"""
 
-    label: Literal | None
+    label: Literal | Var | None     # a variable in a plan term that unifies part by part
     trigger: Trigger
     context: Any
     body: tuple
@@ -203,6 +207,11 @@ class Plan:
                              and pattern.tail is None else None)
         if isinstance(self.label, Literal):
             self.atomic = any(isinstance(a, Literal) and a.functor == "atomic" for a in self.label.annots)
+
+    def __reduce__(self) -> tuple:
+        """Pickled as what it is made from (what ``__post_init__`` derives is made anew)."""
+        return (Plan, (self.label, self.trigger, self.context, self.body, self.line, self.src,
+                       self.atomic, (), None, self.in_file, self.goal_condition))
 
     def label_name(self) -> str | None:
         if not isinstance(self.label, Literal):

@@ -38,6 +38,9 @@ class Var:
     def __init__(self, name: str) -> None:
         self.name = name
 
+    def __reduce__(self) -> tuple:
+        return (Var, (self.name,))
+
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Var) and other.name == self.name
 
@@ -60,6 +63,9 @@ class AnnotVar:
         self.name = name
         self.annots = annots
         self.tail = tail
+
+    def __reduce__(self) -> tuple:
+        return (AnnotVar, (self.name, self.annots, self.tail))
 
     def __eq__(self, other: object) -> bool:
         return (isinstance(other, AnnotVar) and other.name == self.name
@@ -89,6 +95,10 @@ class Literal:
         #: yet known); the parser and plan compilation fill them for program literals
         self.known_ground: bool | None = None
         self.known_constant: bool | None = None
+
+    def __reduce__(self) -> tuple:
+        """Pickled as what it is made from (the caches are filled anew)."""
+        return (Literal, (self.functor, self.args, self.annots, self.tail, self.neg))
 
     @property
     def arity(self) -> int:
@@ -157,6 +167,9 @@ class NsLit:
         self.ns = ns
         self.lit = lit
 
+    def __reduce__(self) -> tuple:
+        return (NsLit, (self.ns, self.lit))
+
     def __eq__(self, other: object) -> bool:
         return isinstance(other, NsLit) and other.ns == self.ns and other.lit == self.lit
 
@@ -219,6 +232,9 @@ class ListTerm:
         self.items = items
         self.tail = tail
 
+    def __reduce__(self) -> tuple:
+        return (ListTerm, (self.items, self.tail))
+
     def __eq__(self, other: object) -> bool:
         return isinstance(other, ListTerm) and self.items == other.items and self.tail == other.tail
 
@@ -242,6 +258,9 @@ class _Expr:
         self.op = op
         self.left = left
         self.right = right
+
+    def __reduce__(self) -> tuple:
+        return (type(self), (self.op, self.left, self.right))
 
     def __eq__(self, other: object) -> bool:
         return (type(other) is type(self) and self.op == other.op
@@ -298,6 +317,9 @@ class PlanTerm:
         self.rule = rule
         self.known_ground: bool | None = None   # ground (no variable inside), computed on first use
 
+    def __reduce__(self) -> tuple:
+        return (PlanTerm, (self.body, self.text, self.plan, self.rule, self.braces))
+
     def same_key(self) -> str:
         """What makes two plan terms equal: as Jason's ``Plan.equals``, a plan's trigger,
         context and body, not its label."""
@@ -346,6 +368,9 @@ class Rule:
     def __init__(self, head: Literal, body: Any) -> None:
         self.head = head
         self.body = body
+
+    def __reduce__(self) -> tuple:
+        return (Rule, (self.head, self.body))
 
     def __str__(self) -> str:
         return term_str(self.head) + " :- " + term_str(self.body)

@@ -721,39 +721,42 @@ def _eq(a: Any, b: Any) -> bool:
 
 # ---------------------------------------------------------------- renaming
 
-def rename_vars(t: Any, mapping: dict) -> Any:
-    """Copy ``t`` with each variable replaced by a fresh one (consistent through ``mapping``)."""
+def rename_vars(t: Any, mapping: dict, renamed: Callable[[str], bool] | None = None) -> Any:
+    """Copy ``t`` with each variable replaced by a fresh one (consistent through ``mapping``);
+    with ``renamed``, only the variables whose name it accepts (the others stay)."""
     if isinstance(t, (float, str)):
         return t
     if isinstance(t, Var):
         v = mapping.get(t.name)
         if v is None:
-            v = mapping[t.name] = Var(fresh_name())
+            v = mapping[t.name] = (Var(fresh_name()) if renamed is None or renamed(t.name)
+                                   else t)
         return v
     if isinstance(t, Literal):
         if not t.args and not t.annots and t.tail is None:
             return t
-        return Literal(t.functor, tuple(rename_vars(a, mapping) for a in t.args),
-                       tuple(rename_vars(a, mapping) for a in t.annots),
-                       None if t.tail is None else rename_vars(t.tail, mapping), t.neg)
+        return Literal(t.functor, tuple(rename_vars(a, mapping, renamed) for a in t.args),
+                       tuple(rename_vars(a, mapping, renamed) for a in t.annots),
+                       None if t.tail is None else rename_vars(t.tail, mapping, renamed), t.neg)
     if isinstance(t, ListTerm):
-        return ListTerm(tuple(rename_vars(a, mapping) for a in t.items),
-                        None if t.tail is None else rename_vars(t.tail, mapping))
+        return ListTerm(tuple(rename_vars(a, mapping, renamed) for a in t.items),
+                        None if t.tail is None else rename_vars(t.tail, mapping, renamed))
     if isinstance(t, AnnotVar):
         v = mapping.get(t.name)
         if v is None:
-            v = mapping[t.name] = Var(fresh_name())
-        return AnnotVar(v.name, tuple(rename_vars(a, mapping) for a in t.annots),
-                        None if t.tail is None else rename_vars(t.tail, mapping))
+            v = mapping[t.name] = (Var(fresh_name()) if renamed is None or renamed(t.name)
+                                   else Var(t.name))
+        return AnnotVar(v.name, tuple(rename_vars(a, mapping, renamed) for a in t.annots),
+                        None if t.tail is None else rename_vars(t.tail, mapping, renamed))
     if isinstance(t, NsLit):
-        return NsLit(rename_vars(t.ns, mapping), rename_vars(t.lit, mapping))
+        return NsLit(rename_vars(t.ns, mapping, renamed), rename_vars(t.lit, mapping, renamed))
     if isinstance(t, (ArithExpr, LogExpr)):
-        return type(t)(t.op, rename_vars(t.left, mapping),
-                       None if t.right is None else rename_vars(t.right, mapping))
+        return type(t)(t.op, rename_vars(t.left, mapping, renamed),
+                       None if t.right is None else rename_vars(t.right, mapping, renamed))
     if isinstance(t, RelExpr):
-        return RelExpr(t.op, rename_vars(t.left, mapping), rename_vars(t.right, mapping))
+        return RelExpr(t.op, rename_vars(t.left, mapping, renamed), rename_vars(t.right, mapping, renamed))
     if isinstance(t, PlanTerm):
-        return t.map_terms(lambda x: rename_vars(x, mapping))
+        return t.map_terms(lambda x: rename_vars(x, mapping, renamed))
     return t
 
 

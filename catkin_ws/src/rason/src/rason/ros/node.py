@@ -121,10 +121,10 @@ class AgentNodeParams:
         [], "the only senders whose tellHow, untellHow, askHow, achieve and unachieve reach the "
         "agents of this node (Jason's message acceptance hook); [] = everyone. In a .mas2j, per "
         "agent: trusted_senders=\"[boss]\"")
-    tro: bool = param(AgentOptions.tro, "tail-recursion optimisation as Jason's tro agent option: "
+    tro: bool = param(AgentOptions().tro, "tail-recursion optimisation as Jason's tro agent option: "
                       "+!loop <- ...; !loop. runs in constant memory")
     max_intention_depth: int = param(
-        AgentOptions.max_intention_depth,
+        AgentOptions().max_intention_depth,
         "an intention deeper than this fails with error(intention_too_deep) (a -!g plan can "
         "handle it) and a warning", minimum=1)
     mind_state_rate: float = param(

@@ -109,6 +109,6 @@ def drop_future_intention(ctx: Any, args: list) -> bool:
         for d in reversed(im.stack):
             if d.kind in (K_ACHIEVE, K_ACHIEVE_NEW) and unify(resolve(d.term, im.u, ag), args[0],
                                                                 dict(ctx.s), ag):
-                ag.drop_whole_intention(i)
+                ag.remove_intention(i)
                 break
     return True

@@ -380,7 +380,7 @@ def _label_sources(label: Literal) -> list:
 
 def _with_label_sources(p: Plan, sources: list) -> Plan:
     """``p`` with exactly these label sources."""
-    assert p.label is not None      # plans in the library are labelled when added
+    assert isinstance(p.label, Literal)      # plans in the library are labelled when added
     rest = tuple(a for a in p.label.annots if not (isinstance(a, Literal) and a.functor == "source"))
     srcs = [Literal("source", (s,)) for s in sources]
     label = Literal(p.label.functor, p.label.args, merge_annots(rest, srcs))

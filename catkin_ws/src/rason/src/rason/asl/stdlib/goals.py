@@ -168,7 +168,7 @@ def drop_intention(ctx: Any, args: list) -> bool:
     arg_count(args, 0, 1)
     if not args:
         if ctx.intention is not None:
-            ctx.ag.drop_whole_intention(ctx.intention)
+            ctx.ag.remove_intention(ctx.intention)
         return True
     ctx.ag.drop_goal(args[0], ctx.s, drop_events=False)
     return True
