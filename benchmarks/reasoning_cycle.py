@@ -389,8 +389,14 @@ def main() -> int:
         jason_s = f"{jason:15.2f}" if jvm.get(n) else f"{jason:14.1f}*"
         python_s = "n/a" if as_python is None else f"{as_python:.2f}"
         print(f"{n:>8} | {ours:15.2f} | {own_us:>13} | {python_s:>9} | {theirs_s:>22} | "
-              f"{ratio:>7} | {TARGET_SPEEDUP:5.1f}x | {jason_s} | {ours / jason:6.1f}x")
+              f"{ratio:>7} | {TARGET_SPEEDUP:5.1f}x | {jason_s} | {ours / jason:6.2f}x")
     print("target (>= 3x faster than agentspeak per iteration):", "met" if ok else "NOT met")
+    # the JVM is warm at the largest N only (its first passes at 3,700 still run in the interpreter)
+    n, ours = rows[-1][0], rows[-1][1]
+    jason = jvm.get(n) or JASON_JVM_US
+    print(f"target (at or below Jason on the JVM, warm, N = {n}, "
+          f"{'measured in this run' if jvm.get(n) else 'reference figure'}):",
+          "met" if ours <= jason else "NOT met", f"({ours:.2f} vs {jason:.2f} µs)")
     if not args.no_mind_state:
         mind_state_table(args.repeat)
     return 0

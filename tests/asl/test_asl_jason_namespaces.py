@@ -183,3 +183,22 @@ def test_unachieve_and_signal_keep_the_namespace_of_their_content() -> None:
     # the goal is dropped before it ends; a signal is an event, not a belief
     assert lines(out.getvalue(), "bob") == ["long_started", "signal ns1 1 alice"]
     assert lines(out.getvalue(), "alice") == ["false"]
+
+
+def test_namespace_properties_are_kept_per_agent_and_read_as_jason_reads_them() -> None:
+    """``.namespace_set_prop``/``.namespace_get_prop``, as Jason 3.3 printed them (compiled
+    agents keep them in an attribute of their own: the action once wrote the agent's ``__dict__``)."""
+    out = io.StringIO()
+    mas = LocalMas(clock=VirtualClock(), out=out)
+    mas.add_agent("a", (
+        "!s.\n+!s <- .namespace_set_prop(fam, colour, blue); .namespace_set_prop(fam, size(2), [1,2]);"
+        " .namespace_set_prop(other, colour, red); .namespace_get_prop(fam, colour, C); .print(C);"
+        " .namespace_get_prop(other, colour, D); .print(D); .namespace_get_prop(fam, gone, V, none);"
+        " .print(V); .findall(K, .namespace_get_prop(fam, K), L); .print(L);"
+        " if (.namespace_get_prop(fam, gone, W) & not .ground(W)) { .print(free) };"
+        " .send(b, achieve, look).\n"), "a.asl")
+    mas.add_agent("b", "+!look <- .namespace_get_prop(fam, colour, C, unset); .print(C).\n", "b.asl")
+    mas.run(timeout=10.0)
+    text = out.getvalue()
+    assert lines(text, "a") == ["blue", "red", "none", "[size(2),colour]", "free"]
+    assert lines(text, "b") == ["unset"]

@@ -121,6 +121,8 @@ class Agent:
         #: immutable literal: equal beliefs, equal views), so a snapshot only formats the beliefs
         #: new since the last one; only the last snapshot's are kept (see inspection.mind_state)
         self.belief_views: dict[Literal, Any] = {}
+        #: ``.namespace_set_prop``'s properties: namespace -> key -> (key term, value term)
+        self.namespace_props: dict[str, dict[str, tuple]] = {}
         self.pl = PlanLibrary()
         self.events: deque[Event] = deque()
         # goal-state meta events waiting for the start of the next deliberation (Jason's

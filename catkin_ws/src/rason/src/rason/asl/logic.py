@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import operator
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
 from .functions import FunctionHost
@@ -26,6 +26,7 @@ from .terms import (
 )
 from .unify import (
     ArithError,
+    Operand,
     annot_options,
     compare_terms,
     eval_arith,
@@ -137,19 +138,82 @@ def first_solution(ag: Agent, f: Any, s: dict, intention: Intention | None = Non
     return None
 
 
-def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
-    """A function computing ``first_solution(ag, f, s)`` for the commonest context shape.
+#: the numeric comparisons a :class:`BeliefContext` makes itself, by code
+_COMPARE_CODES = {"<": 0, "<=": 1, ">": 2, ">=": 3}
 
-    Compiled (Python source, once per plan) for ``b(T1, ..., Tn) & L op R``: a belief literal
-    without annotations whose arguments are variables or constants, then a numeric comparison
-    of variables and numbers, e.g. ``value(X) & X < 3700``; None for any other context.
-    Rules, non-numbers and bound variables are handed to :func:`unify`, :func:`eval_rel` or
-    :func:`first_solution`, so both always give the same answer. The beliefs are read live
-    (:meth:`~.beliefs.BeliefBase.live`): nothing in this loop changes them, and it returns
-    at the first call that could.
+
+class BeliefContext:
+    """``first_solution(ag, f, s)`` for the commonest context shape, prepared once per plan.
+
+    The shape is ``b(T1, ..., Tn) & L op R``: a belief literal without annotations whose
+    arguments are variables or constants, then a numeric comparison of variables and numbers,
+    e.g. ``value(X) & X < 3700`` (see :func:`compile_context`). Rules, non-numbers and bound
+    variables are handed to :func:`unify`, :func:`eval_rel` or :func:`first_solution`, so both
+    always give the same answer. The beliefs are read live (:meth:`~.beliefs.BeliefBase.live`):
+    nothing in this loop changes them, and it returns at the first call that could.
     """
+
+    __slots__ = ("arg_names", "args", "first", "first_name", "formula", "key", "left", "op",
+                 "rel", "right")
+
+    def __init__(self, f: LogExpr, belief: Literal, rel: RelExpr) -> None:
+        self.formula = f
+        self.rel = rel
+        self.key = belief.key
+        self.args: tuple = belief.args
+        #: per argument: the variable's name, or None for a constant
+        self.arg_names: list[str | None] = [a.name if type(a) is Var else None for a in belief.args]
+        self.first: Any = belief.args[0]
+        self.first_name = self.arg_names[0]
+        self.left = Operand(rel.left)
+        self.right = Operand(rel.right)
+        self.op: int = _COMPARE_CODES[rel.op]
+
+    def solve(self, ag: Agent, s: dict) -> dict | None:
+        """The first solution extending ``s``, or None."""
+        bb = ag.bb
+        if self.first_name is None:
+            cands: Any = bb.candidates_by_first(self.key, self.first)
+        else:
+            # bound: only the beliefs with that first argument are looked at
+            f0 = s.get(self.first_name)
+            cands = bb.live(self.key) if f0 is None else bb.candidates_by_first(self.key, walk(f0, s))
+        n = len(self.args)
+        for b in cands:
+            if type(b) is not Literal:
+                return first_solution(ag, self.formula, s)   # rules: the general way
+            held = b.args
+            s1 = dict(s) if s else {}
+            k = 0
+            while k < n:
+                name = self.arg_names[k]
+                if name is not None and name not in s1:
+                    s1[name] = held[k]
+                elif not unify(self.args[k], held[k], s1, ag):
+                    break
+                k += 1
+            if k < n:
+                continue
+            x = self.left.value(s1)
+            y = self.right.value(s1)
+            if type(x) is float and type(y) is float:
+                op = self.op
+                if x < y if op == 0 else x <= y if op == 1 else x > y if op == 2 else x >= y:
+                    return s1
+                continue
+            s2 = eval_rel(self.rel, s1, ag)
+            if s2 is not None:
+                return s2
+        return None
+
+    def __call__(self, ag: Agent, s: dict) -> dict | None:
+        return self.solve(ag, s)
+
+
+def compile_context(f: Any) -> BeliefContext | None:
+    """A :class:`BeliefContext` for the context ``f``, or None when its shape is another."""
     if not (type(f) is LogExpr and f.op == "&" and type(f.right) is RelExpr
-            and f.right.op in _NUMERIC_COMPARE):
+            and f.right.op in _COMPARE_CODES):
         return None
     left, rel = f.left, f.right
     if (type(left) is not Literal or not left.args or is_internal_action(left.functor) or left.annots
@@ -157,46 +221,7 @@ def compile_context(f: Any) -> Callable[[Agent, dict], dict | None] | None:
             or not all(type(a) is Var or is_constant(a) for a in left.args)
             or not all(type(x) in (Var, float) for x in (rel.left, rel.right))):
         return None
-    env: dict[str, Any] = {"Literal": Literal, "unify": unify, "eval_rel": eval_rel,
-                           "first_solution": first_solution, "dict": dict, "float": float,
-                           "F": f, "REL": rel, "KEY": left.key, "walk": walk, "A0": left.args[0]}
-    first = left.args[0]
-    if type(first) is Var:     # bound: only the beliefs with that first argument are looked at
-        lines = ["def context(ag, s):",
-                 f"    f0 = s.get({first.name!r})",
-                 "    bb = ag.bb",
-                 "    if f0 is None: cands = bb.by_key.get(KEY, ())   # (BeliefBase.live inlined)",
-                 "    else: cands = bb.candidates_by_first(KEY, walk(f0, s))"]
-    else:
-        lines = ["def context(ag, s):",
-                 "    cands = ag.bb.candidates_by_first(KEY, A0)"]
-    lines += ["    for b in cands:",
-             "        if type(b) is not Literal:",
-             "            return first_solution(ag, F, s)   # rules: the general way",
-             "        args = b.args",
-             "        s1 = dict(s) if s else {}"]
-    for k, arg in enumerate(left.args):
-        env[f"A{k}"] = arg
-        if type(arg) is Var:
-            lines += [f"        v = s1.get({arg.name!r})",
-                      f"        if v is None: s1[{arg.name!r}] = args[{k}]",
-                      f"        elif not unify(A{k}, args[{k}], s1, ag): continue"]
-        else:
-            lines.append(f"        if not unify(A{k}, args[{k}], s1, ag): continue")
-    for side, x in (("l", rel.left), ("r", rel.right)):
-        if type(x) is Var:
-            lines.append(f"        {side} = s1.get({x.name!r})")
-        else:
-            env[f"C{side}"] = x
-            lines.append(f"        {side} = C{side}")
-    lines += ["        if type(l) is float and type(r) is float:",
-              f"            if l {rel.op} r: return s1",
-              "            continue",
-              "        s2 = eval_rel(REL, s1, ag)",
-              "        if s2 is not None: return s2",
-              "    return None"]
-    exec(compile("\n".join(lines) + "\n", f"<context {left.functor}/{len(left.args)}>", "exec"), env)
-    return env["context"]
+    return BeliefContext(f, left, rel)
 
 
 _NUMERIC_COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}

@@ -6,10 +6,13 @@ import copy
 import itertools
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .terms import SOURCE_SELF, AnnotVar, Literal, NsLit, PlanTerm, Var, calls_code, is_constant, term_str
 from .unify import compile_resolve
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .logic import BeliefContext
 
 # triggering event operators and types
 ADD, DEL = "+", "-"
@@ -84,7 +87,7 @@ class Deed:
     reasoning cycle then only applies the unifier. None means: add the source at run time.
     """
 
-    __slots__ = ("build", "extra", "kind", "line", "plain", "self_term", "self_trigger", "term")
+    __slots__ = ("builder", "extra", "kind", "line", "plain", "self_term", "self_trigger", "term")
 
     def __init__(self, kind: str, term: Any, line: int, extra: Any = None) -> None:
         self.kind = kind
@@ -92,8 +95,8 @@ class Deed:
         self.line = line
         self.extra = extra
         self.self_term = _with_self_source(term) if kind in _SELF_SOURCED else None
-        # resolve(self_term, u) compiled for the common shapes (plan compilation), else None
-        self.build = compile_resolve(self.self_term) if self.self_term is not None else None
+        # resolve(self_term, u) prepared for the common shapes (unify.LiteralBuilder), else None
+        self.builder = compile_resolve(self.self_term) if self.self_term is not None else None
         # ``!!g`` of a constant goal posts the same trigger every time
         self.self_trigger = (Trigger(ADD, ACHIEVE, self.self_term)
                              if kind == K_ACHIEVE_NEW and self.self_term is not None
@@ -106,7 +109,7 @@ class Deed:
         return deed_str(self)
 
     def __reduce__(self) -> tuple:
-        """Pickled as what it is made from (the compiled ``build`` is made anew)."""
+        """Pickled as what it is made from (its ``builder`` is made anew)."""
         return (Deed, (self.kind, self.term, self.line, self.extra))
 
     def map_terms(self, fn: Any) -> Deed:
@@ -186,9 +189,9 @@ class Plan:
     atomic: bool = False
     # body stored reversed, ready to be used as an intention stack
     rev_body: tuple = field(default=(), repr=False)
-    # the context compiled on first use (see reasoning.sel_appl): None = not yet tried,
-    # False = not a compilable shape
-    compiled_context: Any = field(default=None, repr=False)
+    #: the context prepared on first use (see reasoning.sel_appl), when it has a common shape
+    compiled_context: BeliefContext | None = field(default=None, repr=False)
+    context_checked: bool = field(default=False, repr=False)
     #: a plan of a source file (its label gets ``url(File)``), not one made from a plan term
     in_file: bool = True
     #: ``+!g : c <: gc <- b`` (Jason 3's goal condition): once gc holds the goal is achieved,
@@ -211,7 +214,7 @@ class Plan:
     def __reduce__(self) -> tuple:
         """Pickled as what it is made from (what ``__post_init__`` derives is made anew)."""
         return (Plan, (self.label, self.trigger, self.context, self.body, self.line, self.src,
-                       self.atomic, (), None, self.in_file, self.goal_condition))
+                       self.atomic, (), None, False, self.in_file, self.goal_condition))
 
     def label_name(self) -> str | None:
         if not isinstance(self.label, Literal):

@@ -90,8 +90,8 @@ def _self_sourced(ag: Agent, d: Deed, u: dict, error: str) -> Literal:
     """
     st = d.self_term
     if st is not None:
-        build = d.build
-        lit = build(u, ag) if build is not None else resolve(st, u, ag)
+        builder = d.builder
+        lit = builder.build(u, ag) if builder is not None else resolve(st, u, ag)
         if type(lit) is Literal:
             return lit
     lit = resolve(d.term, u, ag)
@@ -172,10 +172,11 @@ def sel_appl(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | N
         if ctx is None:
             return plan, u
         compiled = plan.compiled_context
-        if compiled is None:
-            compiled = plan.compiled_context = compile_context(ctx) or False
+        if compiled is None and not plan.context_checked:
+            compiled = plan.compiled_context = compile_context(ctx)
+            plan.context_checked = True
         try:
-            sol = compiled(ag, u) if compiled else first_solution(ag, ctx, u)
+            sol = compiled.solve(ag, u) if compiled is not None else first_solution(ag, ctx, u)
         except (ArithError, RecursionError):
             continue
         if sol is not None:
@@ -396,21 +397,21 @@ def exec_int(ag: Agent, i: Intention) -> None:
         else:
             annots = error_annots(ag, im, d, "ia_failed", "")
         fail_intention(ag, i, annots=annots)
-        ok = None
+        ok = False
     except IAError as e:
         fail_intention(ag, i, annots=error_annots(ag, im, d, e.kind, e.message, extra=e.annots))
         if i.dropped:   # no failure plan took it: Jason logs the internal action's error too
             ag.warn(f"Error in internal action '{term_str(d.term)}' ({im.plan.src}:{d.line}): {e.message}")
-        ok = None
+        ok = False
     except ArithError as e:
         fail_intention(ag, i, annots=error_annots(ag, im, d, "ia_failed", f"arithmetic error: {e}"))
-        ok = None
+        ok = False
     except RecursionError:
         fail_intention(ag, i, annots=error_annots(ag, im, d, "ia_failed", "term nested too deeply"))
-        ok = None
+        ok = False
     except Exception as e:
         fail_intention(ag, i, annots=error_annots(ag, im, d, "ia_failed", f"{type(e).__name__}: {e}"))
-        ok = None
+        ok = False
     finally:
         ag.current = None
     if not ok or i.suspended is not None or i.dropped:   # waits, or failed (handled)
@@ -547,8 +548,8 @@ def _exec_constraint(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
 def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``-+b``: remove the first ``b(...)[source(self)]``, then add ``b``."""
     im.stack.pop()
-    build = d.build
-    lit = build(im.u, ag) if build is not None else None
+    builder = d.builder
+    lit = builder.build(im.u, ag) if builder is not None else None
     if type(lit) is not Literal:
         lit = _self_sourced(ag, d, im.u, "cannot add {} as a belief")
     # remove the first belief matching b(_,...)[source(self)] (external event), then add

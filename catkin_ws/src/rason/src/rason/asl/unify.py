@@ -331,50 +331,108 @@ def _bind_to_ns_lit(v: Var, t: NsLit, s: Subst, ag: FunctionHost | None) -> bool
 _DEFAULT_NS = Literal("default")
 
 
-def compile_resolve(t: Any) -> Callable[..., Any] | None:
-    """A function ``built(s, ag=None)`` computing ``resolve(t, s, ag)`` for a plan-body
-    literal of a common shape.
+#: how a :class:`LiteralBuilder` makes one argument
+_ARG_CONSTANT = 0     # the argument as written
+_ARG_VARIABLE = 1     # the variable's value
+_ARG_ARITH = 2        # ``+ - *`` of two operands, each a variable or a number
 
-    Compiled (Python source, once per plan) for a literal without annotation variables or
-    tail whose arguments are each a constant, a variable, or ``+ - *`` of two operands that
-    are variables or numbers, e.g. ``value(X+1)[source(self)]``; None for any other term.
-    The function computes numbers directly and hands anything else (an unbound variable,
-    a structure) to :func:`resolve`, so both always give the same term.
+_ARITH_OPS = {"+": 0, "-": 1, "*": 2}
+
+
+class Operand:
+    """One side of a compiled ``L op R``: a variable's name, or a number."""
+
+    __slots__ = ("name", "number")
+
+    def __init__(self, x: Any) -> None:
+        self.name: str | None = x.name if type(x) is Var else None
+        self.number: Any = None if type(x) is Var else x
+
+    def value(self, s: Subst) -> Any:
+        """The number or the variable's binding (None when unbound)."""
+        return self.number if self.name is None else s.get(self.name)
+
+
+class _ArgRecipe:
+    """How one argument of a compiled body literal is made (see :class:`LiteralBuilder`)."""
+
+    __slots__ = ("kind", "left", "name", "op", "right", "term")
+
+    def __init__(self, kind: int, term: Any) -> None:
+        self.kind = kind
+        self.term = term
+        self.name: str = term.name if kind == _ARG_VARIABLE else ""
+        arith = kind == _ARG_ARITH
+        self.op: int = _ARITH_OPS[term.op] if arith else 0
+        self.left: Operand | None = Operand(term.left) if arith else None
+        self.right: Operand | None = Operand(term.right) if arith else None
+
+
+class LiteralBuilder:
+    """``resolve(t, s, ag)`` for a plan-body literal of a common shape, prepared once per plan.
+
+    Made by :func:`compile_resolve`; numbers are computed directly and anything else (an
+    unbound variable, a structure) is handed to :func:`resolve`, so both give the same term.
+    """
+
+    __slots__ = ("annots", "functor", "neg", "recipes")
+
+    def __init__(self, t: Literal, recipes: list[_ArgRecipe]) -> None:
+        self.functor = t.functor
+        self.annots = t.annots
+        self.neg = t.neg
+        self.recipes = recipes
+
+    def build(self, s: Subst, ag: FunctionHost | None = None) -> Literal:
+        """The literal under ``s``."""
+        args: list[Any] = []
+        for r in self.recipes:
+            kind = r.kind
+            if kind == _ARG_CONSTANT:
+                args.append(r.term)
+            elif kind == _ARG_VARIABLE:
+                v = s.get(r.name)
+                if v is None:
+                    v = r.term
+                elif type(v) is not float and type(v) is not str:
+                    v = resolve(v, s, ag)
+                args.append(v)
+            else:
+                assert r.left is not None and r.right is not None
+                x = r.left.value(s)
+                y = r.right.value(s)
+                if type(x) is float and type(y) is float:
+                    args.append(x + y if r.op == 0 else x - y if r.op == 1 else x * y)
+                else:
+                    args.append(resolve(r.term, s, ag))
+        return Literal(self.functor, tuple(args), self.annots, None, self.neg)
+
+    def __call__(self, s: Subst, ag: FunctionHost | None = None) -> Literal:
+        return self.build(s, ag)
+
+
+def compile_resolve(t: Any) -> LiteralBuilder | None:
+    """A :class:`LiteralBuilder` for ``t``, or None when its shape is not a common one.
+
+    The common shape: a literal without annotation variables or tail whose arguments are each
+    a constant, a variable, or ``+ - *`` of two operands that are variables or numbers, e.g.
+    ``value(X+1)[source(self)]``.
     """
     if (type(t) is not Literal or t.tail is not None or t.known_constant or t.functor in ARITH_NAMES
             or not _all_constant(t.annots)):
         return None
-    env: dict[str, Any] = {"Literal": Literal, "resolve": resolve, "float": float,
-                           "str": str, "F": t.functor, "ANN": t.annots, "NEG": t.neg}
-    body: list[str] = []
-    for k, arg in enumerate(t.args):
-        env[f"T{k}"] = arg
+    recipes: list[_ArgRecipe] = []
+    for arg in t.args:
         if is_constant(arg):
-            body.append(f"a{k} = T{k}")
+            recipes.append(_ArgRecipe(_ARG_CONSTANT, arg))
         elif type(arg) is Var:
-            body += [f"a{k} = s.get({arg.name!r})",
-                     f"if a{k} is None: a{k} = T{k}",
-                     f"elif type(a{k}) is not float and type(a{k}) is not str: a{k} = resolve(a{k}, s, ag)"]
-        elif (type(arg) is ArithExpr and arg.op in ("+", "-", "*")
+            recipes.append(_ArgRecipe(_ARG_VARIABLE, arg))
+        elif (type(arg) is ArithExpr and arg.op in _ARITH_OPS
               and all(type(x) in (Var, float) for x in (arg.left, arg.right))):
-            names, checks = [], []
-            for side, x in (("l", arg.left), ("r", arg.right)):
-                name = f"{side}{k}"
-                names.append(name)
-                if type(x) is Var:
-                    body.append(f"{name} = s.get({x.name!r})")
-                    checks.append(f"type({name}) is float")
-                else:
-                    env[name] = x
-            body.append(f"a{k} = {names[0]} {arg.op} {names[1]} if {' and '.join(checks) or 'True'} "
-                        f"else resolve(T{k}, s, ag)")
+            recipes.append(_ArgRecipe(_ARG_ARITH, arg))
         else:
             return None
-    args = "".join(f"a{k}, " for k in range(len(t.args)))
-    source = "def built(s, ag=None):\n" + "".join(f"    {line}\n" for line in body)
-    source += f"    return Literal(F, ({args}), ANN, None, NEG)\n"
-    exec(compile(source, f"<compiled {t.functor}/{len(t.args)}>", "exec"), env)
-    return env["built"]
+    return LiteralBuilder(t, recipes)
 
 
 # ---------------------------------------------------------------- unification

@@ -366,8 +366,7 @@ def namespace(ctx: Any, args: list) -> Any:
 
 def _ns_props(ag: Any, ns: Any) -> dict:
     """The properties of a namespace (``.namespace_set_prop``), kept per agent."""
-    store = ag.__dict__.setdefault("ns_props", {})
-    return store.setdefault(term_str(ns), {})
+    return ag.namespace_props.setdefault(term_str(ns), {})
 
 
 @internal_action(".namespace_set_prop")
@@ -382,14 +381,15 @@ def namespace_set_prop(ctx: Any, args: list) -> bool:
 @internal_action(".namespace_get_prop")
 def namespace_get_prop(ctx: Any, args: list) -> Any:
     """``.namespace_get_prop(NS, Key[, Value[, Default]])``: a free Key enumerates the keys
-    (in the order of Jason's hash map of properties)."""
+    (in the order of Jason's hash map of properties); a missing Key gives Default, and without
+    one the action succeeds with Value left free (as Jason 3.3)."""
     arg_count(args, 2, 3, 4)
     props = _ns_props(ctx.ag, args[0])
     key = args[1]
     if not isinstance(key, (Var, AnnotVar)):
         entry = props.get(term_str(key))
-        if entry is None:
-            return len(args) == 4 and ctx.unify(args[2], args[3])
+        if entry is None:   # as Jason: a missing key takes the default, else succeeds as it is
+            return len(args) < 4 or ctx.unify(args[2], args[3])
         return len(args) == 2 or ctx.unify(args[2], entry[1])
 
     def gen():
