@@ -46,8 +46,10 @@ What the base does (names relative, so ``__ns:=/robot`` puts it under the robot)
   hearing an agent: a forged, unsigned, stale or replayed presence beat cannot keep a robot
   driving after its agent died. A ``goodbye`` stops the agent's actions signed or not (stopping
   is always safe, as a cancel on ``jason/cancel`` is).
-* A timer at ``~watchdog_rate`` Hz (ROS time) calls :meth:`Decomposer.step` for every running
-  action and ends the ones older than ``~timeout`` s (``timeout``).
+* While an action runs, a timer at ``~watchdog_rate`` Hz (ROS time) calls
+  :meth:`Decomposer.step` for every running action and ends the ones older than ``~timeout`` s
+  (``timeout``) or whose agent went silent; with no action running it sleeps
+  (:class:`rason.ros.ticker.Ticker`: nothing moves, so there is nothing to watch).
 
 Every callback is exception-safe (:mod:`rason.ros.guard`); one re-entrant lock,
 :attr:`Decomposer.lock`, is held around all of them, including the ones registered with
@@ -84,6 +86,7 @@ from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.master_watch import watch_master
 from rason.ros.params import load_or_exit, param, start_node
 from rason.ros.presence import GOODBYE, PRESENCE, PRESENCE_TOPIC
+from rason.ros.ticker import Ticker
 
 __all__ = ["OK", "Decomposer", "DecomposerParams", "Goal", "Verdict", "run"]
 
@@ -158,12 +161,13 @@ class Decomposer:
         self.auth = message_auth(self.params.auth_key_file, self.params.auth_window,
                                  warn=rospy.logwarn)
         self.events = rospy.Publisher("jason/event", Event, queue_size=100)
+        # the watchdog ticks only while an action runs: an idle decomposer's thread sleeps
+        self.watchdog = Ticker(self.params.watchdog_rate, self._locked("watchdog", self._on_tick),
+                               lambda: bool(self.goals), name=f"{self.name}-watchdog")
         self.setup()
         self.subscribe("jason/action", Action, self._on_action, queue_size=100)
         self.subscribe("jason/cancel", ActionCancel, self._on_cancel, queue_size=100)
         self.subscribe(PRESENCE_TOPIC, AgentMessage, self._on_message, queue_size=50)
-        rospy.Timer(rospy.Duration(1.0 / self.params.watchdog_rate),
-                    self._locked("watchdog", self._on_tick))
         rospy.on_shutdown(self._on_shutdown)
 
     # -- to override ----------------------------------------------------------------------
@@ -247,6 +251,7 @@ class Decomposer:
         goal = Goal(msg.agent, msg.action_id, msg.action, parameters, target,
                     rospy.get_time())
         self.goals[goal.key] = goal
+        self.watchdog.kick()
         if self.acknowledge:
             self.events.publish(Event(agent=msg.agent, event_type=ACTION_ACCEPTED,
                                       parameters=[str(msg.action_id)]))
@@ -266,7 +271,9 @@ class Decomposer:
                 self.finish(goal, Verdict(CANCELLED, f"agent {msg.sender} said goodbye"))
             return
         if msg.sender and self._authentic(msg):
-            self.heard[msg.sender] = rospy.get_time()
+            now = rospy.get_time()
+            self.heard[msg.sender] = now
+            self._forget_long_gone(now)
 
     def _authentic(self, msg: AgentMessage) -> bool:
         """True without a key; with one, True only for a message with a valid signature."""
@@ -283,7 +290,7 @@ class Decomposer:
                            "presence)")
         return False
 
-    def _on_tick(self, _event: Any) -> None:
+    def _on_tick(self) -> None:
         now = rospy.get_time()
         for goal in self.running():
             verdict = self._supervision(goal, now)
@@ -291,8 +298,11 @@ class Decomposer:
                 self.finish(goal, verdict)
             else:
                 self._settle(goal, self.step, goal, now)
-        # forget agents long gone that run nothing here (bounded memory)
-        if self.presence_timeout > 0:
+
+    def _forget_long_gone(self, now: float) -> None:
+        """Forget the agents not heard for four presence timeouts that run nothing here
+        (bounded memory)."""
+        if self.presence_timeout > 0 and len(self.heard) > 1:
             busy = {g.agent for g in self.goals.values()}
             for agent, last in list(self.heard.items()):
                 if agent not in busy and now - last > 4 * self.presence_timeout:
