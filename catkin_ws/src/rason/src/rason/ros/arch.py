@@ -107,6 +107,7 @@ class RosAgArch(AgentArch):
         with self._lock:
             pending = PendingAction(action_id, str(action), self.clock.now())
             self.pending[action_id] = pending
+        self.node.kick_checks()      # its timeouts are watched
         if not self.node.publish_action(self.name, action_id, action):
             pending.unheard = action
 
@@ -160,9 +161,16 @@ class RosAgArch(AgentArch):
 
     # -- from the node -------------------------------------------------------------------------------
     def on_perception(self, source: str, perceptions: list[str]) -> None:
-        if self.perceptions.update(source, perceptions, self.clock.now()) \
-                and self.agent is not None:
+        changed = self.perceptions.update(source, perceptions, self.clock.now())
+        if changed and self.agent is not None:
             self.agent.wake()
+        if changed and self.perceptions.watches_silence():
+            self.node.kick_checks()  # its TTL is watched
+
+    def needs_checks(self) -> bool:
+        """Is there anything the node's periodic checks must watch for this agent: an action
+        waiting for feedback, or a perception list that expires when its source goes silent?"""
+        return bool(self.pending) or self.perceptions.watches_silence()
 
     def expire_perceptions(self, now: float) -> None:
         """Clear the sources silent for longer than their TTL (the agent gets ``-`` events)."""

@@ -29,7 +29,7 @@ import threading
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import rospy
 from std_msgs.msg import String
@@ -64,16 +64,30 @@ class MessageView:
 
 
 class LatchedTopic:
-    """A latched std_msgs/String topic: publish a text; does anyone subscribe?"""
+    """A latched std_msgs/String topic: publish a text; does anyone subscribe?
+    (``on_subscribe`` is called when a subscriber connects.)"""
 
-    def __init__(self, topic: str) -> None:
-        self._publisher = rospy.Publisher(topic, String, queue_size=1, latch=True)
+    def __init__(self, topic: str, on_subscribe: Callable[[], None] | None = None) -> None:
+        listener = _SubscribeListener(on_subscribe) if on_subscribe is not None else None
+        self._publisher = rospy.Publisher(topic, String, queue_size=1, latch=True,
+                                          subscriber_listener=listener)
 
     def publish(self, text: str) -> None:
         self._publisher.publish(String(data=text))
 
     def listened(self) -> bool:
         return self._publisher.get_num_connections() > 0
+
+
+class _SubscribeListener(rospy.SubscribeListener):
+    """Calls a function when a subscriber connects."""
+
+    def __init__(self, on_subscribe: Callable[[], None]) -> None:
+        super().__init__()
+        self._on_subscribe = on_subscribe
+
+    def peer_subscribe(self, topic_name: str, topic_publish: Any, peer_publish: Any) -> None:
+        self._on_subscribe()
 
 
 class MindStatePublisher:

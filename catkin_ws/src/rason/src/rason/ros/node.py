@@ -67,6 +67,7 @@ from rason.ros.presence import (
     PRESENCE_TOPIC,
     Directory,
 )
+from rason.ros.ticker import Ticker
 
 #: s (ROS time) between two checks of action timeouts and perception TTLs
 CHECK_PERIOD = 0.05
@@ -206,6 +207,7 @@ class RasonNode:
         self.services = ServiceDirectory(self._tell_provider, self._publish_services)
         self.directory_pub = rospy.Publisher(DIRECTORY_TOPIC, AgentMessage, queue_size=10, latch=True)
         self._started = False
+        self.checks: Ticker | None = None    # made by start()
         self.event_sub: rospy.Subscriber | None = None
 
     def topic(self, name: str) -> str:
@@ -229,7 +231,7 @@ class RasonNode:
                                   daemon=True)
         hosted = HostedAgent(agent, arch, thread, mind_service=service)
         if self.mind_state_rate > 0:
-            topic = LatchedTopic(mind_state_topic(self.base_ns, name))
+            topic = LatchedTopic(mind_state_topic(self.base_ns, name), on_subscribe=self.kick_checks)
             hosted.mind_state = MindStatePublisher(
                 agent, arch.pending_actions, topic.publish, rospy.get_name(), self.base_ns,
                 schedule=arch.run_at_next_cycle, listened=topic.listened)
@@ -249,8 +251,10 @@ class RasonNode:
         rospy.Subscriber(DIRECTORY_TOPIC, AgentMessage, guarded(DIRECTORY_TOPIC)(self.on_directory),
                          queue_size=50)
         self._started = True
-        # One timer thread for the frequent checks (each guarded on its own): every rospy.Timer
-        # is a thread waking on its own, which an idle agent in a fleet pays for.
+        # One thread for the frequent checks (each guarded on its own), ticking only while there
+        # is something to check: an action waiting for feedback, a perception list with a time
+        # to live, a mind-state subscriber (each kicks it, see kick_checks). An idle agent in a
+        # fleet pays for no wake-ups.
         checks = [guarded("action timeouts")(self.on_check_actions),
                   guarded("perception TTLs")(self.on_check_perceptions)]
         mind_state = guarded("mind_state")(self.on_mind_state)
@@ -258,22 +262,32 @@ class RasonNode:
         period = min(CHECK_PERIOD, mind_state_period or CHECK_PERIOD)
         last_mind_state = [-math.inf]
 
-        def on_checks(event: rospy.timer.TimerEvent) -> None:
+        def on_checks() -> None:
             for check in checks:
-                check(event)
-            now = event.current_real.to_sec()
+                check(None)
+            now = rospy.get_time()
             if mind_state_period is not None and (
                     now - last_mind_state[0] >= mind_state_period - period / 2
                     or now < last_mind_state[0]):      # < : simulated time restarted
                 last_mind_state[0] = now
-                mind_state(event)
+                mind_state(None)
 
-        rospy.Timer(rospy.Duration(period), on_checks)
+        self.checks = Ticker(1.0 / period, on_checks, self._checks_needed, name="node-checks")
         rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
         for name in list(self.agents):
             self._announce(name, HELLO)
         for hosted in list(self.agents.values()):
             hosted.thread.start()
+
+    def kick_checks(self) -> None:
+        """Something may need the periodic checks now (see :meth:`_checks_needed`)."""
+        if self.checks is not None:
+            self.checks.kick()
+
+    def _checks_needed(self) -> bool:
+        return any(hosted.arch.needs_checks()
+                   or (hosted.mind_state is not None and hosted.mind_state.listened())
+                   for hosted in list(self.agents.values()))
 
     def on_master_restarted(self) -> None:
         """Registered again with a restarted master: ask everyone to announce themselves."""

@@ -177,6 +177,10 @@ class PerceptionTable(Generic[L]):
             self._changed = True
         return True
 
+    def watches_silence(self) -> bool:
+        """True while a source with a time to live holds a list (:meth:`expire` has work)."""
+        return bool(self._heard)
+
     def _ttl_of(self, source: str) -> float:
         try:
             ttl = float(self.ttl(source))
