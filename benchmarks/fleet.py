@@ -29,6 +29,7 @@ import argparse
 import csv
 import os
 import re
+import shutil
 import signal
 import statistics
 import subprocess
@@ -312,8 +313,13 @@ def main() -> int:
     # Each size runs in a child process: a process can enter a namespace only once usefully,
     # and each fleet needs a fresh LAN.
     if os.environ.get("RASON_FLEET_ONE"):
-        with tempfile.TemporaryDirectory() as tmp:
-            result = run_fleet(int(os.environ["RASON_FLEET_ONE"]), args.window, Path(tmp))
+        tmp = Path(tempfile.mkdtemp(prefix="rason-fleet-"))
+        try:
+            result = run_fleet(int(os.environ["RASON_FLEET_ONE"]), args.window, tmp)
+        except BaseException:
+            print(f"the nodes' logs are kept in {tmp}", file=sys.stderr)   # to see why
+            raise
+        shutil.rmtree(tmp, ignore_errors=True)
         print("RESULT " + ",".join(str(v) for v in asdict(result).values()), flush=True)
         return 0
     args.out.mkdir(parents=True, exist_ok=True)
