@@ -81,6 +81,7 @@ from rason.execution.results import (
 from rason.ros.auth import SignedFields, message_auth
 from rason.ros.auth import Verdict as Authenticity
 from rason.ros.badinput import shorten
+from rason.ros.fanout import direct_publisher
 from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.master_watch import watch_master
@@ -160,7 +161,7 @@ class Decomposer:
         self.heard: dict[str, float] = {}          # agent -> ROS time it was last heard
         self.auth = message_auth(self.params.auth_key_file, self.params.auth_window,
                                  warn=rospy.logwarn)
-        self.events = rospy.Publisher("jason/event", Event, queue_size=100)
+        self.events = direct_publisher("jason/event", Event, queue_size=100)
         # the watchdog ticks only while an action runs: an idle decomposer's thread sleeps
         self.watchdog = Ticker(self.params.watchdog_rate, self._locked("watchdog", self._on_tick),
                                lambda: bool(self.goals), name=f"{self.name}-watchdog")

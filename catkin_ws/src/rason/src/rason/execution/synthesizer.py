@@ -48,6 +48,7 @@ import rospy
 from jason_msgs.msg import Perception
 
 from rason.ros.badinput import shorten
+from rason.ros.fanout import direct_publisher
 from rason.ros.guard import RateLimitedWarnings
 from rason.ros.master_watch import watch_master
 from rason.ros.params import load_or_exit, param, start_node
@@ -100,7 +101,7 @@ class Synthesizer:
         self.rejected = 0         # frames refused
         self.setup()
         self.declare_ttl()        # before the first publication, so agents find it at once
-        self.publisher = rospy.Publisher("jason/perception", Perception, queue_size=10)
+        self.publisher = direct_publisher("jason/perception", Perception, queue_size=10)
         queue = self.params.queue_size
         # rospy's receive buffer: 1 MB measured faster than 64 kB or 16 MB for 5 MB clouds.
         buff = self.params.buff_size

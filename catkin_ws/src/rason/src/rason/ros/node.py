@@ -52,6 +52,7 @@ from rason.ros.auth import (
     new_nonce,
 )
 from rason.ros.badinput import BadInputLog, shorten
+from rason.ros.fanout import direct_publisher
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.mind_state import LatchedTopic, MindStatePublisher, mind_state_topic
@@ -192,14 +193,16 @@ class RasonNode:
         self.bad_input = BadInputLog(rospy.logwarn, rospy.get_time)
 
         # -- topics (subscriptions start with the agents: see start) -------------------------------
-        self.action_pub = rospy.Publisher(self.topic("jason/action"), Action, queue_size=100)
-        self.cancel_pub = rospy.Publisher(self.topic("jason/cancel"), ActionCancel, queue_size=100)
+        # The agents' traffic is written from the publishing thread, each subscriber at once,
+        # never waiting for one that does not read (rason.ros.fanout).
+        self.action_pub = direct_publisher(self.topic("jason/action"), Action, queue_size=100)
+        self.cancel_pub = direct_publisher(self.topic("jason/cancel"), ActionCancel, queue_size=100)
         # a node that subscribes hears our agents' presence at once, not a period later
-        self.message_pub = rospy.Publisher(MESSAGES_TOPIC, AgentMessage, queue_size=100,
-                                           subscriber_listener=_GreetNewSubscribers(self.greet))
+        self.message_pub = direct_publisher(MESSAGES_TOPIC, AgentMessage, queue_size=100,
+                                            subscriber_listener=_GreetNewSubscribers(self.greet))
         # the same beats for this robot's decomposers, every period (they do not hear the fleet)
-        self.presence_pub = rospy.Publisher(self.topic(PRESENCE_TOPIC), AgentMessage,
-                                            queue_size=10, tcp_nodelay=True)
+        self.presence_pub = direct_publisher(self.topic(PRESENCE_TOPIC), AgentMessage,
+                                             queue_size=10, tcp_nodelay=True)
         self._presence_period = presence_period
         # ROS time each hosted agent last published on /jason/messages (presence or message)
         self._last_said: dict[str, float] = {}
