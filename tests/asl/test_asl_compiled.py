@@ -25,7 +25,7 @@ def test_compiled_literal_equals_resolved_literal(text, binding):
     lit = parse_literal(text)
     built = compile_resolve(lit)
     assert built is not None
-    expected, got = resolve(lit, binding), built(binding)
+    expected, got = resolve(lit, binding), built.build(binding)
     assert term_str(got) == term_str(expected)
     assert got == expected or "nan" in term_str(expected).lower()
 
@@ -70,7 +70,7 @@ def test_compiled_context_finds_the_first_solution(text, binding):
     compiled = compile_context(context)
     assert compiled is not None
     expected = first_solution(ag, context, dict(binding))
-    got = compiled(ag, dict(binding))
+    got = compiled.solve(ag, dict(binding))
     assert (got is None) == (expected is None)
     if got is not None:   # the same answer (fresh variable names of rules may differ)
         assert term_str(resolve(context, got)) == term_str(resolve(context, expected))

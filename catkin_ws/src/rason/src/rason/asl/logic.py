@@ -138,8 +138,10 @@ def first_solution(ag: Agent, f: Any, s: dict, intention: Intention | None = Non
     return None
 
 
-#: the numeric comparisons a :class:`BeliefContext` makes itself, by code
-_COMPARE_CODES = {"<": 0, "<=": 1, ">": 2, ">=": 3}
+#: the numeric comparisons, by operator (the one home of this set: :func:`eval_rel` calls them,
+#: a :class:`BeliefContext` makes them itself by their position here)
+_NUMERIC_COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
+_COMPARE_CODES = {op: code for code, op in enumerate(_NUMERIC_COMPARE)}
 
 
 class BeliefContext:
@@ -206,9 +208,6 @@ class BeliefContext:
                 return s2
         return None
 
-    def __call__(self, ag: Agent, s: dict) -> dict | None:
-        return self.solve(ag, s)
-
 
 def compile_context(f: Any) -> BeliefContext | None:
     """A :class:`BeliefContext` for the context ``f``, or None when its shape is another."""
@@ -222,9 +221,6 @@ def compile_context(f: Any) -> BeliefContext | None:
             or not all(type(x) in (Var, float) for x in (rel.left, rel.right))):
         return None
     return BeliefContext(f, left, rel)
-
-
-_NUMERIC_COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
 
 
 def eval_rel(f: RelExpr, s: dict, ag: FunctionHost | None = None) -> dict | None:

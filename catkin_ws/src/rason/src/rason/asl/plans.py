@@ -176,6 +176,16 @@ def deed_str(d: Deed) -> str:
     return term_str(t)
 
 
+#: the fields of a :class:`Plan` it is made from (by name: a pickled plan keeps no position)
+_PLAN_MADE_FROM = ("label", "trigger", "context", "body", "line", "src", "atomic", "in_file",
+                   "goal_condition")
+
+
+def _remake_plan(made_from: dict) -> Plan:
+    """A plan from its pickled fields (see :meth:`Plan.__reduce__`)."""
+    return Plan(**made_from)
+
+
 @dataclass(eq=False)
 class Plan:
     """``@label trigger : context <- body.``"""
@@ -212,9 +222,9 @@ class Plan:
             self.atomic = any(isinstance(a, Literal) and a.functor == "atomic" for a in self.label.annots)
 
     def __reduce__(self) -> tuple:
-        """Pickled as what it is made from (what ``__post_init__`` derives is made anew)."""
-        return (Plan, (self.label, self.trigger, self.context, self.body, self.line, self.src,
-                       self.atomic, (), None, False, self.in_file, self.goal_condition))
+        """Pickled as what it is made from (what ``__post_init__`` derives, and the context
+        prepared on use, are made anew)."""
+        return (_remake_plan, ({name: getattr(self, name) for name in _PLAN_MADE_FROM},))
 
     def label_name(self) -> str | None:
         if not isinstance(self.label, Literal):

@@ -407,9 +407,6 @@ class LiteralBuilder:
                     args.append(resolve(r.term, s, ag))
         return Literal(self.functor, tuple(args), self.annots, None, self.neg)
 
-    def __call__(self, s: Subst, ag: FunctionHost | None = None) -> Literal:
-        return self.build(s, ag)
-
 
 def compile_resolve(t: Any) -> LiteralBuilder | None:
     """A :class:`LiteralBuilder` for ``t``, or None when its shape is not a common one.
