@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import sys
 import textwrap
+import time
 from pathlib import Path
 
 import pytest
@@ -107,3 +109,53 @@ def test_sets_maps_and_queues_arrive_as_the_same_kind_of_collection(ros, tmp_pat
     assert '[keeper] values {a,b} {"z"->[1,2],k->v(1)} [z, a] [a, b, m, z]' in out, out
     assert "[keeper] use {a,b,c} v(1) a 2" in out, out
     assert "[keeper] nested set map" in out, out
+
+
+# A node that announces agent "bob" on /jason/messages and subscribes to the topic only once the
+# file argv[1] exists (as a node just started, or a link just back, can hear late: the two
+# directions of a connection come up separately); then it prints every message for bob.
+LATE_LISTENER = """
+import os
+import sys
+import time
+import rospy
+from jason_msgs.msg import AgentMessage
+
+rospy.init_node("bob_node")
+pub = rospy.Publisher("/jason/messages", AgentMessage, queue_size=10)
+
+def beat():
+    pub.publish(AgentMessage(sender="bob", performative="presence", stamp=rospy.Time.now()))
+
+while not os.path.exists(sys.argv[1]):
+    beat()
+    time.sleep(0.2)
+rospy.Subscriber("/jason/messages", AgentMessage,
+                 lambda m: m.receiver == "bob" and print("bob got", m.performative, m.content,
+                                                         flush=True))
+print("subscribed", flush=True)
+while not rospy.is_shutdown():
+    beat()
+    time.sleep(0.2)
+"""
+
+
+def test_a_message_to_an_agent_heard_before_it_listens_waits_for_it(ros, tmp_path):
+    """alice hears bob (bob's node publishes to her) before bob's node subscribes to hers: the
+    messages she sends meanwhile wait for that subscription, then arrive in order."""
+    script, listen = tmp_path / "late_listener.py", tmp_path / "listen"
+    script.write_text(LATE_LISTENER)
+    bob = ros.run([sys.executable, str(script), str(listen)], label="bob_node")
+    alice = start(ros, tmp_path, "alice", """
+        !greet.
+        +!greet : .all_names(L) & .member(bob, L)
+           <- .send(bob, tell, hi(1)); .send(bob, tell, hi(2)); .print("sent").
+        +!greet <- .wait(50); !greet.
+        """, ns="/h1")
+    alice.wait_for_line(r"\[alice\] sent", timeout=30)
+    time.sleep(0.5)          # published now, they would be lost: bob's node does not listen yet
+    listen.touch()
+    bob.wait_for_line(r"subscribed", timeout=30)
+    bob.wait_for_line(r"bob got tell hi\(2\)", timeout=30)
+    got = [line for line in bob.lines() if line.startswith("bob got")]
+    assert got == ["bob got tell hi(1)", "bob got tell hi(2)"]

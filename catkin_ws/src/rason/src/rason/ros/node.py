@@ -55,6 +55,7 @@ from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.fanout import direct_publisher
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.guard import RateLimitedWarnings, guarded
+from rason.ros.holdback import HoldBack
 from rason.ros.mind_state import LatchedTopic, MindStatePublisher, mind_state_topic
 from rason.ros.params import ParamError, param
 from rason.ros.perceptions import PerceptionFilter
@@ -206,6 +207,8 @@ class RasonNode:
         self._presence_period = presence_period
         # ROS time each hosted agent last published on /jason/messages (presence or message)
         self._last_said: dict[str, float] = {}
+        # messages to an agent whose node does not listen to us yet (heard one way only)
+        self.hold_back: HoldBack[AgentMessage] = HoldBack(max_hold=params.presence_timeout)
         # -- directory facilitator: our agents' services, published latched; the others' heard
         self.services = ServiceDirectory(self._tell_provider, self._publish_services)
         self.directory_pub = rospy.Publisher(DIRECTORY_TOPIC, AgentMessage, queue_size=10, latch=True)
@@ -352,11 +355,33 @@ class RasonNode:
             rospy.loginfo("[%s] cancelled action %d (%s)", agent, action_id, reason)
 
     def publish_message(self, message: Message) -> None:
-        self._publish(AgentMessage(
+        """Publish an agent's message; one to an agent whose node has not yet subscribed to
+        ours waits for it (see :class:`~rason.ros.holdback.HoldBack`)."""
+        msg = AgentMessage(
             sender=message.sender, receiver=message.receiver or "",
             performative=message.performative, content=term_text(message.content),
             reply_with=message.msg_id or uuid.uuid4().hex[:12],
-            in_reply_to=message.in_reply_to or ""))
+            in_reply_to=message.in_reply_to or "")
+        if not msg.receiver:
+            self._publish(msg)
+            return
+        for ready in self.hold_back.submit(msg.receiver, msg, rospy.get_time(),
+                                           self._subscriber_nodes()):
+            self._publish(ready)
+
+    def _subscriber_nodes(self) -> set[str]:
+        """The nodes subscribed to our /jason/messages publisher now."""
+        impl = self.message_pub.impl
+        return {c.endpoint_id for c in impl.connections} if impl is not None else set()
+
+    def _release_held(self) -> None:
+        """Publish the held messages whose node now listens, or that waited long enough."""
+        for released in self.hold_back.release(rospy.get_time(), self._subscriber_nodes()):
+            if released.late:
+                self.warnings.warn(f"late {released.receiver}", (
+                    f"sent to {released.receiver} although its node has not subscribed to ours "
+                    f"within {self.hold_back.max_hold:g} s: it may not get it"))
+            self._publish(released.message)
 
     def _seal(self, msg: AgentMessage) -> AgentMessage:
         """Stamp `msg`, and sign it when this node has a key."""
@@ -508,10 +533,19 @@ class RasonNode:
 
     def greet(self, publish_to_newcomer: Callable[[AgentMessage], None]) -> None:
         """A node just subscribed to /jason/messages: tell it (only it) which agents we host."""
-        if not self._started:
+        impl = self.message_pub.impl
+        if not self._started or impl is None:
             return      # start() says hello to everyone
-        for name in list(self.agents):
-            publish_to_newcomer(self._seal(_presence(name)))
+        # rospy's publish to one subscriber shares the topic's serialisation buffer with every
+        # publish but not its lock: unlocked, a greeting racing start()'s hello corrupted both
+        # (struct.error, seen once in a fleet of twenty)
+        impl.acquire()
+        try:
+            for name in list(self.agents):
+                publish_to_newcomer(self._seal(_presence(name)))
+        finally:
+            impl.release()
+        self._release_held()       # what waited for this node to listen
 
     # -- callbacks --------------------------------------------------------------------------------------
     def on_event(self, msg: Event) -> None:
@@ -539,6 +573,9 @@ class RasonNode:
         if not self._authentic(msg, "", lambda v: f"a {v} {msg.performative or '?'} message "
                                                   f"claiming to be from '{msg.sender}'"):
             return
+        header = getattr(msg, "_connection_header", None)    # set by rospy: who sent it
+        if header:
+            self.hold_back.heard(msg.sender, header.get("callerid", ""))
         if msg.performative == PRESENCE:
             if msg.content == GOODBYE:
                 self.directory.forget(msg.sender)
@@ -643,6 +680,7 @@ class RasonNode:
                 self._publish(_presence(name), self.presence_pub)
         for gone in self.directory.expire(now):
             rospy.loginfo("agent %s not heard for %.1f s: forgotten", gone, self.directory.timeout)
+        self._release_held()
 
     def on_mind_state(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()
