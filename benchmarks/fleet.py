@@ -108,12 +108,11 @@ def rosmaster_pid(roscore: Process) -> int:
     raise RuntimeError("rosmaster not found under roscore")
 
 
-def log_times(proc: Process, text: str | tuple[str, ...], start: int = 0) -> list[float]:
-    """Wall times of the log lines of ``proc`` from index ``start`` on that contain ``text``
-    (or one of them)."""
+def log_times(lines: list[str], text: str | tuple[str, ...]) -> list[float]:
+    """Wall times of the log ``lines`` that contain ``text`` (or one of them)."""
     texts = (text,) if isinstance(text, str) else text
     times = []
-    for line in proc.lines()[start:]:
+    for line in lines:
         match = LOG.search(line)
         if match and any(t in match.group(2) for t in texts):
             times.append(float(match.group(1)))
@@ -136,9 +135,9 @@ def wait_all(agents: dict[str, Process], text: str | tuple[str, ...], since: flo
     last: dict[str, float | None] = dict.fromkeys(agents)
     while True:
         for name, proc in agents.items():
-            count = len(proc.lines())
-            found = [t for t in log_times(proc, text, read[name]) if t >= since]
-            read[name] = count
+            lines = proc.lines()
+            found = [t for t in log_times(lines[read[name]:], text) if t >= since]
+            read[name] = len(lines)
             if found:
                 last[name] = max(found)
         if all(t is not None for t in last.values()):
@@ -222,7 +221,7 @@ def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
             marks, started = line_marks(agents), time.time()
             joining = start_robot(ros, newcomer, asl)
             joining.wait_for_line(r"hosting rnew", timeout=120)
-            hosted = log_times(joining, "hosting rnew")[0]
+            hosted = log_times(joining.lines(), "hosting rnew")[0]
             # 0 when the others heard the newcomer before it logged that it is up
             join = max(0.0, wait_all(agents, "agent rnew present", started, marks, 30) - hosted)
             mark = len(ros.processes) - 3
@@ -239,7 +238,7 @@ def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
             marks = line_marks(agents)
             again = start_robot(ros, newcomer, asl)
             again.wait_for_line(r"hosting rnew", timeout=120)
-            rejoined = log_times(again, "hosting rnew")[0]
+            rejoined = log_times(again.lines(), "hosting rnew")[0]
             try:
                 wait_all(agents, "agent rnew present", rejoined - 0.5, marks, 60)
                 time.sleep(2)

@@ -20,13 +20,6 @@ pytestmark = pytest.mark.ros
 ROBOT = """
     +!hello <- .print("hello ran").
     """
-#: robot1 says `ready` (again and again) once it hears boss1: only then is it sure to get what
-#: boss1 sends (hearing one another takes a connection each way, each made on its own)
-READY = """
-    !ready.
-    +!ready : .all_names(L) & .member(boss1, L) <- .send(boss1, tell, ready); .wait(500); !ready.
-    +!ready <- .wait(200); !ready.
-    """
 BOSS = """
     !go.
     +!go : .all_names(L) & .member({target}, L)
@@ -34,13 +27,6 @@ BOSS = """
           .wait(2000);    // the test's own subscriber connects to this new node meanwhile
           .send({target}, achieve, legit).
     +!go <- .wait(200); !go.
-    """
-#: BOSS, but only once its target said it is ready (it hears the boss)
-BOSS_AFTER_READY = """
-    +ready[source({target})]
-       <- .send({target}, tellHow, "+!legit <- .print(legit_plan_ran).");
-          .wait(2000);
-          .send({target}, achieve, legit).
     """
 #: A plan as Jason text (a string term), as tellHow carries it.
 EVIL_PLAN = '"+!hack <- .print(\\"hacked\\")."'
@@ -66,14 +52,13 @@ def key_file(tmp_path: Path, name: str) -> Path:
 def test_an_untrusted_sender_cannot_install_plans_or_give_goals(ros, tmp_path):
     """No key: `~trusted_senders:=[boss1]`; a spoofed tellHow/achieve from `mallory1` (rostopic
     pub) is dropped with a warning, the real boss1 agent's tellHow and achieve get in."""
-    robot = start_agent(ros, tmp_path, "robot1", ROBOT + READY, ns="/trust1",
-                        trusted_senders=["boss1"])
+    robot = start_agent(ros, tmp_path, "robot1", ROBOT, ns="/trust1", trusted_senders=["boss1"])
     ros.wait_for_subscriber("/jason/messages")
     spoof(ros, "mallory1", "robot1", "tellHow", EVIL_PLAN)
     spoof(ros, "mallory1", "robot1", "achieve", "hello")
     robot.wait_for_line(r"dropped tellHow from 'mallory1': not a trusted sender", timeout=15)
     spoof(ros, "mallory1", "robot1", "tell", "rumour(1)")          # not restricted: gets in
-    start_agent(ros, tmp_path, "boss1", BOSS_AFTER_READY.format(target="robot1"), ns="/trust1_boss")
+    start_agent(ros, tmp_path, "boss1", BOSS.format(target="robot1"), ns="/trust1_boss")
     robot.wait_for_line(r"\[robot1\] legit_plan_ran", timeout=30)
     spoof(ros, "boss1", "robot1", "achieve", "hack")               # the plan was never added
     robot.wait_for_line(r"no applicable plan|no relevant plan|hack", timeout=15)

@@ -38,8 +38,9 @@ class HoldBack(Generic[M]):
         self._lock = threading.Lock()
 
     def heard(self, agent: str, node: str) -> None:
-        """A message from ``agent`` came from node ``node``."""
-        if node:
+        """A message from ``agent`` came from node ``node`` (called for every message heard:
+        the lock is taken only when that is news)."""
+        if node and self._node_of.get(agent) != node:
             with self._lock:
                 self._node_of[agent] = node
 
