@@ -29,13 +29,19 @@ if TYPE_CHECKING:
     from rason.ros.node import RasonNode
 
 
+def ros_now() -> float:
+    """ROS time in seconds, as ``rospy.get_time()`` returns it, without building its objects
+    under wall time (it is read for every message a node hears)."""
+    if rospy.rostime.is_wallclock():
+        return time.time()
+    return rospy.get_time()
+
+
 class RosClock(Clock):
     """ROS time (``rospy.get_time``): wall time, or the simulator's ``/clock`` with use_sim_time."""
 
     def now(self) -> float:
-        if rospy.rostime.is_wallclock():   # what rospy.get_time() returns, without its objects
-            return time.time()
-        return rospy.get_time()
+        return ros_now()
 
     def now_ns(self) -> int:
         if rospy.rostime.is_wallclock():

@@ -62,6 +62,20 @@ class MessageView:
     performative: str
     content: str
 
+    @classmethod
+    def of(cls, noted: NotedMessage) -> MessageView:
+        message = noted.message
+        return cls(time=noted.time, sender=message.sender, receiver=message.receiver or "",
+                   performative=message.performative, content=term_str(message.content))
+
+
+@dataclass(frozen=True)
+class NotedMessage:
+    """A message as noted when it passed the node: written out only for a snapshot."""
+
+    time: float
+    message: Message
+
 
 class LatchedTopic:
     """A latched std_msgs/String topic: publish a text; does anyone subscribe?
@@ -114,8 +128,8 @@ class MindStatePublisher:
         self.publish = publish
         self.node = node
         self.namespace = namespace
-        self.messages_in: deque[MessageView] = deque(maxlen=MESSAGES_KEPT)
-        self.messages_out: deque[MessageView] = deque(maxlen=MESSAGES_KEPT)
+        self.messages_in: deque[NotedMessage] = deque(maxlen=MESSAGES_KEPT)
+        self.messages_out: deque[NotedMessage] = deque(maxlen=MESSAGES_KEPT)
         self._lock = threading.Lock()
         self._publishing = threading.Lock()
         self._last = ""
@@ -123,18 +137,20 @@ class MindStatePublisher:
         self.seq = 0
 
     def note_message(self, message: Message, outgoing: bool, now: float) -> None:
-        """Remember a message the agent received (or sent) at ROS time `now`."""
-        view = MessageView(time=now, sender=message.sender, receiver=message.receiver or "",
-                           performative=message.performative, content=term_str(message.content))
+        """Remember a message the agent received (or sent) at ROS time `now` (cheap: it is
+        written out only when a snapshot is taken)."""
+        noted = NotedMessage(now, message)
         with self._lock:
-            (self.messages_out if outgoing else self.messages_in).append(view)
+            (self.messages_out if outgoing else self.messages_in).append(noted)
 
     def document(self, mind: MindState) -> dict:
         """The mind as records for :func:`to_json`, without stamp and seq (they always change)."""
         actions = [{"id": p.action_id, "text": p.text, "sent_at": p.sent_at,
                     "accepted_at": p.accepted_at} for p in self.pending_actions()]
         with self._lock:
-            messages_in, messages_out = list(self.messages_in), list(self.messages_out)
+            noted_in, noted_out = list(self.messages_in), list(self.messages_out)
+        messages_in = [MessageView.of(noted) for noted in noted_in]
+        messages_out = [MessageView.of(noted) for noted in noted_out]
         return {"version": MIND_STATE_VERSION, "agent": self.agent.name,
                 "node": self.node, "namespace": self.namespace, "mind": mind,
                 "actions": actions, "messages_in": messages_in, "messages_out": messages_out}

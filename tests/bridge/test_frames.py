@@ -1,0 +1,220 @@
+"""rason.ros.frames: a subscriber connection's messages read without rospy's per-message work.
+
+The connection-level tests drive a real rospy ``TCPROSTransport`` over a real socket pair, with
+a real TCPROS handshake written by the publishing end; the last test is a framed subscriber in
+this process hearing a real publisher process.
+"""
+
+from __future__ import annotations
+
+import gc
+import io
+import socket
+import sys
+import time
+import weakref
+from collections.abc import Iterator
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from jason_msgs.msg import AgentMessage
+from rosgraph.network import write_ros_handshake_header
+from rospy.exceptions import TransportTerminated
+from rospy.impl.tcpros_base import TCPROSTransport
+from rospy.impl.tcpros_pubsub import TCPROSSub
+
+from rason.ros.frames import FrameReader, framed_subscriber
+
+
+def _message(seq: int, content: str = "") -> AgentMessage:
+    return AgentMessage(sender=f"a{seq}", receiver="", performative="tell",
+                        content=content or f"ping({seq})", reply_with=str(seq), in_reply_to="")
+
+
+def _frame(message: AgentMessage) -> bytes:
+    body = io.BytesIO()
+    message.serialize(body)
+    data = body.getvalue()
+    return len(data).to_bytes(4, "little") + data
+
+
+def _handshake() -> bytes:
+    """What a publisher answers a subscriber: its TCPROS header."""
+    out = io.BytesIO()
+
+    class Sink:
+        def sendall(self, data: bytes) -> None:
+            out.write(data)
+
+    write_ros_handshake_header(Sink(), {"md5sum": AgentMessage._md5sum, "type": AgentMessage._type,
+                                        "callerid": "/publisher", "topic": "/t"})
+    return out.getvalue()
+
+
+def _tcp_pair() -> tuple[socket.socket, socket.socket]:
+    """Both ends of a TCP connection on loopback (as TCPROS runs), Nagle off."""
+    with socket.create_server(("127.0.0.1", 0)) as server:
+        client = socket.create_connection(server.getsockname())
+        accepted, _ = server.accept()
+    for end in (client, accepted):
+        end.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+    return accepted, client
+
+
+class Link:
+    """A subscriber connection (rospy's class, FrameReader installed) and its publisher's end."""
+
+    def __init__(self, queue_size: int | None = None) -> None:
+        self.publisher, subscriber = _tcp_pair()
+        self.connection = TCPROSTransport(TCPROSSub("/t", AgentMessage, queue_size=queue_size),
+                                          "/t")
+        self.connection.socket = subscriber
+        self.connection.receive_once = FrameReader(self.connection).receive_once
+
+    def handshake(self, then: bytes = b"") -> None:
+        """The publisher's header (and ``then`` in the same write); the subscriber reads it
+        as rospy does after connecting."""
+        self.publisher.sendall(_handshake() + then)
+        self.connection.read_header()
+
+    def read(self, count: int) -> list[AgentMessage]:
+        messages: list[AgentMessage] = []
+        while len(messages) < count:
+            messages += self.connection.receive_once()
+        return messages
+
+    def close(self) -> None:
+        self.publisher.close()
+        self.connection.close()
+
+
+@pytest.fixture
+def link() -> Iterator[Link]:
+    made = Link()
+    yield made
+    made.close()
+
+
+@settings(max_examples=40, deadline=None)
+@given(sizes=st.lists(st.integers(0, 3000), min_size=1, max_size=12),
+       cuts=st.lists(st.integers(1, 700), min_size=1, max_size=30))
+def test_messages_cut_anywhere_by_the_network_arrive_whole_and_in_order(sizes, cuts) -> None:
+    link = Link()
+    try:
+        sent = [_message(i, "x" * size) for i, size in enumerate(sizes)]
+        stream = b"".join(_frame(m) for m in sent)
+        link.handshake()
+        received: list[AgentMessage] = []
+        start = 0
+        for cut in cuts * (len(stream) // sum(cuts) + 1):
+            if start >= len(stream):
+                break
+            link.publisher.sendall(stream[start:start + cut])
+            start = min(len(stream), start + cut)
+            # read what is complete so far (receive_once blocks only when nothing is)
+            while _complete_up_to(stream, start) > len(received):
+                received += link.connection.receive_once()
+        received += link.read(len(sent) - len(received))
+        assert [(m.sender, m.content) for m in received] == [(m.sender, m.content) for m in sent]
+        assert all(m._connection_header["callerid"] == "/publisher" for m in received)
+        assert link.connection.stat_num_msg == len(sent)
+    finally:
+        link.close()
+
+
+def _complete_up_to(stream: bytes, end: int) -> int:
+    """How many whole frames ``stream[:end]`` holds."""
+    count, start = 0, 0
+    while start + 4 <= end:
+        size = int.from_bytes(stream[start:start + 4], "little")
+        if start + 4 + size > end:
+            break
+        count, start = count + 1, start + 4 + size
+    return count
+
+
+def test_what_the_handshake_read_past_the_header_comes_first(link) -> None:
+    # the publisher's header and its first two messages in one write: rospy's handshake reads
+    # them together and leaves the messages in the connection's read buffer
+    link.handshake(then=_frame(_message(0)) + _frame(_message(1)))
+    link.publisher.sendall(_frame(_message(2)))
+    assert [m.content for m in link.read(3)] == ["ping(0)", "ping(1)", "ping(2)"]
+
+
+def test_a_frame_that_does_not_deserialize_is_dropped_and_the_stream_goes_on(ros, link) -> None:
+    ros.init_rospy()            # the warning is rate-limited in ROS time
+    link.handshake()
+    garbage = b"\xff" * 9                       # a string length far beyond the frame
+    link.publisher.sendall(_frame(_message(0)) + len(garbage).to_bytes(4, "little") + garbage
+                           + _frame(_message(2)))
+    assert [m.content for m in link.read(2)] == ["ping(0)", "ping(2)"]
+
+
+def test_more_complete_frames_than_the_queue_keeps_only_the_newest() -> None:
+    link = Link(queue_size=3)
+    try:
+        link.handshake(then=b"".join(_frame(_message(i)) for i in range(10)))
+        assert [m.content for m in link.connection.receive_once()] == \
+            ["ping(7)", "ping(8)", "ping(9)"]
+    finally:
+        link.close()
+
+
+def test_the_publisher_closing_ends_the_connection(link) -> None:
+    link.handshake(then=_frame(_message(0)))
+    link.publisher.close()
+    assert [m.content for m in link.connection.receive_once()] == ["ping(0)"]
+    with pytest.raises(TransportTerminated):
+        link.connection.receive_once()
+
+
+def test_a_dropped_connection_is_freed_at_once_with_its_socket() -> None:
+    # rospy leaves the socket of a connection it dropped mid-connect to reference counting: a
+    # cycle through the reader would keep it open (and its publisher waiting) until a collection
+    link = Link()
+    dropped = weakref.ref(link.connection)
+    gc.disable()
+    try:
+        link.connection = None
+        assert dropped() is None
+    finally:
+        gc.enable()
+        link.publisher.close()
+
+
+def test_a_framed_subscriber_hears_a_publisher_process(ros, tmp_path) -> None:
+    ros.init_rospy()
+    heard: list[AgentMessage] = []
+    subscriber = framed_subscriber("/frames_test/messages", AgentMessage, heard.append,
+                                   queue_size=1000)
+    script = tmp_path / "talker.py"
+    script.write_text(TALKER)
+    try:
+        ros.run([sys.executable, str(script), "/frames_test/messages"], label="talker")
+        deadline = time.monotonic() + 30
+        while len(heard) < 300 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert [m.content for m in heard] == [f"ping({i})" for i in range(300)]
+        # big ones in between: frames cut across reads
+        assert {len(m.reply_with) for m in heard} == {1, 100_000}
+        assert all(m._connection_header["callerid"].startswith("/talker") for m in heard)
+    finally:
+        subscriber.unregister()
+
+
+TALKER = """
+import sys
+import rospy
+from jason_msgs.msg import AgentMessage
+
+rospy.init_node("talker", anonymous=True)
+pub = rospy.Publisher(sys.argv[1], AgentMessage, queue_size=1000)
+while pub.get_num_connections() == 0:
+    rospy.sleep(0.05)
+rospy.sleep(0.5)
+for i in range(300):
+    pub.publish(AgentMessage(sender="t", performative="tell", content=f"ping({i})",
+                             reply_with="x" * (100_000 if i % 50 == 7 else 1)))
+rospy.spin()
+"""
