@@ -26,12 +26,13 @@ from __future__ import annotations
 
 import math
 import os
+import sys
 import threading
 import time
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TextIO
 
 import rosgraph.names
 import rospy
@@ -527,7 +528,7 @@ class RasonNode:
 
     def console(self, agent_name: str, text: str) -> None:
         with self._console_lock:
-            print(f"[{agent_name}] {text}", flush=True)
+            write_line(sys.stdout, f"[{agent_name}] {text}")
 
     def _announce(self, name: str, content: str = "") -> None:
         """Presence (``content``: "", HELLO or GOODBYE) on /jason/messages and jason/presence."""
@@ -704,6 +705,14 @@ class RasonNode:
                             desires=mind.get("desires", []),
                             intentions=mind.get("intentions", []),
                             pending_actions=arch.pending_texts())
+
+
+def write_line(stream: TextIO, line: str) -> None:
+    """Write ``line`` and its newline in one call, then flush: rospy's log lines share stdout
+    and are written whole, from other threads; a ``print`` writes the newline apart, and a log
+    line falling between the two once broke an agent's line in the middle."""
+    stream.write(line + "\n")
+    stream.flush()
 
 
 def _find_source(source: str, near: str) -> str:
