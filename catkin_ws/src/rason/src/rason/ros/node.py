@@ -575,9 +575,8 @@ class RasonNode:
         if msg.sender in self.agents:
             return  # our own publication (delivered in-process already), or a forgery of it
         now = ros_now()
-        if self.auth is not None and not self._authentic(
-                msg, "", lambda v: f"a {v} {msg.performative or '?'} message "
-                                   f"claiming to be from '{msg.sender}'"):
+        if not self._authentic(msg, "", lambda v: f"a {v} {msg.performative or '?'} message "
+                                                  f"claiming to be from '{msg.sender}'"):
             return
         header = getattr(msg, "_connection_header", None)    # set by rospy: who sent it
         if header:
