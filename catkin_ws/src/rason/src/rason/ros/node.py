@@ -170,6 +170,8 @@ class RasonNode:
 
     def __init__(self, params: AgentNodeParams, base_ns: str = "/") -> None:
         self.base_ns = base_ns if base_ns.endswith("/") else base_ns + "/"
+        # first: a node may subscribe to message_pub (and be greeted) before __init__ ends
+        self._started = False
         # -- parameters ---------------------------------------------------------------------------
         self.params = params
         self.ack_timeout = params.ack_timeout
@@ -214,7 +216,6 @@ class RasonNode:
         # -- directory facilitator: our agents' services, published latched; the others' heard
         self.services = ServiceDirectory(self._tell_provider, self._publish_services)
         self.directory_pub = rospy.Publisher(DIRECTORY_TOPIC, AgentMessage, queue_size=10, latch=True)
-        self._started = False
         self.checks: Ticker | None = None    # made by start()
         self.event_sub: rospy.Subscriber | None = None
 
@@ -538,9 +539,11 @@ class RasonNode:
 
     def greet(self, publish_to_newcomer: Callable[[AgentMessage], None]) -> None:
         """A node just subscribed to /jason/messages: tell it (only it) which agents we host."""
-        impl = self.message_pub.impl
-        if not self._started or impl is None:
+        if not self._started:
             return      # start() says hello to everyone
+        impl = self.message_pub.impl
+        if impl is None:
+            return      # closing
         # rospy's publish to one subscriber shares the topic's serialisation buffer with every
         # publish but not its lock: unlocked, a greeting racing start()'s hello corrupted both
         # (struct.error, seen once in a fleet of twenty)
