@@ -7,7 +7,8 @@ the README's firewall on every host): a ``master`` host with ``roscore``, and N 
 perception stream (``rostopic pub -r 20``), all in the robot's namespace ``/rK``. Every agent
 broadcasts ``ping(Seq, T)`` twice a second (``T``: ``.nano_time``, and all namespaces share one
 kernel clock, so one-way latency is exact) and performs a ``move`` on its decomposer; every agent
-prints the latency of every ping it receives. Measured:
+prints the latency of every ping it receives, into its log file (the benchmark reads the files,
+not pipes). Measured:
 
 * message latency p50/p99 between hosts (agent broadcast -> another host's agent's plan runs);
 * presence convergence: a host joins (its agent starts: until every other agent logged it
@@ -171,7 +172,9 @@ def start_robot(ros: RosHarness, host: netns.Host, asl: Path) -> Process:
     ros.run(["rostopic", "pub", "-r", "20", f"{ns}/jason/perception", "jason_msgs/Perception",
              "{source: camera, perception: ['battery(90)', 'seen(dock, 1.5)']}"],
             label=f"{host.name}/perception", host=host)
-    return ros.rosrun("rason", "agent", host.name, str(asl), ns=ns, host=host,
+    # an agent prints a line per ping: it writes its log file itself, as on a robot (through a
+    # pipe the benchmark's reader thread was woken for each line, competing with the fleet)
+    return ros.rosrun("rason", "agent", host.name, str(asl), ns=ns, host=host, piped=False,
                       params={"presence_period": PRESENCE_PERIOD,
                               "presence_timeout": PRESENCE_TIMEOUT})
 

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import os
+import sys
 import threading
 
 import pytest
 
-from rason.testing.harness import HarnessError, RosHarness
+from rason.testing.harness import HarnessError, Process, RosHarness
 
 pytestmark = pytest.mark.ros
 
@@ -84,3 +85,25 @@ def test_a_node_that_dies_is_reported_while_waiting(fresh_ros):
     bad = fresh_ros.rosrun("rason", "act", "x", "Not An Action")
     with pytest.raises(HarnessError, match="exited"):
         fresh_ros.wait_for_topic("/jason/action", watch=[bad], timeout=20)
+
+
+@pytest.mark.parametrize("piped", [True, False])
+def test_a_process_output_is_kept_as_lines_and_in_its_log_file(tmp_path, piped):
+    # piped=False: the process writes its log itself (no pipe), the harness follows the file
+    script = ("import sys, time\n"
+              "for k in range(5):\n"
+              "    print('line', k, flush=True); time.sleep(0.05)\n"
+              "print('to stderr', file=sys.stderr, flush=True)\n"
+              "time.sleep(0.3)\n"
+              "sys.stdout.write('no newline at the end')\n")
+    proc = Process("printer", [sys.executable, "-c", script], dict(os.environ),
+                   tmp_path / "printer.log", piped=piped)
+    assert (proc.popen.stdout is not None) == piped
+    assert proc.wait_for_line(r"line 2", timeout=10).group(0) == "line 2"
+    assert proc.wait_for_line(r"to stderr", timeout=10)
+    assert proc.wait(10) == 0
+    expected = [f"line {k}" for k in range(5)] + ["to stderr", "no newline at the end"]
+    assert proc.lines() == expected
+    assert (tmp_path / "printer.log").read_text().splitlines() == expected
+    with pytest.raises(HarnessError, match="exited"):
+        proc.wait_for_line("never printed", timeout=5)

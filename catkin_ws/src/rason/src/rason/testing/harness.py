@@ -101,10 +101,21 @@ def free_port() -> int:
         return sock.getsockname()[1]
 
 
+#: how often a followed log file (``Process(piped=False)``) is read for new lines, in seconds
+FOLLOW_PERIOD = 0.2
+
+
 class Process:
-    """A process started by the harness, in its own process group, its output captured."""
+    """A process started by the harness, in its own process group, its output captured.
+
+    Its stdout and stderr go to ``log_path`` and are kept as lines. ``piped`` (default): through a
+    pipe whose reader thread writes the file, woken for every line; ``piped=False``: the process
+    writes the file itself and the harness follows it (every :data:`FOLLOW_PERIOD`), for
+    processes that print a line per message, whose pipe reader would otherwise be woken as often
+    as they are and compete with them for the CPU (the fleet benchmark's agents).
+    """
     def __init__(self, name: str, argv: Sequence[str], env: dict[str, str], log_path: Path,
-                 echo: bool | str = False, cwd: str | Path | None = None):
+                 echo: bool | str = False, cwd: str | Path | None = None, piped: bool = True):
         self.name = name
         self.argv = list(argv)
         self.log_path = log_path
@@ -113,10 +124,13 @@ class Process:
         self._echo_prefix = echo if isinstance(echo, str) else (f"[{name}] " if echo else None)
         self._log = open(log_path, "w", encoding="utf-8")  # noqa: SIM115 - closed by the reader
         self.popen = subprocess.Popen(
-            self.argv, env=env, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-            stderr=subprocess.STDOUT, start_new_session=True, text=True, bufsize=1,
-            errors="replace")
-        self._reader = threading.Thread(target=self._read, name=f"log-{name}", daemon=True)
+            self.argv, env=env, cwd=cwd, stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE if piped else self._log, stderr=subprocess.STDOUT,
+            start_new_session=True, text=True, bufsize=1, errors="replace")
+        if not piped:
+            self._log.close()             # the process has its own descriptor of the file
+        self._reader = threading.Thread(target=self._read if piped else self._follow,
+                                        name=f"log-{name}", daemon=True)
         self._reader.start()
 
     def _read(self) -> None:
@@ -125,13 +139,34 @@ class Process:
             line = line.rstrip("\n")
             self._log.write(line + "\n")
             self._log.flush()
-            if self._echo_prefix is not None:
-                print(self._echo_prefix + line, flush=True)
-            with self._cond:
-                self._lines.append(line)
-                self._cond.notify_all()
+            self._add([line])
         self._log.close()
         with self._cond:
+            self._cond.notify_all()
+
+    def _follow(self) -> None:
+        """Read the lines the process writes to its log file, until it exits."""
+        partial = ""
+        with open(self.log_path, encoding="utf-8", errors="replace") as log:
+            while True:
+                exited = self.popen.poll() is not None   # before the read: nothing is missed
+                *lines, partial = (partial + log.read()).split("\n")
+                self._add(lines)
+                if exited:
+                    break
+                time.sleep(FOLLOW_PERIOD)
+        self._add([partial] if partial else [])
+        with self._cond:
+            self._cond.notify_all()
+
+    def _add(self, lines: list[str]) -> None:
+        if not lines:
+            return
+        if self._echo_prefix is not None:
+            for line in lines:
+                print(self._echo_prefix + line, flush=True)
+        with self._cond:
+            self._lines.extend(lines)
             self._cond.notify_all()
 
     @property
@@ -340,9 +375,9 @@ class RosHarness:
     def rosrun(self, package: str, executable: str, *args: str, ns: str | None = None,
                name: str | None = None, params: dict[str, object] | None = None,
                echo: bool | str | None = None, cwd: str | Path | None = None,
-               host: Host | None = None) -> Process:
+               host: Host | None = None, piped: bool = True) -> Process:
         """Start ``rosrun package executable args...`` (``__ns:=ns``, ``__name:=name``, ``_k:=v``)
-        on ``host`` (a namespace of a Lan) or on this machine."""
+        on ``host`` (a namespace of a Lan) or on this machine (``piped``: see :class:`Process`)."""
         argv = ["rosrun", package, executable, *args]
         if ns:
             argv.append(f"__ns:={ns}")
@@ -355,13 +390,14 @@ class RosHarness:
             node_key = "/" + "/".join(p.strip("/") for p in (ns or "", executable) if p.strip("/"))
             host = self.placement.get(node_key) or (
                 self.placement.get("/" + ns.strip("/")) if ns else None)
-        return self.run(argv, label=label, echo=echo, cwd=cwd, host=host)
+        return self.run(argv, label=label, echo=echo, cwd=cwd, host=host, piped=piped)
 
     def run(self, argv: Sequence[str], label: str | None = None, echo: bool | str | None = None,
             cwd: str | Path | None = None, env: dict[str, str] | None = None,
-            host: Host | None = None) -> Process:
+            host: Host | None = None, piped: bool = True) -> Process:
         """Start any command against this master (e.g. ``rosbag play``), managed like a node;
-        on ``host`` it runs in that host's namespace with the host's ``ROS_IP``."""
+        on ``host`` it runs in that host's namespace with the host's ``ROS_IP`` (``piped``: see
+        :class:`Process`)."""
         label = label or Path(argv[0]).name
         host = host or self.master_host
         if host is not None:
@@ -372,7 +408,7 @@ class RosHarness:
         log_name = re.sub(r"[^\w.-]+", "_", label) + (f".{count}" if count else "") + ".log"
         with interrupts_deferred():       # a process is never running unrecorded
             proc = Process(label, argv, {**self.env, **(env or {})}, self.log_dir / log_name,
-                           echo=self.echo if echo is None else echo, cwd=cwd)
+                           echo=self.echo if echo is None else echo, cwd=cwd, piped=piped)
             self.processes.append(proc)
         return proc
 
