@@ -89,11 +89,14 @@ def test_a_node_that_dies_is_reported_while_waiting(fresh_ros):
 
 @pytest.mark.parametrize("piped", [True, False])
 def test_a_process_output_is_kept_as_lines_and_in_its_log_file(tmp_path, piped):
-    # piped=False: the process writes its log itself (no pipe), the harness follows the file
+    # piped=False: the process writes its log itself (no pipe), the harness follows the file;
+    # "café" is written in two pieces, split inside the "é", more than a follow period apart
     script = ("import sys, time\n"
               "for k in range(5):\n"
               "    print('line', k, flush=True); time.sleep(0.05)\n"
               "print('to stderr', file=sys.stderr, flush=True)\n"
+              "sys.stdout.buffer.write(b'caf\\xc3'); sys.stdout.flush(); time.sleep(0.5)\n"
+              "sys.stdout.buffer.write(b'\\xa9\\n'); sys.stdout.flush()\n"
               "time.sleep(0.3)\n"
               "sys.stdout.write('no newline at the end')\n")
     proc = Process("printer", [sys.executable, "-c", script], dict(os.environ),
@@ -102,8 +105,8 @@ def test_a_process_output_is_kept_as_lines_and_in_its_log_file(tmp_path, piped):
     assert proc.wait_for_line(r"line 2", timeout=10).group(0) == "line 2"
     assert proc.wait_for_line(r"to stderr", timeout=10)
     assert proc.wait(10) == 0
-    expected = [f"line {k}" for k in range(5)] + ["to stderr", "no newline at the end"]
+    expected = [f"line {k}" for k in range(5)] + ["to stderr", "café", "no newline at the end"]
     assert proc.lines() == expected
-    assert (tmp_path / "printer.log").read_text().splitlines() == expected
+    assert (tmp_path / "printer.log").read_text(encoding="utf-8").splitlines() == expected
     with pytest.raises(HarnessError, match="exited"):
         proc.wait_for_line("never printed", timeout=5)

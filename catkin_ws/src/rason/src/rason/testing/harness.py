@@ -17,6 +17,7 @@ stdout and stderr go to a log file under ``ros.log_dir`` and are kept in memory 
 
 from __future__ import annotations
 
+import codecs
 import contextlib
 import os
 import re
@@ -147,15 +148,20 @@ class Process:
     def _follow(self) -> None:
         """Read the lines the process writes to its log file, until it exits."""
         partial = ""
-        with open(self.log_path, encoding="utf-8", errors="replace") as log:
+        # bytes through an incremental decoder: a character the process wrote in two pieces is
+        # kept whole across reads (a text file's read() decodes what it has as final)
+        decoder = codecs.getincrementaldecoder("utf-8")(errors="replace")
+        with open(self.log_path, "rb") as log:
             while True:
                 exited = self.popen.poll() is not None   # before the read: nothing is missed
-                *lines, partial = (partial + log.read()).split("\n")
+                *lines, partial = (partial + decoder.decode(log.read())).split("\n")
                 self._add(lines)
                 if exited:
                     break
                 time.sleep(FOLLOW_PERIOD)
-        self._add([partial] if partial else [])
+        partial += decoder.decode(b"", final=True)
+        if partial:
+            self._add([partial])
         with self._cond:
             self._cond.notify_all()
 
