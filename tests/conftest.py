@@ -18,7 +18,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from rason.testing.harness import RosHarness, processes_left_by
+from rason.testing.harness import Process, RosHarness, processes_left_by
 
 
 def _ros_available() -> bool:
@@ -39,15 +39,42 @@ def ros_session() -> Iterator[RosHarness]:
     yield from _harness()
 
 
+@pytest.hookimpl(wrapper=True, tryfirst=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo) -> Iterator[None]:
+    """Keep each phase's report on the item, for fixtures that act on a failure."""
+    report = yield
+    item.stash.setdefault(_FAILED, set())
+    if report.failed:
+        item.stash[_FAILED].add(report.when)
+    return report
+
+
+_FAILED = pytest.StashKey[set]()
+#: lines of each process's output printed when a test that started it fails
+FAILURE_TAIL = 40
+
+
 @pytest.fixture
-def ros(ros_session: RosHarness) -> Iterator[RosHarness]:
+def ros(ros_session: RosHarness, request: pytest.FixtureRequest) -> Iterator[RosHarness]:
     mark = len(ros_session.processes)
     ros_session.set_param("/use_sim_time", False)
     try:
         yield ros_session
     finally:
+        if request.node.stash.get(_FAILED, set()):
+            print_process_tails(ros_session.processes[mark:])
         ros_session.stop_started_since(mark)
         ros_session.set_param("/use_sim_time", False)
+
+
+def print_process_tails(processes: list[Process]) -> None:
+    """The last lines of each process a failed test started: they show up under "Captured
+    stdout teardown" in the failure report, so a failure in CI can be read without a rerun."""
+    for proc in processes:
+        lines = proc.lines()
+        state = "running" if proc.alive() else f"exited {proc.popen.returncode}"
+        print(f"----- {proc.name} ({state}, {len(lines)} lines; last {FAILURE_TAIL}) -----")
+        print("\n".join(lines[-FAILURE_TAIL:]))
 
 
 @pytest.fixture

@@ -39,9 +39,13 @@ WORLD = """\
 robots:
   - {{name: {robot}, kind: faulty, x: 0.0, y: 0.0, yaw: 0.0}}
 """
+#: The turn is tried again until it runs: the first one may fail when the agent's or the
+#: decomposer's connections take longer than the agent's 1 s wait plus its 2 s ~ack_timeout
+#: (no_decomposer), or odometry longer than the decomposer's 1 s no_progress_timeout.
 DRIVER = """
     !go.
     +!go <- .wait(1000); turn(700).
+    -!go[error_msg(M)] <- .print("the turn failed (", M, "), trying again"); !go.
     """
 PRESENCE_TIMEOUT = 3.5        # the decomposer's default ~presence_timeout
 TICK = 0.05                   # its watchdog period
