@@ -36,7 +36,6 @@ from .logic import solve
 from .parser import AgentSource, AslSyntaxError, parse_source, parse_term, path_include_resolver
 from .plans import ACHIEVE, ADD, BELIEF, DEL, GOAL_STATE, K_INTERNAL, PlanLibrary, Trigger, body_deeds
 from .stdlib import IA_REGISTRY, IAError
-from .stdlib.comm import with_nested_source
 from .terms import (
     FALSE,
     SOURCE_PERCEPT,
@@ -49,6 +48,7 @@ from .terms import (
     merge_annots,
     source,
     term_str,
+    with_nested_source,
 )
 from .unify import rename_vars, resolve, unify
 

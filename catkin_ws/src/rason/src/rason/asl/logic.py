@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
 from .functions import FunctionHost
-from .stdlib import call_ia
+from .stdlib import IA_REGISTRY, IAError
 from .terms import (
     LOCAL_NS_PREFIX,
     AnnotVar,
@@ -72,6 +72,25 @@ class IAContext:
         """Every substitution under which ``lit`` matches a belief (facts and rules), without
         the rest of :meth:`solve` (no internal actions, no arithmetic)."""
         return query_bb(self.ag, lit, self.s)
+
+
+def call_ia(ctx: Any, lit: Literal) -> Any:
+    """Run the internal action ``lit`` (arguments resolved with the context's substitution).
+
+    An unknown ``.name`` is, in Jason, only a parser warning: the literal stays a plain one and
+    runs as an environment action, which fails with ``error(action_failed)``.
+    """
+    fn = IA_REGISTRY.get(lit.functor)
+    if fn is None:
+        raise IAError(f"unknown internal action {lit.functor}", "action_failed")
+    s = ctx.s
+    args = [resolve(a, s, ctx.ag) for a in lit.args]
+    try:
+        return fn(ctx, args)
+    except IAError as e:
+        if "{ia}" in e.message:   # Jason names the action by its class name (``sort``)
+            e.message = e.message.replace("{ia}", lit.functor.rsplit(".", 1)[-1])
+        raise
 
 
 def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Iterator[dict]:

@@ -564,6 +564,19 @@ def merge_annots(annots: tuple, extra: list | tuple) -> tuple:
     return tuple(out)
 
 
+def with_nested_source(t: Any, sender: Any) -> Any:
+    """jason.stdlib.add_nested_source: the literal's sources go inside ``source(Sender)``:
+    ``v[source(a)]`` from b is ``v[source(b)[source(a)]]`` (each literal of a list too)."""
+    if isinstance(t, ListTerm):
+        return ListTerm(tuple(with_nested_source(x, sender) for x in t.items), t.tail)
+    if isinstance(t, Literal):
+        old = [a for a in t.annots if isinstance(a, Literal) and a.functor == "source"]
+        rest = tuple(a for a in t.annots if not (isinstance(a, Literal) and a.functor == "source"))
+        src = Literal("source", (sender,), merge_annots((), old))
+        return t.with_annots(merge_annots(rest, [src]), t.tail)
+    return t
+
+
 # ---------------------------------------------------------------- ordering
 
 def sort_key(t: Any) -> tuple:

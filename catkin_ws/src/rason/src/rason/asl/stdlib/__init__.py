@@ -25,10 +25,8 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable, Iterable
-from typing import Any
 
-from ..terms import Literal, is_internal_action
-from ..unify import resolve
+from ..terms import is_internal_action
 
 IA_REGISTRY: dict[str, Callable] = {}
 
@@ -85,25 +83,6 @@ def load_modules(modules: Iterable[str]) -> list[str]:
             raise ModuleLoadError(f"cannot load internal actions from module {name!r}: "
                                   f"{type(err).__name__}: {err}") from err
     return sorted(set(IA_REGISTRY) - before)
-
-
-def call_ia(ctx: Any, lit: Literal) -> Any:
-    """Run the internal action ``lit`` (arguments resolved with the context's substitution).
-
-    An unknown ``.name`` is, in Jason, only a parser warning: the literal stays a plain one and
-    runs as an environment action, which fails with ``error(action_failed)``.
-    """
-    fn = IA_REGISTRY.get(lit.functor)
-    if fn is None:
-        raise IAError(f"unknown internal action {lit.functor}", "action_failed")
-    s = ctx.s
-    args = [resolve(a, s, ctx.ag) for a in lit.args]
-    try:
-        return fn(ctx, args)
-    except IAError as e:
-        if "{ia}" in e.message:   # Jason names the action by its class name (``sort``)
-            e.message = e.message.replace("{ia}", lit.functor.rsplit(".", 1)[-1])
-        raise
 
 
 def arg_count(args: list, *allowed: int) -> None:

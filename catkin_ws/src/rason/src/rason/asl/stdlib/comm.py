@@ -19,6 +19,7 @@ from ..terms import (
     merge_annots,
     split_ns,
     term_str,
+    with_nested_source,
 )
 from ..unify import eval_arith, resolve, unify
 from . import SUSPEND, IAError, arg_count, internal_action
@@ -79,19 +80,6 @@ def send(ctx: Any, args: list) -> Any:
             name = ag.name
         ag.send_message(Message(ag.name, name, perf, content, msg_id=msg_id, in_reply_to=reply_to))
     return SUSPEND if sync_ask else True
-
-
-def with_nested_source(t: Any, sender: Any) -> Any:
-    """jason.stdlib.add_nested_source: the literal's sources go inside ``source(Sender)``:
-    ``v[source(a)]`` from b is ``v[source(b)[source(a)]]`` (each literal of a list too)."""
-    if isinstance(t, ListTerm):
-        return ListTerm(tuple(with_nested_source(x, sender) for x in t.items), t.tail)
-    if isinstance(t, Literal):
-        old = [a for a in t.annots if isinstance(a, Literal) and a.functor == "source"]
-        rest = tuple(a for a in t.annots if not (isinstance(a, Literal) and a.functor == "source"))
-        src = Literal("source", (sender,), merge_annots((), old))
-        return t.with_annots(merge_annots(rest, [src]), t.tail)
-    return t
 
 
 def _strip(t: Any) -> Any:
