@@ -10,21 +10,25 @@ from __future__ import annotations
 import gc
 import io
 import socket
+import struct
 import sys
 import time
 import weakref
 from collections.abc import Iterator
 
+import genpy
 import pytest
+from geometry_msgs.msg import Twist
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from jason_msgs.msg import AgentMessage
+from jason_msgs.msg import AgentMessage, Event, Perception
+from nav_msgs.msg import Odometry
 from rosgraph.network import write_ros_handshake_header
 from rospy.exceptions import TransportTerminated
 from rospy.impl.tcpros_base import TCPROSTransport
 from rospy.impl.tcpros_pubsub import TCPROSSub
 
-from rason.ros.frames import FrameReader, framed_subscriber
+from rason.ros.frames import FlatDecoder, FrameReader, framed_subscriber
 
 
 def _message(seq: int, content: str = "") -> AgentMessage:
@@ -181,6 +185,60 @@ def test_a_dropped_connection_is_freed_at_once_with_its_socket() -> None:
     finally:
         gc.enable()
         link.publisher.close()
+
+
+_TEXT = st.text(max_size=40)
+_TIME = st.builds(genpy.Time, st.integers(0, 2**32 - 1), st.integers(0, 999_999_999))
+#: every message type an agent node reads with a FlatDecoder, with any field values
+_FLAT_MESSAGES = st.one_of(
+    st.builds(AgentMessage, sender=_TEXT, receiver=_TEXT, performative=_TEXT, content=_TEXT,
+              reply_with=_TEXT, in_reply_to=_TEXT, stamp=_TIME, nonce=_TEXT, signature=_TEXT),
+    st.builds(Event, agent=_TEXT, event_type=_TEXT, parameters=st.lists(_TEXT, max_size=5)),
+    st.builds(Perception, source=_TEXT, perception=st.lists(_TEXT, max_size=5)))
+
+
+def _body(message) -> bytes:
+    return _frame(message)[4:]
+
+
+@settings(max_examples=200, deadline=None)
+@given(message=_FLAT_MESSAGES)
+def test_a_flat_decoder_reads_what_genpy_reads(message) -> None:
+    data_class = type(message)
+    assert FlatDecoder.reads(data_class)
+    body = _body(message)
+    by_genpy = data_class()
+    by_genpy.deserialize(body)
+    decoded = FlatDecoder(data_class).decode(body)
+    assert decoded == by_genpy == message
+    for name, kind in zip(data_class.__slots__, data_class._slot_types, strict=True):
+        assert type(getattr(decoded, name)) is type(getattr(by_genpy, name)), (name, kind)
+
+
+@settings(max_examples=50, deadline=None)
+@given(message=_FLAT_MESSAGES, data=st.data())
+def test_a_flat_decoder_refuses_a_frame_cut_short_or_too_long(message, data) -> None:
+    body = _body(message)
+    decoder = FlatDecoder(type(message))
+    cut = data.draw(st.integers(0, len(body) - 1))
+    with pytest.raises((struct.error, ValueError)):
+        decoder.decode(body[:cut])
+    with pytest.raises(ValueError):
+        decoder.decode(body + b"\0")
+
+
+def test_a_message_type_with_other_fields_is_read_by_genpy() -> None:
+    assert not FlatDecoder.reads(Twist) and not FlatDecoder.reads(Odometry)
+
+
+def test_text_that_is_not_utf8_arrives_with_its_characters_replaced_as_genpy_does(link) -> None:
+    link.handshake()
+    body = bytearray(_body(_message(0, "caf\u00e9")))
+    body[body.index("\u00e9".encode())] = 0xFF     # the e-acute's first byte, now invalid
+    link.publisher.sendall(len(body).to_bytes(4, "little") + bytes(body) + _frame(_message(1)))
+    received = link.read(2)
+    assert received[0].content == "caf\ufffd\ufffd"       # both bytes of the broken character
+    assert received[1].content == "ping(1)"
 
 
 def test_a_framed_subscriber_hears_a_publisher_process(ros, tmp_path) -> None:

@@ -10,6 +10,12 @@ the frames (a 4-byte length, then the serialized message) cut out of it as they 
 same messages, headers and statistics as rospy's, and rospy's loop, reconnection and callbacks
 around it unchanged.
 
+A message type whose fields are all strings, string arrays and times (the agent nodes'
+AgentMessage, Event and Perception) is read by a :class:`FlatDecoder`, a loop over its fields,
+instead of genpy's generated ``deserialize``, which first fills a new message with defaults
+(a ``genpy.Time`` among them) and then replaces every one of them: the same message for half
+the work.
+
 One difference, on purpose: a frame that does not deserialize is dropped with a rate-limited
 warning and the connection goes on (the length prefix keeps the stream in step), where rospy
 would drop the connection and every message behind it.
@@ -22,6 +28,7 @@ import struct
 import weakref
 from typing import Any
 
+import genpy
 import rospy
 from rospy.exceptions import TransportException, TransportTerminated
 from rospy.impl.tcpros_base import TCPROSTransport
@@ -30,7 +37,55 @@ from rason.ros.badinput import shorten
 from rason.ros.guard import WARNINGS
 
 _LENGTH = struct.Struct("<I")
+_TIME = struct.Struct("<2I")
 _RETRY = (errno.EAGAIN, errno.EWOULDBLOCK, errno.EINTR)
+#: the field types a :class:`FlatDecoder` reads
+FLAT_FIELD_TYPES = frozenset({"string", "string[]", "time"})
+_NSEC_PER_SEC = 1_000_000_000
+
+
+class FlatDecoder:
+    """Deserializes one message type whose fields are all of :data:`FLAT_FIELD_TYPES`."""
+
+    def __init__(self, data_class: Any) -> None:
+        self.data_class = data_class
+        self.fields = list(zip(data_class.__slots__, data_class._slot_types, strict=True))
+
+    @staticmethod
+    def reads(data_class: Any) -> bool:
+        """Can a FlatDecoder read messages of `data_class`?"""
+        return all(kind in FLAT_FIELD_TYPES for kind in data_class._slot_types)
+
+    def decode(self, frame: bytes) -> Any:
+        """The message `frame` holds, equal to genpy's; ``struct.error`` or ``ValueError`` when
+        it holds none, ``UnicodeDecodeError`` for a string that is not UTF-8."""
+        message = self.data_class.__new__(self.data_class)
+        pos = 0
+        for name, kind in self.fields:
+            value: Any
+            if kind == "string":
+                (size,) = _LENGTH.unpack_from(frame, pos)
+                pos += 4 + size
+                value = frame[pos - size:pos].decode()
+            elif kind == "time":
+                secs, nsecs = _TIME.unpack_from(frame, pos)
+                pos += 8
+                value = genpy.Time.__new__(genpy.Time)
+                value.secs, value.nsecs = secs, nsecs
+                if nsecs >= _NSEC_PER_SEC:
+                    value.canon()
+            else:
+                (count,) = _LENGTH.unpack_from(frame, pos)
+                pos += 4
+                value = []
+                for _ in range(count):
+                    (size,) = _LENGTH.unpack_from(frame, pos)
+                    pos += 4 + size
+                    value.append(frame[pos - size:pos].decode())
+            setattr(message, name, value)
+        if pos != len(frame):      # a string running past the end, or bytes left over
+            raise ValueError(f"{len(frame)}-byte frame, {pos} bytes of fields")
+        return message
 
 
 class FrameReader:
@@ -45,6 +100,7 @@ class FrameReader:
         self._connection = weakref.ref(connection)
         self._socket: Any = None
         self._buffer = bytearray()
+        self._flat: FlatDecoder | None = None     # made for the first frames
 
     def receive_once(self) -> list[Any]:
         """The next messages, oldest first (rospy's contract: raises ``TransportTerminated``
@@ -107,14 +163,15 @@ class FrameReader:
             del frames[:-queue_size]
         return frames
 
-    @staticmethod
-    def _messages(connection: TCPROSTransport, frames: list[bytes],
+    def _messages(self, connection: TCPROSTransport, frames: list[bytes],
                   data_class: Any) -> list[Any]:
+        flat = self._flat
+        if (flat is None or flat.data_class is not data_class) and FlatDecoder.reads(data_class):
+            flat = self._flat = FlatDecoder(data_class)
         messages = []
         for frame in frames:
-            message = data_class()
             try:
-                message.deserialize(frame)
+                message = _decode(frame, flat, data_class)
             except Exception as err:    # genpy raises DeserializationError, or worse
                 WARNINGS.warn(f"undecodable {connection.name}", (
                     f"dropped a {len(frame)}-byte {data_class._type} from "
@@ -127,6 +184,19 @@ class FrameReader:
         if connection.is_latched and messages:
             connection.latch = messages[-1]
         return messages
+
+
+def _decode(frame: bytes, flat: FlatDecoder | None, data_class: Any) -> Any:
+    """The message in `frame`: by `flat` when given, else (or for text that is not UTF-8,
+    whose characters genpy replaces, and logs once) by genpy's generated code."""
+    if flat is not None:
+        try:
+            return flat.decode(frame)
+        except UnicodeDecodeError:
+            pass
+    message = data_class()
+    message.deserialize(frame)
+    return message
 
 
 def framed_subscriber(topic: str, data_class: type, callback: Any, queue_size: int | None = None,
