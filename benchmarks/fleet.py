@@ -53,6 +53,8 @@ ROOT = Path(__file__).resolve().parent.parent
 PRESENCE_PERIOD = 1.0
 PRESENCE_TIMEOUT = 3.5
 PING_PERIOD_MS = 500
+#: how a fleet's run (a child process) starts a line of its stderr the parent passes on
+NOTE = "[fleet] "
 
 AGENT = """
 !start.
@@ -250,7 +252,7 @@ def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
                 vanish = wait_all(agents, "agent rnew not heard", cut, marks, 30) - cut
                 lan.restore("rnew")
             except RuntimeError as err:   # reported as not measured, the rest is kept
-                print(f"vanish not measured: {err}", file=sys.stderr)
+                print(f"{NOTE}vanish not measured: {err}", file=sys.stderr)
                 vanish = float("nan")
     return FleetResult(
         n=n, messages=len(latencies), p50_ms=round(percentile(latencies, 50), 2),
@@ -345,7 +347,7 @@ def main() -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     results = []
     for n in args.sizes:
-        print(f"[fleet] N = {n} ...", flush=True)
+        print(f"{NOTE}N = {n} ...", flush=True)
         done = subprocess.run([sys.executable, __file__, "--window", str(args.window)],
                               env={**os.environ, "RASON_FLEET_ONE": str(n)},
                               capture_output=True, text=True, timeout=1800)
@@ -353,6 +355,9 @@ def main() -> int:
         if done.returncode != 0 or line is None:
             print(done.stdout[-3000:], done.stderr[-3000:], file=sys.stderr)
             return 1
+        for note in done.stderr.splitlines():    # what the run noted (its nodes' noise is not)
+            if note.startswith(NOTE):
+                print(note, file=sys.stderr, flush=True)
         values = line[len("RESULT "):].split(",")
         results.append(FleetResult(*(int(v) if f.type == "int" else float(v)
                                      for f, v in zip(fields(FleetResult), values, strict=True))))
