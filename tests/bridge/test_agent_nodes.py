@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import re
 
 import pytest
@@ -119,6 +120,25 @@ def test_two_agents_in_two_processes_talk_and_forget_each_other(ros, tmp_path):
     mark = len(alice.lines())
     bob.stop()
     alice.wait_for_line(r"\[alice\] names \[alice\]$", timeout=15, start=mark)
+
+
+def _thread_nices(pid: int) -> list[int]:
+    """The nice value of each thread of process `pid`."""
+    return [os.getpriority(os.PRIO_PROCESS, int(tid)) for tid in os.listdir(f"/proc/{pid}/task")]
+
+
+def test_the_threads_reading_the_fleets_messages_run_at_a_lower_priority(ros, tmp_path):
+    bob = start_agent(ros, tmp_path, "bob", BOB, ns="/r2")                  # ~receive_nice 5
+    alice = start_agent(ros, tmp_path, "alice", ALICE, ns="/r1", receive_nice=0)
+    assert alice.wait_for_line(r"\[alice\] bob says (\d+)", timeout=30).group(1) == "42"
+    bob.wait_for_line(r"\[bob\] greeted by alice", timeout=10)   # each has heard the other
+    base = os.getpriority(os.PRIO_PROCESS, 0)
+    bob_nices = _thread_nices(bob.pid)
+    # the reader of alice's node's messages (and of any other publisher of /jason/messages)
+    # is niced; the agent's thread, rospy's and those reading the robot's own topics are not
+    assert set(bob_nices) == {base, min(base + 5, 19)}, bob_nices
+    assert bob_nices.count(base) > bob_nices.count(min(base + 5, 19))
+    assert set(_thread_nices(alice.pid)) == {base}
 
 
 def test_send_to_an_unknown_agent_fails_with_a_clear_reason(ros, tmp_path):

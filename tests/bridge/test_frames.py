@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import gc
 import io
+import os
 import socket
 import struct
 import sys
+import threading
 import time
 import weakref
 from collections.abc import Iterator
@@ -69,12 +71,12 @@ def _tcp_pair() -> tuple[socket.socket, socket.socket]:
 class Link:
     """A subscriber connection (rospy's class, FrameReader installed) and its publisher's end."""
 
-    def __init__(self, queue_size: int | None = None) -> None:
+    def __init__(self, queue_size: int | None = None, nice: int = 0) -> None:
         self.publisher, subscriber = _tcp_pair()
         self.connection = TCPROSTransport(TCPROSSub("/t", AgentMessage, queue_size=queue_size),
                                           "/t")
         self.connection.socket = subscriber
-        self.connection.receive_once = FrameReader(self.connection).receive_once
+        self.connection.receive_once = FrameReader(self.connection, nice).receive_once
 
     def handshake(self, then: bytes = b"") -> None:
         """The publisher's header (and ``then`` in the same write); the subscriber reads it
@@ -239,6 +241,38 @@ def test_text_that_is_not_utf8_arrives_with_its_characters_replaced_as_genpy_doe
     received = link.read(2)
     assert received[0].content == "caf\ufffd\ufffd"       # both bytes of the broken character
     assert received[1].content == "ping(1)"
+
+
+def _thread_nice() -> int:
+    return os.getpriority(os.PRIO_PROCESS, threading.get_native_id())
+
+
+def test_a_reader_lowers_the_priority_of_its_own_thread_once() -> None:
+    link = Link(nice=3)
+    seen: dict[str, object] = {}
+
+    def read() -> None:               # as rospy does: a thread of its own per connection
+        seen["before"] = _thread_nice()
+        link.handshake(then=_frame(_message(0)))
+        seen["first"] = [m.content for m in link.read(1)]
+        seen["after"] = _thread_nice()
+        link.publisher.close()        # the publisher comes back: a new socket, the same thread
+        link.publisher, link.connection.socket = _tcp_pair()
+        link.publisher.sendall(_frame(_message(1)))
+        seen["again"] = [m.content for m in link.read(1)]
+        seen["after reconnecting"] = _thread_nice()
+
+    caller = _thread_nice()
+    reader = threading.Thread(target=read)
+    try:
+        reader.start()
+        reader.join(10)
+        assert seen["first"] == ["ping(0)"] and seen["again"] == ["ping(1)"]
+        assert seen["before"] == caller
+        assert seen["after"] == seen["after reconnecting"] == min(caller + 3, 19)
+        assert _thread_nice() == caller           # only the reading thread
+    finally:
+        link.close()
 
 
 def test_a_framed_subscriber_hears_a_publisher_process(ros, tmp_path) -> None:

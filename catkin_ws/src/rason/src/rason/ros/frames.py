@@ -16,6 +16,13 @@ instead of genpy's generated ``deserialize``, which first fills a new message wi
 (a ``genpy.Time`` among them) and then replaces every one of them: the same message for half
 the work.
 
+A framed subscriber can also lower the priority of its reading threads (``nice``; the agent
+nodes do for ``/jason/messages``, their ``~receive_nice``). A broadcast is written by its
+sender's agent thread to every receiver in turn, and each write wakes a receiver: on a short CPU
+those woken readers took the core from the sender between its writes, so the last receivers
+heard a broadcast many milliseconds after the first. Readers at a lower priority let the
+sender finish its writes first; the work is the same, its order favours what is under way.
+
 One difference, on purpose: a frame that does not deserialize is dropped with a rate-limited
 warning and the connection goes on (the length prefix keeps the stream in step), where rospy
 would drop the connection and every message behind it.
@@ -24,7 +31,9 @@ would drop the connection and every message behind it.
 from __future__ import annotations
 
 import errno
+import os
 import struct
+import threading
 import weakref
 from typing import Any
 
@@ -42,6 +51,8 @@ _RETRY = (errno.EAGAIN, errno.EWOULDBLOCK, errno.EINTR)
 #: the field types a :class:`FlatDecoder` reads
 FLAT_FIELD_TYPES = frozenset({"string", "string[]", "time"})
 _NSEC_PER_SEC = 1_000_000_000
+#: the largest nice value (the lowest priority) Linux has
+MAX_NICE = 19
 
 
 class FlatDecoder:
@@ -92,7 +103,7 @@ class FrameReader:
     """Reads the messages of one subscriber connection (a rospy ``TCPROSTransport``) in place of
     its ``receive_once``: returns the messages complete so far, blocking until there is one."""
 
-    def __init__(self, connection: TCPROSTransport) -> None:
+    def __init__(self, connection: TCPROSTransport, nice: int = 0) -> None:
         # weak: the connection holds this reader's method, and a cycle would keep a dropped
         # connection's socket open until the garbage collector runs (rospy leaves some sockets
         # of connections it dropped mid-connect to reference counting: a publisher waits up to
@@ -101,6 +112,8 @@ class FrameReader:
         self._socket: Any = None
         self._buffer = bytearray()
         self._flat: FlatDecoder | None = None     # made for the first frames
+        self._nice = nice                  # added to the reading thread's nice value
+        self._niced = False
 
     def receive_once(self) -> list[Any]:
         """The next messages, oldest first (rospy's contract: raises ``TransportTerminated``
@@ -139,6 +152,9 @@ class FrameReader:
         past the header, which rospy leaves in the connection's ``read_buff``."""
         self._socket = sock
         sock.setblocking(True)
+        if self._nice and not self._niced:      # once: a reconnection reads in the same thread
+            self._niced = True
+            lower_thread_priority(self._nice)
         handshake = connection.read_buff
         self._buffer = bytearray(handshake.getvalue()[:handshake.tell()])
         handshake.seek(0)
@@ -199,10 +215,22 @@ def _decode(frame: bytes, flat: FlatDecoder | None, data_class: Any) -> Any:
     return message
 
 
+def lower_thread_priority(by: int) -> None:
+    """Add `by` to the calling thread's nice value (Linux: a nice value per thread; raising it
+    needs no privilege). A failure is a warning: the thread reads on at its priority."""
+    thread = threading.get_native_id()
+    try:
+        nice = os.getpriority(os.PRIO_PROCESS, thread)
+        os.setpriority(os.PRIO_PROCESS, thread, min(MAX_NICE, nice + by))
+    except OSError as err:
+        WARNINGS.warn("nice", f"a receiving thread keeps its priority: {err}")
+
+
 def framed_subscriber(topic: str, data_class: type, callback: Any, queue_size: int | None = None,
-                      **kwargs: Any) -> rospy.Subscriber:
+                      nice: int = 0, **kwargs: Any) -> rospy.Subscriber:
     """A ``rospy.Subscriber`` whose connections are read by :class:`FrameReader`\\ s (arguments
-    as ``rospy.Subscriber``'s)."""
+    as ``rospy.Subscriber``'s); ``nice`` is added to the nice value of each connection's reading
+    thread (the topic's first framed subscriber in the process decides)."""
     subscriber = rospy.Subscriber(topic, data_class, callback, queue_size=queue_size, **kwargs)
     impl = subscriber.impl
     if not getattr(impl, "framed_reads", False):     # the topic's first framed subscriber here
@@ -210,7 +238,7 @@ def framed_subscriber(topic: str, data_class: type, callback: Any, queue_size: i
 
         def add_connection(connection: Any) -> bool:
             if isinstance(connection, TCPROSTransport):
-                connection.receive_once = FrameReader(connection).receive_once
+                connection.receive_once = FrameReader(connection, nice).receive_once
             return add_plain(connection)
 
         impl.add_connection = add_connection

@@ -132,6 +132,11 @@ class AgentNodeParams:
         AgentOptions().max_intention_depth,
         "an intention deeper than this fails with error(intention_too_deep) (a -!g plan can "
         "handle it) and a warning", minimum=1)
+    receive_nice: int = param(
+        5, "added to the nice value of the threads that read /jason/messages (Linux keeps one "
+        "per thread): when the CPU is short, this node's reasoning, and the broadcasts it sends, "
+        "go before the fleet's incoming messages, so a broadcast reaches its receivers before "
+        "they take the CPU from its sender; 0 = the node's own priority", minimum=0, maximum=19)
     mind_state_rate: float = param(
         10.0, "at most this many jason/NAME/mind_state publications a second (only when the mind "
         "changed; for the mind inspector); 0 = not published", minimum=0.0)
@@ -257,7 +262,7 @@ class RasonNode:
                           guarded("jason/perception")(self.on_perception),
                           queue_size=100, tcp_nodelay=True)
         framed_subscriber(MESSAGES_TOPIC, AgentMessage, guarded(MESSAGES_TOPIC)(self.on_message),
-                          queue_size=200, tcp_nodelay=True)
+                          queue_size=200, nice=self.params.receive_nice, tcp_nodelay=True)
         rospy.Subscriber(DIRECTORY_TOPIC, AgentMessage, guarded(DIRECTORY_TOPIC)(self.on_directory),
                          queue_size=50)
         self._started = True
