@@ -26,7 +26,7 @@ from hypothesis import strategies as st
 from jason_msgs.msg import AgentMessage, Event, Perception
 from nav_msgs.msg import Odometry
 from rosgraph.network import write_ros_handshake_header
-from rospy.exceptions import TransportTerminated
+from rospy.exceptions import TransportException, TransportTerminated
 from rospy.impl.tcpros_base import TCPROSTransport
 from rospy.impl.tcpros_pubsub import TCPROSSub
 
@@ -172,6 +172,16 @@ def test_the_publisher_closing_ends_the_connection(link) -> None:
     link.publisher.close()
     assert [m.content for m in link.connection.receive_once()] == ["ping(0)"]
     with pytest.raises(TransportTerminated):
+        link.connection.receive_once()
+
+
+def test_a_connection_closed_by_another_thread_meanwhile_is_not_initialized(link) -> None:
+    # rospy's close clears the socket, the read buffer and the protocol one after the other: a
+    # reader between two of them sees a connection not (or no longer) made, as rospy's own does
+    link.handshake(then=_frame(_message(0)))
+    assert [m.content for m in link.connection.receive_once()] == ["ping(0)"]
+    link.connection.protocol = None
+    with pytest.raises(TransportException):
         link.connection.receive_once()
 
 

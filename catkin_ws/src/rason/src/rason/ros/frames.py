@@ -122,12 +122,14 @@ class FrameReader:
         if connection is None:
             raise TransportTerminated("connection dropped")
         sock = connection.socket
-        if sock is None:
+        protocol = connection.protocol      # the subscription's queue_size and buff_size
+        handshake = connection.read_buff
+        # None: not made yet, or closed meanwhile by another thread (rospy's close clears them)
+        if sock is None or protocol is None or handshake is None:
             raise TransportException("connection not initialized")
         if sock is not self._socket:
-            self._start_reading(connection, sock)
+            self._start_reading(sock, handshake)
         buffer = self._buffer
-        protocol = connection.protocol      # the subscription's queue_size and buff_size
         while not connection.done and not rospy.is_shutdown():
             frames = self._complete_frames(protocol.queue_size)
             if frames:
@@ -147,7 +149,7 @@ class FrameReader:
             connection.stat_bytes += len(data)
         return []
 
-    def _start_reading(self, connection: TCPROSTransport, sock: Any) -> None:
+    def _start_reading(self, sock: Any, handshake: Any) -> None:
         """A new socket (connected, or connected again): start from what its handshake read
         past the header, which rospy leaves in the connection's ``read_buff``."""
         self._socket = sock
@@ -155,7 +157,6 @@ class FrameReader:
         if self._nice and not self._niced:      # once: a reconnection reads in the same thread
             self._niced = True
             lower_thread_priority(self._nice)
-        handshake = connection.read_buff
         self._buffer = bytearray(handshake.getvalue()[:handshake.tell()])
         handshake.seek(0)
         handshake.truncate()
