@@ -111,7 +111,10 @@ class FrameReader:
         self._connection = weakref.ref(connection)
         self._socket: Any = None
         self._buffer = bytearray()
-        self._flat: FlatDecoder | None = None     # made for the first frames
+        # the decoder of the connection's message type, chosen for the first frames: a
+        # FlatDecoder, or None for genpy's code (the type is the subscription's, fixed)
+        self._decoded_class: Any = None
+        self._flat: FlatDecoder | None = None
         self._nice = nice                  # added to the reading thread's nice value
         self._niced = False
 
@@ -182,9 +185,10 @@ class FrameReader:
 
     def _messages(self, connection: TCPROSTransport, frames: list[bytes],
                   data_class: Any) -> list[Any]:
+        if data_class is not self._decoded_class:
+            self._decoded_class = data_class
+            self._flat = FlatDecoder(data_class) if FlatDecoder.reads(data_class) else None
         flat = self._flat
-        if (flat is None or flat.data_class is not data_class) and FlatDecoder.reads(data_class):
-            flat = self._flat = FlatDecoder(data_class)
         messages = []
         for frame in frames:
             try:
