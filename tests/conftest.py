@@ -39,19 +39,19 @@ def ros_session() -> Iterator[RosHarness]:
     yield from _harness()
 
 
-@pytest.hookimpl(wrapper=True, tryfirst=True)
-def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo) -> Iterator[None]:
-    """Keep each phase's report on the item, for fixtures that act on a failure."""
-    report = yield
-    item.stash.setdefault(_FAILED, set())
-    if report.failed:
-        item.stash[_FAILED].add(report.when)
-    return report
-
-
+#: the phases of a test that failed so far ("setup", "call"), for fixtures acting on a failure
 _FAILED = pytest.StashKey[set]()
 #: lines of each process's output printed when a test that started it fails
 FAILURE_TAIL = 40
+
+
+@pytest.hookimpl(wrapper=True, tryfirst=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo) -> Iterator[None]:
+    """Note on the item each phase that failed (see ``_FAILED``)."""
+    report = yield
+    if report.failed:
+        item.stash.setdefault(_FAILED, set()).add(report.when)
+    return report
 
 
 @pytest.fixture
