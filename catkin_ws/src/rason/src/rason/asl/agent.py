@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import heapq
 import itertools
+import math
 import os
 import sys
 import threading
@@ -52,6 +53,9 @@ from .terms import (
 )
 from .unify import rename_vars, resolve, unify
 
+#: cycles a thread that brought input runs for a sleeping agent before handing over to the
+#: agent's runner (see Agent._take_turn)
+TURN_STEPS = 64
 #: goal-state reasons of .suspend / .resume (as Jason's)
 _SUSPEND_IA = Literal("suspend_ia")
 _RESUME_IA = Literal("resume_ia")
@@ -148,6 +152,13 @@ class Agent:
         self._mail: deque[Message] = deque()                # messages, one taken per cycle
         self._inbox_lock = threading.Lock()
         self._wake_event = threading.Event()
+        # held by the thread running reasoning cycles: the agent's runner, or a thread that
+        # brought input while the runner slept (see _take_turn)
+        self._turn = threading.Lock()
+        # the runner's wake-up time while it sleeps (math.inf: none), None while it is awake;
+        # written with _turn held
+        self._asleep_until: float | None = None
+        self._runner_stop: threading.Event | None = None   # the running runner's stop event
         self._state_lock = threading.RLock()
         self._percepts: set = set()
         # set once an [atomic] plan is intended: until then no intention can be atomic
@@ -218,31 +229,68 @@ class Agent:
                     self.add_belief(lit, front=False)
 
     # ================================================================ public API
-    def receive(self, message: Message) -> None:
-        """Thread-safe: queue an incoming message and wake the agent."""
+    def receive(self, message: Message, run_here: bool = False) -> None:
+        """Thread-safe: queue an incoming message and wake the agent; with ``run_here`` a
+        caller that finds the agent's runner asleep reasons on it itself (:meth:`_take_turn`)."""
         with self._inbox_lock:
             self._mail.append(message)
-        self._wake_event.set()
-        if self.on_wake is not None:
-            self.on_wake()
+        self._input_arrived(run_here)
 
     def action_feedback(self, action_id: int, ok: bool, reason: str | None = None, message: str = "",
-                        annots: list | None = None) -> None:
+                        annots: list | None = None, run_here: bool = False) -> None:
         """Thread-safe: the environment finished action ``action_id`` (ok or failed with reason;
-        ``annots``: more annotations for the failure event, like Jason's failure reason term)."""
+        ``annots``: more annotations for the failure event, like Jason's failure reason term;
+        ``run_here``: as for :meth:`receive`)."""
         with self._inbox_lock:
             self._inbox.append(ActionResult(action_id, ok, reason, message, annots))
-        self._wake_event.set()
-        if self.on_wake is not None:
-            self.on_wake()
+        self._input_arrived(run_here)
 
     def wake(self) -> None:
         """Thread-safe: something changed (e.g. new percepts); run a cycle soon."""
         with self._inbox_lock:
             self._inbox.append(None)
+        self._input_arrived(False)
+
+    def _input_arrived(self, run_here: bool) -> None:
+        if run_here and self._take_turn():
+            return
         self._wake_event.set()
         if self.on_wake is not None:
             self.on_wake()
+
+    def _take_turn(self) -> bool:
+        """Reason on the calling thread, now, if the agent's runner (:meth:`run`) sleeps.
+
+        A thread that brings input to a sleeping agent (a ROS node's receiving thread) runs the
+        cycles it causes itself, instead of waking the runner and leaving the CPU to it: on a
+        loaded machine that second thread waited for a core behind every other process woken
+        by the same broadcast. Cycles still run one at a time (``_turn``). True when the input
+        was dealt with and the runner sleeps on; False when the runner must take over: it is
+        awake or not running, it was woken meanwhile (other input, a stop: the turn ends after
+        the cycle under way), the agent is still busy after :data:`TURN_STEPS` cycles, or a
+        timer now falls due before the runner's wake-up time.
+        """
+        if self._asleep_until is None or not self._turn.acquire(blocking=False):
+            return False
+        try:
+            asleep_until = self._asleep_until
+            stop = self._runner_stop
+            if asleep_until is None or stop is None:
+                return False                      # the runner woke, or has not started
+            for _ in range(TURN_STEPS):
+                # the runner was woken meanwhile (other input, a stop): it takes over
+                if self._wake_event.is_set() or stop.is_set() or self.stop_requested:
+                    return False
+                if not self.step():
+                    break
+            else:
+                return False                      # still busy: its runner goes on
+            if self.has_input():
+                return False
+            deadline = self.next_deadline()
+            return deadline is None or deadline >= asleep_until
+        finally:
+            self._turn.release()
 
     def step(self) -> bool:
         """One reasoning cycle; True if it did anything."""
@@ -294,15 +342,24 @@ class Agent:
             self._wake_event.set()
         threading.Thread(target=watcher, name=f"{self.name}-stop", daemon=True).start()
         clock = self.arch.clock
+        self._runner_stop = stop
         while not stop.is_set() and not self.stop_requested:
+            sleep, deadline = self._runner_turn(stop)
+            if sleep:
+                clock.wait(self._wake_event, deadline)
+        with self._turn:
+            self._asleep_until = None
+
+    def _runner_turn(self, stop: threading.Event) -> tuple[bool, float | None]:
+        """One cycle of the runner, holding the turn: (whether it may sleep now, until when)."""
+        with self._turn:
+            self._asleep_until = None
             self._wake_event.clear()
-            if self.step():
-                continue
-            if stop.is_set():
-                break
-            if self.has_input():
-                continue
-            clock.wait(self._wake_event, self.next_deadline())
+            if self.step() or stop.is_set() or self.has_input():
+                return False, None
+            deadline = self.next_deadline()
+            self._asleep_until = math.inf if deadline is None else deadline
+            return True, deadline
 
     def is_idle(self) -> bool:
         """No events, no runnable intention, nothing in the inbox."""

@@ -201,11 +201,13 @@ class RosAgArch(AgentArch):
             pending = self.pending.pop(feedback.action_id, None)
         if pending is None or self.agent is None:
             return  # not ours, or already failed by a timeout
+        # called by the event subscription's receiving thread: it may reason for the agent
         if feedback.ok:
-            self.agent.action_feedback(feedback.action_id, True)
+            self.agent.action_feedback(feedback.action_id, True, run_here=True)
         else:
             self.agent.action_feedback(feedback.action_id, False, feedback.result,
-                                       feedback.message or f"{pending.text} failed: {feedback.result}")
+                                       feedback.message or f"{pending.text} failed: {feedback.result}",
+                                       run_here=True)
 
     def check_timeouts(self, now: float, ack_timeout: float, action_timeout: float) -> None:
         """Fail actions no decomposer acknowledged, and accepted ones that never finished."""

@@ -21,7 +21,9 @@ nodes do for ``/jason/messages``, their ``~receive_nice``). A broadcast is writt
 sender's agent thread to every receiver in turn, and each write wakes a receiver: on a short CPU
 those woken readers took the core from the sender between its writes, so the last receivers
 heard a broadcast many milliseconds after the first. Readers at a lower priority let the
-sender finish its writes first; the work is the same, its order favours what is under way.
+sender finish its writes first; the work is the same, its order favours what is under way. (In
+an agent node a reader also runs the reasoning its message starts in an idle agent, see
+``Agent.receive``'s ``run_here``: that work gives way too.)
 
 One difference, on purpose: a frame that does not deserialize is dropped with a rate-limited
 warning and the connection goes on (the length prefix keeps the stream in step), where rospy

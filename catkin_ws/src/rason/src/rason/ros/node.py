@@ -134,9 +134,11 @@ class AgentNodeParams:
         "handle it) and a warning", minimum=1)
     receive_nice: int = param(
         5, "added to the nice value of the threads that read /jason/messages (Linux keeps one "
-        "per thread): when the CPU is short, this node's reasoning, and the broadcasts it sends, "
-        "go before the fleet's incoming messages, so a broadcast reaches its receivers before "
-        "they take the CPU from its sender; 0 = the node's own priority", minimum=0, maximum=19)
+        "per thread; such a thread also runs the reasoning a message starts in an idle agent, "
+        "until the agent's own input wakes its thread): when the CPU is short, this node's own "
+        "work, and the broadcasts it sends, go before the fleet's incoming messages, so a "
+        "broadcast reaches its receivers before they take the CPU from its sender; 0 = the "
+        "node's own priority", minimum=0, maximum=19)
     mind_state_rate: float = param(
         10.0, "at most this many jason/NAME/mind_state publications a second (only when the mind "
         "changed; for the mind inspector); 0 = not published", minimum=0.0)
@@ -516,15 +518,16 @@ class RasonNode:
                                               content=message.content, msg_id=message.msg_id))
         return False
 
-    def _receive(self, hosted: HostedAgent, message: Message) -> None:
-        """Give `message` to a hosted agent if its acceptance hook lets it in."""
+    def _receive(self, hosted: HostedAgent, message: Message, run_here: bool = False) -> None:
+        """Give `message` to a hosted agent if its acceptance hook lets it in (``run_here``:
+        a receiving thread that may reason for the agent, see ``Agent.receive``)."""
         if not hosted.arch.accepts(message):
             self.warnings.warn(f"untrusted {shorten(message.sender, 64)}",
                             f"[{hosted.arch.name}] dropped {message.performative} from "
                             f"'{message.sender}': not a trusted sender")
             return
-        hosted.agent.receive(message)
         self.note_message(hosted.agent.name, message, outgoing=False)
+        hosted.agent.receive(message, run_here=run_here)
 
     def note_message(self, agent_name: str, message: Message, outgoing: bool) -> None:
         """Keep a message `agent_name` received or sent for its published mind."""
@@ -613,9 +616,11 @@ class RasonNode:
                 content = self._read_content(msg)
                 if content is None:
                     return
+            # this receiving thread reasons for an idle agent itself (one thread woken, not two)
             self._receive(hosted, Message(
                 sender=msg.sender, receiver=name, performative=msg.performative,
-                content=content, msg_id=msg.reply_with, in_reply_to=msg.in_reply_to or None))
+                content=content, msg_id=msg.reply_with, in_reply_to=msg.in_reply_to or None),
+                run_here=True)
 
     def _read_content(self, msg: AgentMessage) -> Any:
         """The message's content as a term, or None (with a rate-limited warning) when it is

@@ -1,0 +1,122 @@
+"""A thread that brings input to a sleeping agent reasons on it itself (``run_here``)."""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+
+from asl_helpers import RecordingArch, run_until_idle
+
+from rason.asl import Agent, Message, WallClock, parse_literal
+from rason.asl.agent import TURN_STEPS
+
+
+def _hi() -> Message:
+    return Message("bob", "m", "achieve", parse_literal("hi"))
+
+
+def _until(condition: Callable[[], bool], timeout: float = 3.0) -> bool:
+    end = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > end:
+            return False
+        time.sleep(0.002)
+    return True
+
+
+@contextmanager
+def running(source: str) -> Iterator[tuple[Agent, RecordingArch]]:
+    """An agent whose runner thread has gone to sleep (nothing to do)."""
+    arch = RecordingArch()
+    arch.clock = WallClock()
+    agent = Agent("m", source, arch)
+    stop = threading.Event()
+    runner = threading.Thread(target=agent.run, args=(stop,), daemon=True)
+    runner.start()
+    try:
+        assert _until(agent.is_idle)
+        time.sleep(0.05)          # past its last cycle, into its wait
+        yield agent, arch
+    finally:
+        stop.set()
+        runner.join(2)
+        assert not runner.is_alive()
+
+
+def test_a_message_to_a_sleeping_agent_is_reasoned_on_before_receive_returns() -> None:
+    with running("+!hi[source(S)] <- .print(hi, S).") as (agent, arch):
+        agent.receive(_hi(), run_here=True)
+        assert arch.out == ["hibob"]           # no hand-over to the runner: done already
+        agent.receive(_hi(), run_here=True)
+        assert arch.out == ["hibob", "hibob"]
+
+
+def test_without_run_here_the_runner_reasons_later() -> None:
+    with running("+!hi[source(S)] <- .print(hi, S).") as (agent, arch):
+        agent.receive(_hi())
+        assert _until(lambda: arch.out == ["hibob"])
+
+
+def test_an_agent_whose_runner_is_not_running_keeps_the_message_for_it() -> None:
+    arch = RecordingArch()
+    agent = Agent("m", "+!hi[source(S)] <- .print(hi, S).", arch)
+    agent.receive(_hi(), run_here=True)
+    assert arch.out == [] and agent.has_input()
+    run_until_idle(agent)
+    assert arch.out == ["hibob"]
+
+
+def test_a_deadline_made_on_the_bringing_thread_wakes_the_runner_for_it() -> None:
+    with running("+!hi <- .print(start); .wait(60); .print(done).") as (agent, arch):
+        start = time.monotonic()
+        agent.receive(_hi(), run_here=True)
+        assert arch.out == ["start"]           # the rest waits for the .wait's deadline
+        assert _until(lambda: arch.out == ["start", "done"])
+        assert time.monotonic() - start >= 0.06
+
+
+def test_a_long_turn_is_handed_to_the_runner() -> None:
+    steps = 10 * TURN_STEPS
+    source = f"+!hi <- !count(0).\n+!count(N) : N < {steps} <- !count(N + 1).\n+!count(N) <- .print(N)."
+    with running(source) as (agent, arch):
+        agent.receive(_hi(), run_here=True)
+        assert arch.out == []                  # the bringing thread stopped after TURN_STEPS
+        assert _until(lambda: arch.out == [str(steps)])
+
+
+class _PokedArch(RecordingArch):
+    """Records which thread printed each line; printing "poke" brings the runner other input."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.agent: Agent | None = None
+        self.printed_by: list[tuple[str, int]] = []
+
+    def console(self, agent_name: str, text: str) -> None:
+        super().console(agent_name, text)
+        self.printed_by.append((text, threading.get_ident()))
+        if text == "poke" and self.agent is not None:
+            self.agent.wake()
+
+
+def test_input_for_the_runner_ends_a_turn_after_the_current_cycle() -> None:
+    arch = _PokedArch()
+    arch.clock = WallClock()
+    agent = Agent("m", "+!hi <- .print(poke); .print(b); .print(c).", arch)
+    arch.agent = agent
+    stop = threading.Event()
+    runner = threading.Thread(target=agent.run, args=(stop,), daemon=True)
+    runner.start()
+    try:
+        assert _until(agent.is_idle)
+        time.sleep(0.05)
+        agent.receive(_hi(), run_here=True)
+        assert _until(lambda: arch.out == ["poke", "b", "c"])
+        by = dict(arch.printed_by)
+        assert by["poke"] == threading.get_ident()      # the bringing thread began
+        assert by["b"] == by["c"] == runner.ident       # and gave way at the next cycle
+    finally:
+        stop.set()
+        runner.join(2)
