@@ -120,3 +120,43 @@ def test_input_for_the_runner_ends_a_turn_after_the_current_cycle() -> None:
     finally:
         stop.set()
         runner.join(2)
+
+
+class _HeldArch(_PokedArch):
+    """Printing "hold" blocks the printing thread until the test lets it go."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.holding = threading.Event()
+        self.let_go = threading.Event()
+
+    def console(self, agent_name: str, text: str) -> None:
+        super().console(agent_name, text)
+        if text == "hold":
+            self.holding.set()
+            assert self.let_go.wait(3)
+
+
+def test_input_brought_during_another_threads_turn_is_left_to_that_turn() -> None:
+    arch = _HeldArch()
+    arch.clock = WallClock()
+    agent = Agent("m", "+!hi <- .print(hold).\n+!second <- .print(second).", arch)
+    stop = threading.Event()
+    runner = threading.Thread(target=agent.run, args=(stop,), daemon=True)
+    runner.start()
+    try:
+        assert _until(agent.is_idle)
+        time.sleep(0.05)
+        first = threading.Thread(target=agent.receive, args=(_hi(), True))
+        first.start()
+        assert arch.holding.wait(3)                    # the first bringer reasons, held mid-turn
+        agent.receive(Message("bob", "m", "achieve", parse_literal("second")), run_here=True)
+        assert "second" not in arch.out                # left to the turn under way, not run here
+        arch.let_go.set()
+        first.join(3)
+        assert arch.out == ["hold", "second"]          # done by the time the first bringer returns
+        assert dict(arch.printed_by)["second"] == first.ident    # not handed to the runner
+    finally:
+        arch.let_go.set()
+        stop.set()
+        runner.join(2)

@@ -54,7 +54,7 @@ from .terms import (
 from .unify import rename_vars, resolve, unify
 
 #: cycles a thread that brought input runs for a sleeping agent before handing over to the
-#: agent's runner (see Agent._take_turn)
+#: agent's runner (see Agent._take_turns)
 TURN_STEPS = 64
 #: goal-state reasons of .suspend / .resume (as Jason's)
 _SUSPEND_IA = Literal("suspend_ia")
@@ -153,12 +153,13 @@ class Agent:
         self._inbox_lock = threading.Lock()
         self._wake_event = threading.Event()
         # held by the thread running reasoning cycles: the agent's runner, or a thread that
-        # brought input while the runner slept (see _take_turn)
+        # brought input while the runner slept (see _take_turns)
         self._turn = threading.Lock()
         # the runner's wake-up time while it sleeps (math.inf: none), None while it is awake;
         # written with _turn held
         self._asleep_until: float | None = None
         self._runner_stop: threading.Event | None = None   # the running runner's stop event
+        self._caller_turn = False     # a thread that brought input holds _turn (see _take_turns)
         self._state_lock = threading.RLock()
         self._percepts: set = set()
         # set once an [atomic] plan is intended: until then no intention can be atomic
@@ -231,7 +232,7 @@ class Agent:
     # ================================================================ public API
     def receive(self, message: Message, run_here: bool = False) -> None:
         """Thread-safe: queue an incoming message and wake the agent; with ``run_here`` a
-        caller that finds the agent's runner asleep reasons on it itself (:meth:`_take_turn`)."""
+        caller that finds the agent's runner asleep reasons on it itself (:meth:`_take_turns`)."""
         with self._inbox_lock:
             self._mail.append(message)
         self._input_arrived(run_here)
@@ -252,45 +253,61 @@ class Agent:
         self._input_arrived(False)
 
     def _input_arrived(self, run_here: bool) -> None:
-        if run_here and self._take_turn():
+        if run_here and self._take_turns():
             return
         self._wake_event.set()
         if self.on_wake is not None:
             self.on_wake()
 
-    def _take_turn(self) -> bool:
+    def _take_turns(self) -> bool:
         """Reason on the calling thread, now, if the agent's runner (:meth:`run`) sleeps.
 
         A thread that brings input to a sleeping agent (a ROS node's receiving thread) runs the
         cycles it causes itself, instead of waking the runner and leaving the CPU to it: on a
         loaded machine that second thread waited for a core behind every other process woken
-        by the same broadcast. Cycles still run one at a time (``_turn``). True when the input
-        was dealt with and the runner sleeps on; False when the runner must take over: it is
-        awake or not running, it was woken meanwhile (other input, a stop: the turn ends after
-        the cycle under way), the agent is still busy after :data:`TURN_STEPS` cycles, or a
-        timer now falls due before the runner's wake-up time.
+        by the same broadcast. Cycles still run one at a time (``_turn``): input brought while
+        another such thread reasons is left to it (it looks for more input once it has let go
+        of the turn). True when the input is dealt with and the runner sleeps on; False when
+        the runner must take over (see :meth:`_turn_cycles`).
         """
-        if self._asleep_until is None or not self._turn.acquire(blocking=False):
-            return False
-        try:
-            asleep_until = self._asleep_until
-            stop = self._runner_stop
-            if asleep_until is None or stop is None:
-                return False                      # the runner woke, or has not started
-            for _ in range(TURN_STEPS):
-                # the runner was woken meanwhile (other input, a stop): it takes over
-                if self._wake_event.is_set() or stop.is_set() or self.stop_requested:
-                    return False
-                if not self.step():
-                    break
-            else:
-                return False                      # still busy: its runner goes on
-            if self.has_input():
+        while True:
+            if self._asleep_until is None:
+                return False                      # the runner is awake, or not running
+            if not self._turn.acquire(blocking=False):
+                # a thread that brought input before this one reasons: it finds this input
+                # when it lets go (below); the runner, about to sleep or wake, is woken
+                return self._caller_turn
+            try:
+                self._caller_turn = True
+                handled = self._turn_cycles()
+            finally:
+                self._caller_turn = False
+                self._turn.release()
+            if not handled:
                 return False
-            deadline = self.next_deadline()
-            return deadline is None or deadline >= asleep_until
-        finally:
-            self._turn.release()
+            if not self.has_input():
+                return True
+            # input was brought while this thread reasoned and found the turn taken
+
+    def _turn_cycles(self) -> bool:
+        """The cycles of a bringing thread's turn (``_turn`` held): True when the agent is idle
+        and the runner may sleep on; False when the runner must take over: it woke, or was woken
+        meanwhile (other input, a stop: the turn ends after the cycle under way), the agent is
+        still busy after :data:`TURN_STEPS` cycles, or a timer now falls due before the
+        runner's wake-up time."""
+        asleep_until = self._asleep_until
+        stop = self._runner_stop
+        if asleep_until is None or stop is None:
+            return False                          # the runner woke, or has not started
+        for _ in range(TURN_STEPS):
+            if self._wake_event.is_set() or stop.is_set() or self.stop_requested:
+                return False
+            if not self.step():
+                break
+        else:
+            return False                          # still busy: its runner goes on
+        deadline = self.next_deadline()
+        return deadline is None or deadline >= asleep_until
 
     def step(self) -> bool:
         """One reasoning cycle; True if it did anything."""
