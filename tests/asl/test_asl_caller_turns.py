@@ -27,9 +27,8 @@ def _until(condition: Callable[[], bool], timeout: float = 3.0) -> bool:
 
 
 @contextmanager
-def running(source: str) -> Iterator[tuple[Agent, RecordingArch]]:
-    """An agent whose runner thread has gone to sleep (nothing to do)."""
-    arch = RecordingArch()
+def sleeping_agent(source: str, arch: RecordingArch) -> Iterator[tuple[Agent, threading.Thread]]:
+    """An agent on `arch` whose runner thread has gone to sleep (nothing to do)."""
     arch.clock = WallClock()
     agent = Agent("m", source, arch)
     stop = threading.Event()
@@ -38,11 +37,19 @@ def running(source: str) -> Iterator[tuple[Agent, RecordingArch]]:
     try:
         assert _until(agent.is_idle)
         time.sleep(0.05)          # past its last cycle, into its wait
-        yield agent, arch
+        yield agent, runner
     finally:
         stop.set()
         runner.join(2)
         assert not runner.is_alive()
+
+
+@contextmanager
+def running(source: str) -> Iterator[tuple[Agent, RecordingArch]]:
+    """A sleeping agent on a :class:`RecordingArch`."""
+    arch = RecordingArch()
+    with sleeping_agent(source, arch) as (agent, _runner):
+        yield agent, arch
 
 
 def test_a_message_to_a_sleeping_agent_is_reasoned_on_before_receive_returns() -> None:
@@ -103,23 +110,13 @@ class _PokedArch(RecordingArch):
 
 def test_input_for_the_runner_ends_a_turn_after_the_current_cycle() -> None:
     arch = _PokedArch()
-    arch.clock = WallClock()
-    agent = Agent("m", "+!hi <- .print(poke); .print(b); .print(c).", arch)
-    arch.agent = agent
-    stop = threading.Event()
-    runner = threading.Thread(target=agent.run, args=(stop,), daemon=True)
-    runner.start()
-    try:
-        assert _until(agent.is_idle)
-        time.sleep(0.05)
+    with sleeping_agent("+!hi <- .print(poke); .print(b); .print(c).", arch) as (agent, runner):
+        arch.agent = agent
         agent.receive(_hi(), run_here=True)
         assert _until(lambda: arch.out == ["poke", "b", "c"])
         by = dict(arch.printed_by)
         assert by["poke"] == threading.get_ident()      # the bringing thread began
         assert by["b"] == by["c"] == runner.ident       # and gave way at the next cycle
-    finally:
-        stop.set()
-        runner.join(2)
 
 
 class _HeldArch(_PokedArch):
@@ -139,24 +136,16 @@ class _HeldArch(_PokedArch):
 
 def test_input_brought_during_another_threads_turn_is_left_to_that_turn() -> None:
     arch = _HeldArch()
-    arch.clock = WallClock()
-    agent = Agent("m", "+!hi <- .print(hold).\n+!second <- .print(second).", arch)
-    stop = threading.Event()
-    runner = threading.Thread(target=agent.run, args=(stop,), daemon=True)
-    runner.start()
-    try:
-        assert _until(agent.is_idle)
-        time.sleep(0.05)
+    source = "+!hi <- .print(hold).\n+!second <- .print(second)."
+    with sleeping_agent(source, arch) as (agent, _runner):
         first = threading.Thread(target=agent.receive, args=(_hi(), True))
         first.start()
-        assert arch.holding.wait(3)                    # the first bringer reasons, held mid-turn
-        agent.receive(Message("bob", "m", "achieve", parse_literal("second")), run_here=True)
-        assert "second" not in arch.out                # left to the turn under way, not run here
-        arch.let_go.set()
+        try:
+            assert arch.holding.wait(3)                # the first bringer reasons, held mid-turn
+            agent.receive(Message("bob", "m", "achieve", parse_literal("second")), run_here=True)
+            assert "second" not in arch.out            # left to the turn under way, not run here
+        finally:
+            arch.let_go.set()
         first.join(3)
         assert arch.out == ["hold", "second"]          # done by the time the first bringer returns
         assert dict(arch.printed_by)["second"] == first.ident    # not handed to the runner
-    finally:
-        arch.let_go.set()
-        stop.set()
-        runner.join(2)
