@@ -55,7 +55,7 @@ from rason.ros.auth import (
 from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.fanout import direct_publisher
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
-from rason.ros.frames import framed_subscriber
+from rason.ros.frames import MAX_NICE, framed_subscriber
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.holdback import HoldBack
 from rason.ros.mind_state import LatchedTopic, MindStatePublisher, mind_state_topic
@@ -138,7 +138,7 @@ class AgentNodeParams:
         "until the agent's own input wakes its thread): when the CPU is short, this node's own "
         "work, and the broadcasts it sends, go before the fleet's incoming messages, so a "
         "broadcast reaches its receivers before they take the CPU from its sender; 0 = the "
-        "node's own priority", minimum=0, maximum=19)
+        "node's own priority", minimum=0, maximum=MAX_NICE)
     mind_state_rate: float = param(
         10.0, "at most this many jason/NAME/mind_state publications a second (only when the mind "
         "changed; for the mind inspector); 0 = not published", minimum=0.0)
