@@ -11,6 +11,7 @@ import yaml
 
 from rason.testing.agent_nodes import mind, start_agent, wait_until
 from rason.testing.harness import HarnessError, RosHarness
+from rason.testing.procstat import tcp_connections
 
 pytestmark = pytest.mark.ros
 
@@ -66,6 +67,34 @@ def test_nodes_register_again_with_a_restarted_master_and_keep_the_mind(fresh_ro
     assert {"kept(1)[source(self)]", "kept(2)[source(self)]"} <= set(beliefs), beliefs
     assert "kept(2)[source(self)]" in mind(ros, "/restart_crew", "mate")["beliefs"]
     assert keeper.alive() and decomposer.alive() and crew.alive()
+
+
+def _master_connections(ros: RosHarness, pid: int, looks: int = 8) -> list[set[int]]:
+    """The local ports of the connections to the master that process `pid` has open, at each
+    of `looks` looks 0.4 s apart (the watch asks the master every second)."""
+    seen = []
+    for _ in range(looks):
+        seen.append({c.local_port for c in tcp_connections(pid)
+                     if c.remote_port == ros.port and c.established})
+        time.sleep(0.4)
+    return seen
+
+
+def test_master_watch_keeps_its_connection_to_the_master(fresh_ros):
+    """The watch asks over one kept-alive connection, not a new one each second (rospy may keep
+    one of its own); after a restart it asks the new master over a new one, kept again."""
+    ros = fresh_ros
+    decomposer = ros.rosrun("rason", "echo_decomposer", ns="/watched")
+    ros.wait_for_subscriber("/watched/jason/action", watch=[decomposer])
+    before = ros.nodes()
+    kept = set.intersection(*_master_connections(ros, decomposer.pid))
+    assert kept, "no connection to the master stayed open"
+
+    ros.restart_master(down=0.5)
+    wait_until(lambda: before <= ros.nodes(), 15, "the decomposer registered again")
+    again = set.intersection(*_master_connections(ros, decomposer.pid))
+    assert again and again.isdisjoint(kept), (kept, again)
+    assert decomposer.alive()
 
 
 SIM_WORLD = """\
