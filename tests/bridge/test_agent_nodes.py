@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import os
 import re
+from pathlib import Path
 
 import pytest
 
 from rason.testing.agent_nodes import start_agent, wait_until, write_agent
+from rason.testing.procstat import sched_slice
 
 pytestmark = pytest.mark.ros
 
@@ -139,6 +141,13 @@ def test_the_threads_reading_the_fleets_messages_run_at_a_lower_priority(ros, tm
     assert set(bob_nices) == {base, min(base + 5, 19)}, bob_nices
     assert bob_nices.count(base) > bob_nices.count(min(base + 5, 19))
     assert set(_thread_nices(alice.pid)) == {base}
+    # the niced readers, and only they, ask for a 0.2 ms slice (~receive_slice's default)
+    tasks = Path(f"/proc/{bob.pid}/task")
+    niced = {t.name for t in tasks.iterdir()
+             if os.getpriority(os.PRIO_PROCESS, int(t.name)) != base}
+    slices = {t.name: sched_slice(t / "sched") for t in tasks.iterdir()}
+    assert niced and {slices[t] for t in niced} == {200_000}, slices
+    assert 200_000 not in {v for t, v in slices.items() if t not in niced}, slices
 
 
 def test_send_to_an_unknown_agent_fails_with_a_clear_reason(ros, tmp_path):

@@ -31,6 +31,7 @@ from rospy.impl.tcpros_base import TCPROSTransport
 from rospy.impl.tcpros_pubsub import TCPROSSub
 
 from rason.ros.frames import FlatDecoder, FrameReader, framed_subscriber
+from rason.testing.procstat import sched_slice
 
 
 def _message(seq: int, content: str = "") -> AgentMessage:
@@ -71,12 +72,12 @@ def _tcp_pair() -> tuple[socket.socket, socket.socket]:
 class Link:
     """A subscriber connection (rospy's class, FrameReader installed) and its publisher's end."""
 
-    def __init__(self, queue_size: int | None = None, nice: int = 0) -> None:
+    def __init__(self, queue_size: int | None = None, nice: int = 0, slice_s: float = 0.0) -> None:
         self.publisher, subscriber = _tcp_pair()
         self.connection = TCPROSTransport(TCPROSSub("/t", AgentMessage, queue_size=queue_size),
                                           "/t")
         self.connection.socket = subscriber
-        self.connection.receive_once = FrameReader(self.connection, nice).receive_once
+        self.connection.receive_once = FrameReader(self.connection, nice, slice_s).receive_once
 
     def handshake(self, then: bytes = b"") -> None:
         """The publisher's header (and ``then`` in the same write); the subscriber reads it
@@ -281,6 +282,35 @@ def test_a_reader_lowers_the_priority_of_its_own_thread_once() -> None:
         assert seen["before"] == caller
         assert seen["after"] == seen["after reconnecting"] == min(caller + 3, 19)
         assert _thread_nice() == caller           # only the reading thread
+    finally:
+        link.close()
+
+
+def thread_slice() -> int:
+    """The scheduling slice (ns) Linux gives the calling thread."""
+    return sched_slice("/proc/thread-self/sched")
+
+
+def test_a_reader_asks_its_slice_for_its_own_thread_once() -> None:
+    link = Link(slice_s=0.0003)
+    seen: dict[str, object] = {}
+
+    def read() -> None:
+        seen["before"] = thread_slice()
+        link.handshake(then=_frame(_message(0)))
+        seen["first"] = [m.content for m in link.read(1)]
+        seen["after"] = thread_slice()
+        seen["nice"] = _thread_nice()
+
+    caller, nice = thread_slice(), _thread_nice()
+    reader = threading.Thread(target=read)
+    try:
+        reader.start()
+        reader.join(10)
+        assert seen["first"] == ["ping(0)"]
+        assert seen["before"] == caller != 300_000
+        assert seen["after"] == 300_000 and seen["nice"] == nice    # the nice value is kept
+        assert thread_slice() == caller           # only the reading thread
     finally:
         link.close()
 

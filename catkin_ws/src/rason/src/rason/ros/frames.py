@@ -17,13 +17,18 @@ instead of genpy's generated ``deserialize``, which first fills a new message wi
 the work.
 
 A framed subscriber can also lower the priority of its reading threads (``nice``; the agent
-nodes do for ``/jason/messages``, their ``~receive_nice``). A broadcast is written by its
-sender's agent thread to every receiver in turn, and each write wakes a receiver: on a short CPU
-those woken readers took the core from the sender between its writes, so the last receivers
-heard a broadcast many milliseconds after the first. Readers at a lower priority let the
-sender finish its writes first; the work is the same, its order favours what is under way. (In
-an agent node a reader also runs the reasoning its message starts in an idle agent, see
-``Agent.receive``'s ``run_here``: that work gives way too.)
+nodes do for ``/jason/messages``, their ``~receive_nice``) and ask a short scheduling slice for
+them (``slice_s``, their ``~receive_slice``). A broadcast is written by its sender's agent
+thread to every receiver in turn, and each write wakes a receiver: on a short CPU those woken
+readers took the core from the sender between its writes, so the last receivers heard a
+broadcast many milliseconds after the first. Readers at a lower priority let the sender finish
+its writes first; the work is the same, its order favours what is under way. (In an agent node
+a reader also runs the reasoning its message starts in an idle agent, see ``Agent.receive``'s
+``run_here``: that work gives way too.) The slice is for Linux's EEVDF scheduler (6.12 and
+later; older kernels ignore it): among the threads ready to run, one that asks for shorter
+slices gets the CPU sooner, for less time at a time. A reader's work for a message takes a
+fraction of a millisecond, the kernel's default slice 1.4 ms on a 2-core machine: with it a
+woken reader waited behind whole slices of the others woken with it and of longer jobs.
 
 One difference, on purpose: a frame that does not deserialize is dropped with a rate-limited
 warning and the connection goes on (the length prefix keeps the stream in step), where rospy
@@ -32,8 +37,10 @@ would drop the connection and every message behind it.
 
 from __future__ import annotations
 
+import ctypes
 import errno
 import os
+import platform
 import struct
 import threading
 import weakref
@@ -55,6 +62,11 @@ FLAT_FIELD_TYPES = frozenset({"string", "string[]", "time"})
 _NSEC_PER_SEC = 1_000_000_000
 #: the largest nice value (the lowest priority) Linux has
 MAX_NICE = 19
+#: the shortest and longest slice (s) Linux grants a thread that asks for one
+MIN_SLICE_S, MAX_SLICE_S = 0.0001, 0.1
+#: ``sched_setattr``'s system call number, by machine (``platform.machine()``)
+_SYS_SCHED_SETATTR = {"x86_64": 314, "aarch64": 274, "armv7l": 380, "armv6l": 380, "i686": 351}
+_SCHED_OTHER = 0
 
 
 class FlatDecoder:
@@ -105,7 +117,7 @@ class FrameReader:
     """Reads the messages of one subscriber connection (a rospy ``TCPROSTransport``) in place of
     its ``receive_once``: returns the messages complete so far, blocking until there is one."""
 
-    def __init__(self, connection: TCPROSTransport, nice: int = 0) -> None:
+    def __init__(self, connection: TCPROSTransport, nice: int = 0, slice_s: float = 0.0) -> None:
         # weak: the connection holds this reader's method, and a cycle would keep a dropped
         # connection's socket open until the garbage collector runs (rospy leaves some sockets
         # of connections it dropped mid-connect to reference counting: a publisher waits up to
@@ -118,7 +130,8 @@ class FrameReader:
         self._decoded_class: Any = None
         self._flat: FlatDecoder | None = None
         self._nice = nice                  # added to the reading thread's nice value
-        self._niced = False
+        self._slice_s = slice_s            # the reading thread's slice (0: the kernel's)
+        self._scheduled = False            # nice and slice set for the reading thread
 
     def receive_once(self) -> list[Any]:
         """The next messages, oldest first (rospy's contract: raises ``TransportTerminated``
@@ -159,9 +172,12 @@ class FrameReader:
         past the header, which rospy leaves in the connection's ``read_buff``."""
         self._socket = sock
         sock.setblocking(True)
-        if self._nice and not self._niced:      # once: a reconnection reads in the same thread
-            self._niced = True
-            lower_thread_priority(self._nice)
+        if not self._scheduled:      # once: a reconnection reads in the same thread
+            self._scheduled = True
+            if self._nice:
+                lower_thread_priority(self._nice)
+            if self._slice_s:
+                request_thread_slice(self._slice_s)
         self._buffer = bytearray(handshake.getvalue()[:handshake.tell()])
         handshake.seek(0)
         handshake.truncate()
@@ -233,11 +249,43 @@ def lower_thread_priority(by: int) -> None:
         WARNINGS.warn("nice", f"a receiving thread keeps its priority: {err}")
 
 
+class _SchedAttr(ctypes.Structure):
+    """Linux's ``struct sched_attr`` (``sched_setattr(2)``)."""
+
+    _fields_ = [("size", ctypes.c_uint32), ("sched_policy", ctypes.c_uint32),
+                ("sched_flags", ctypes.c_uint64), ("sched_nice", ctypes.c_int32),
+                ("sched_priority", ctypes.c_uint32), ("sched_runtime", ctypes.c_uint64),
+                ("sched_deadline", ctypes.c_uint64), ("sched_period", ctypes.c_uint64),
+                ("sched_util_min", ctypes.c_uint32), ("sched_util_max", ctypes.c_uint32)]
+
+
+def request_thread_slice(seconds: float) -> None:
+    """Ask Linux to run the calling thread in slices of `seconds` (clamped to
+    [:data:`MIN_SLICE_S`, :data:`MAX_SLICE_S`]; EEVDF, Linux 6.12 and later, needs no privilege;
+    older kernels ignore it). The thread keeps its policy and nice value. A failure is a
+    warning: the thread runs on with the kernel's slice."""
+    thread = threading.get_native_id()
+    seconds = min(MAX_SLICE_S, max(MIN_SLICE_S, seconds))
+    try:
+        attr = _SchedAttr(size=ctypes.sizeof(_SchedAttr), sched_policy=_SCHED_OTHER,
+                          sched_nice=os.getpriority(os.PRIO_PROCESS, thread),
+                          sched_runtime=round(seconds * _NSEC_PER_SEC))
+        number = _SYS_SCHED_SETATTR.get(platform.machine())
+        if number is None:
+            raise OSError(errno.ENOSYS, f"sched_setattr unknown on {platform.machine()}")
+        libc = ctypes.CDLL(None, use_errno=True)
+        if libc.syscall(number, thread, ctypes.byref(attr), 0) != 0:
+            raise OSError(ctypes.get_errno(), os.strerror(ctypes.get_errno()))
+    except OSError as err:
+        WARNINGS.warn("slice", f"a receiving thread keeps the kernel's slice: {err}")
+
+
 def framed_subscriber(topic: str, data_class: type, callback: Any, queue_size: int | None = None,
-                      nice: int = 0, **kwargs: Any) -> rospy.Subscriber:
+                      nice: int = 0, slice_s: float = 0.0, **kwargs: Any) -> rospy.Subscriber:
     """A ``rospy.Subscriber`` whose connections are read by :class:`FrameReader`\\ s (arguments
     as ``rospy.Subscriber``'s); ``nice`` is added to the nice value of each connection's reading
-    thread (the topic's first framed subscriber in the process decides)."""
+    thread and ``slice_s`` (when not 0) is asked for as its slice (the topic's first framed
+    subscriber in the process decides)."""
     subscriber = rospy.Subscriber(topic, data_class, callback, queue_size=queue_size, **kwargs)
     impl = subscriber.impl
     if not getattr(impl, "framed_reads", False):     # the topic's first framed subscriber here
@@ -245,7 +293,7 @@ def framed_subscriber(topic: str, data_class: type, callback: Any, queue_size: i
 
         def add_connection(connection: Any) -> bool:
             if isinstance(connection, TCPROSTransport):
-                connection.receive_once = FrameReader(connection, nice).receive_once
+                connection.receive_once = FrameReader(connection, nice, slice_s).receive_once
             return add_plain(connection)
 
         impl.add_connection = add_connection

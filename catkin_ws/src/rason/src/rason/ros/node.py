@@ -55,7 +55,7 @@ from rason.ros.auth import (
 from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.fanout import direct_publisher
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
-from rason.ros.frames import MAX_NICE, framed_subscriber
+from rason.ros.frames import MAX_NICE, MAX_SLICE_S, framed_subscriber
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.holdback import HoldBack
 from rason.ros.mind_state import LatchedTopic, MindStatePublisher, mind_state_topic
@@ -139,6 +139,13 @@ class AgentNodeParams:
         "work, and the broadcasts it sends, go before the fleet's incoming messages, so a "
         "broadcast reaches its receivers before they take the CPU from its sender; 0 = the "
         "node's own priority", minimum=0, maximum=MAX_NICE)
+    receive_slice: float = param(
+        0.0002, "seconds: the scheduling slice the threads that read /jason/messages ask Linux "
+        "for (EEVDF, kernel 6.12 and later; older kernels ignore it): a thread with a shorter "
+        "slice gets the CPU sooner when it wakes, for less time at a time, so a message's "
+        "handling (a fraction of a millisecond) does not wait behind the default slices of "
+        "the other processes woken with it; 0 = the kernel's default slice",
+        minimum=0.0, maximum=MAX_SLICE_S)
     mind_state_rate: float = param(
         10.0, "at most this many jason/NAME/mind_state publications a second (only when the mind "
         "changed; for the mind inspector); 0 = not published", minimum=0.0)
@@ -264,7 +271,8 @@ class RasonNode:
                           guarded("jason/perception")(self.on_perception),
                           queue_size=100, tcp_nodelay=True)
         framed_subscriber(MESSAGES_TOPIC, AgentMessage, guarded(MESSAGES_TOPIC)(self.on_message),
-                          queue_size=200, nice=self.params.receive_nice, tcp_nodelay=True)
+                          queue_size=200, nice=self.params.receive_nice,
+                          slice_s=self.params.receive_slice, tcp_nodelay=True)
         rospy.Subscriber(DIRECTORY_TOPIC, AgentMessage, guarded(DIRECTORY_TOPIC)(self.on_directory),
                          queue_size=50)
         self._started = True
