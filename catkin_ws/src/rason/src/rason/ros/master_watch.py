@@ -8,7 +8,7 @@ are gone from ``rosservice list`` and it never hears of publishers that start la
 :class:`MasterWatch` asks the master every ``period`` seconds whether it knows this node
 (``lookupNode``), over one HTTP connection kept alive between questions (a new connection for
 each question made the master accept it and start a thread for it, every second for every node:
-in a fleet of twenty robots, most of the master's CPU). When a master answers that does not know
+in a fleet of twenty robots, half of the master's CPU). When a master answers that does not know
 the node, it registers everything the node has again, hands each subscription the publishers
 the master lists (so connections to them are made, as rospy does at start) and runs the node's
 own re-announcement callbacks (e.g. to set its parameters again). The watch uses wall time on
