@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import os
 import re
-from pathlib import Path
 
 import pytest
 
@@ -124,9 +123,9 @@ def test_two_agents_in_two_processes_talk_and_forget_each_other(ros, tmp_path):
     alice.wait_for_line(r"\[alice\] names \[alice\]$", timeout=15, start=mark)
 
 
-def _thread_nices(pid: int) -> list[int]:
-    """The nice value of each thread of process `pid`."""
-    return [os.getpriority(os.PRIO_PROCESS, int(tid)) for tid in os.listdir(f"/proc/{pid}/task")]
+def _thread_nices(pid: int) -> dict[str, int]:
+    """The nice value of each thread of process `pid`, by thread id."""
+    return {tid: os.getpriority(os.PRIO_PROCESS, int(tid)) for tid in os.listdir(f"/proc/{pid}/task")}
 
 
 def test_the_threads_reading_the_fleets_messages_run_at_a_lower_priority(ros, tmp_path):
@@ -135,17 +134,16 @@ def test_the_threads_reading_the_fleets_messages_run_at_a_lower_priority(ros, tm
     assert alice.wait_for_line(r"\[alice\] bob says (\d+)", timeout=30).group(1) == "42"
     bob.wait_for_line(r"\[bob\] greeted by alice", timeout=10)   # each has heard the other
     base = os.getpriority(os.PRIO_PROCESS, 0)
-    bob_nices = _thread_nices(bob.pid)
+    bob_threads = _thread_nices(bob.pid)
+    bob_nices = list(bob_threads.values())
     # the reader of alice's node's messages (and of any other publisher of /jason/messages)
     # is niced; the agent's thread, rospy's and those reading the robot's own topics are not
     assert set(bob_nices) == {base, min(base + 5, 19)}, bob_nices
     assert bob_nices.count(base) > bob_nices.count(min(base + 5, 19))
-    assert set(_thread_nices(alice.pid)) == {base}
+    assert set(_thread_nices(alice.pid).values()) == {base}
     # the niced readers, and only they, ask for a 0.2 ms slice (~receive_slice's default)
-    tasks = Path(f"/proc/{bob.pid}/task")
-    niced = {t.name for t in tasks.iterdir()
-             if os.getpriority(os.PRIO_PROCESS, int(t.name)) != base}
-    slices = {t.name: sched_slice(t / "sched") for t in tasks.iterdir()}
+    niced = {tid for tid, nice in bob_threads.items() if nice != base}
+    slices = {tid: sched_slice(f"/proc/{bob.pid}/task/{tid}/sched") for tid in bob_threads}
     assert niced and {slices[t] for t in niced} == {200_000}, slices
     assert 200_000 not in {v for t, v in slices.items() if t not in niced}, slices
 

@@ -69,15 +69,15 @@ def test_nodes_register_again_with_a_restarted_master_and_keep_the_mind(fresh_ro
     assert keeper.alive() and decomposer.alive() and crew.alive()
 
 
-def _master_connections(ros: RosHarness, pid: int, looks: int = 8) -> list[set[int]]:
-    """The local ports of the connections to the master that process `pid` has open, at each
-    of `looks` looks 0.4 s apart (the watch asks the master every second)."""
+def _kept_master_connections(ros: RosHarness, pid: int, looks: int = 8) -> set[int]:
+    """The local ports of the connections to the master that process `pid` has open at every
+    one of `looks` looks 0.4 s apart (the watch asks the master every second)."""
     seen = []
     for _ in range(looks):
         seen.append({c.local_port for c in tcp_connections(pid)
                      if c.remote_port == ros.port and c.established})
         time.sleep(0.4)
-    return seen
+    return set.intersection(*seen)
 
 
 def test_master_watch_keeps_its_connection_to_the_master(fresh_ros):
@@ -87,12 +87,12 @@ def test_master_watch_keeps_its_connection_to_the_master(fresh_ros):
     decomposer = ros.rosrun("rason", "echo_decomposer", ns="/watched")
     ros.wait_for_subscriber("/watched/jason/action", watch=[decomposer])
     before = ros.nodes()
-    kept = set.intersection(*_master_connections(ros, decomposer.pid))
+    kept = _kept_master_connections(ros, decomposer.pid)
     assert kept, "no connection to the master stayed open"
 
     ros.restart_master(down=0.5)
     wait_until(lambda: before <= ros.nodes(), 15, "the decomposer registered again")
-    again = set.intersection(*_master_connections(ros, decomposer.pid))
+    again = _kept_master_connections(ros, decomposer.pid)
     assert again and again.isdisjoint(kept), (kept, again)
     assert decomposer.alive()
 
