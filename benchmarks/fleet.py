@@ -8,9 +8,21 @@ perception stream (``rostopic pub -r 20``), all in the robot's namespace ``/rK``
 broadcasts ``ping(Seq, T)`` twice a second (``T``: ``.nano_time``, and all namespaces share one
 kernel clock, so one-way latency is exact) and performs a ``move`` on its decomposer; every agent
 prints the latency of every ping it receives, into its log file (the benchmark reads the files,
-not pipes). Measured:
+not pipes). ``--pacing`` says when an agent pings:
+
+* ``slot`` (default): ping ``I`` at a random moment of the ``I``-th 500 ms slot after the
+  agent's start ``T0``: twice a second on average, whatever the latencies are, at times
+  independent of the other agents' (the load a latency figure is meant for);
+* ``wait``: ``.wait(500)`` after each ping's ``move`` is done, so an agent's period stretches
+  with the delays of the machine it measures. Agents delayed by the same burst ping again
+  together, and the fleet falls into step (the benchmark's only pacing until the late night
+  of 2026-11-26).
+
+Measured:
 
 * message latency p50/p99 between hosts (agent broadcast -> another host's agent's plan runs);
+* crowding: how many other broadcasts come within 5 ms of a broadcast, on average, against
+  what independent times at the same rate give (1: independent; 2: twice as many neighbours);
 * presence convergence: a host joins (its agent starts: until every other agent logged it
   ``present``), leaves (SIGINT: it says goodbye; until every agent forgot it) and vanishes (its
   link cut: until every agent forgot it, ``~presence_timeout`` (3.5 s) after it was last heard);
@@ -21,12 +33,13 @@ Prints a table, writes ``docs/fleet/fleet.csv`` and ``docs/fleet/fleet.png`` (ea
 against N). Aim: p99 under 20 ms at N = 20 on 2 cores; presence converging within two presence
 periods (join and leave; a vanished host is forgotten after the timeout plus at most a period).
 
-    ./run.sh bench fleet [--sizes 1 5 10 20] [--window 30]
+    ./run.sh bench fleet [--sizes 1 5 10 20] [--window 30] [--pacing slot|wait]
 """
 
 from __future__ import annotations
 
 import argparse
+import bisect
 import csv
 import os
 import re
@@ -53,19 +66,35 @@ ROOT = Path(__file__).resolve().parent.parent
 PRESENCE_PERIOD = 1.0
 PRESENCE_TIMEOUT = 3.5
 PING_PERIOD_MS = 500
+#: two broadcasts this close (ms) are neighbours in the crowding figure
+NEIGHBOUR_MS = 5.0
 #: how a fleet's run (a child process) starts a line of its stderr the parent passes on
 NOTE = "[fleet] "
 
-AGENT = """
-!start.
+#: the agent's plans for each ``--pacing`` (placeholders __WARMUP__, __COUNT__, __PERIOD__ in ms)
+PACING = {
+    "slot": """
++!start <- .wait(__WARMUP__); .nano_time(T0); !loop(0, T0).
++!loop(I, T0) : I < __COUNT__
+   <- .random(R); .nano_time(Now); .wait(math.max(0, (T0 - Now) / 1000000 + (I + R) * __PERIOD__));
+      .nano_time(T); .broadcast(tell, ping(I, T)); move(I); !loop(I + 1, T0).
++!loop(_, _) <- .print("done").
+""",
+    "wait": """
 +!start <- .wait(__WARMUP__); !loop(0).
 +!loop(I) : I < __COUNT__
    <- .nano_time(T); .broadcast(tell, ping(I, T)); move(I); .wait(__PERIOD__); !loop(I + 1).
 +!loop(_) <- .print("done").
+""",
+}
+#: every agent's plan for a ping it hears: one line with the sender, latency (ms), I and T
+HEAR = """
+!start.
 +ping(I, T)[source(S)]
-   <- .nano_time(Now); .print("lat ", S, " ", (Now - T) / 1000000); -ping(I, T)[source(S)].
+   <- .nano_time(Now); .print("lat ", S, " ", (Now - T) / 1000000, " ", I, " ", T);
+      -ping(I, T)[source(S)].
 """
-LATENCY = re.compile(r"\] lat (\w+) ([\d.eE+-]+)$")
+LATENCY = re.compile(r"\] lat (\w+) ([\d.eE+-]+) (\d+) (\d+)$")
 # rospy log: "[INFO] [WALL]: agent r3 present" ("[WALL, ROS]" under sim time)
 LOG = re.compile(r"\[INFO\] \[([\d.]+)(?:, [\d.]+)?\]: (.*)$")
 
@@ -75,10 +104,12 @@ class FleetResult:
     """One fleet size's figures (ms, s, % of one core)."""
 
     n: int
+    pacing: str
     messages: int
     p50_ms: float
     p99_ms: float
     max_ms: float
+    crowding: float  # neighbours within NEIGHBOUR_MS per broadcast / those of independent times
     join_s: float
     leave_s: float
     vanish_s: float
@@ -89,9 +120,36 @@ class FleetResult:
     load: float      # the machine's 1-minute load average at the end of the window
 
 
+#: how a FleetResult field is read back from text (the CSV, the child's RESULT line)
+FIELD_TYPES = {"int": int, "float": float, "str": str}
+
+
 def percentile(values: list[float], q: float) -> float:
     ordered = sorted(values)
     return ordered[min(len(ordered) - 1, round(q / 100 * (len(ordered) - 1)))] if ordered else 0.0
+
+
+@dataclass(frozen=True)
+class Heard:
+    """One ping one agent heard: its sender, sequence number, send time (ns) and latency."""
+
+    sender: str
+    seq: int
+    sent_ns: int
+    latency_ms: float
+
+
+def crowding(sent_ns: list[int], window_s: float) -> float:
+    """How many other broadcasts come within :data:`NEIGHBOUR_MS` of each of ``sent_ns`` (the
+    broadcasts of a window of ``window_s`` seconds), on average, divided by what independent
+    times at the same rate give: 1 for independent times, more when they come in bunches."""
+    times = sorted(t / 1e6 for t in sent_ns)
+    if len(times) < 2 or window_s <= 0:
+        return float("nan")
+    neighbours = sum(bisect.bisect_right(times, t + NEIGHBOUR_MS)
+                     - bisect.bisect_left(times, t - NEIGHBOUR_MS) - 1 for t in times)
+    rate_per_ms = (len(times) - 1) / (window_s * 1000)
+    return neighbours / len(times) / (2 * NEIGHBOUR_MS * rate_per_ms)
 
 
 def rosmaster_pid(roscore: Process) -> int:
@@ -181,12 +239,12 @@ def start_robot(ros: RosHarness, host: netns.Host, asl: Path) -> Process:
                               "presence_timeout": PRESENCE_TIMEOUT})
 
 
-def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
-    """One fleet of ``n`` robot hosts (plus a joining one); its figures."""
+def run_fleet(n: int, window: float, pacing: str, tmp: Path) -> FleetResult:
+    """One fleet of ``n`` robot hosts (plus a joining one) pinging by ``pacing``; its figures."""
     robots = [f"r{i}" for i in range(1, n + 1)]
     asl = tmp / "fleet.asl"
-    asl.write_text(AGENT.replace("__WARMUP__", "1000").replace("__COUNT__", "100000")
-                   .replace("__PERIOD__", str(PING_PERIOD_MS)))
+    asl.write_text((HEAR + PACING[pacing]).replace("__WARMUP__", "1000")
+                   .replace("__COUNT__", "100000").replace("__PERIOD__", str(PING_PERIOD_MS)))
     lan = netns.Lan(["master", *robots], firewall=True)
     with lan:
         netns.enter(lan.host("master"))
@@ -211,8 +269,11 @@ def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
             cpu_agent = statistics.fmean((cpu_seconds(p.pid) - cpu0[r]) / elapsed * 100
                                          for r, p in agents.items())
             cpu_master = (cpu_seconds(master) - m0) / elapsed * 100
-            latencies = [float(m.group(2)) for r, p in agents.items()
-                         for line in p.lines()[marks[r]:] if (m := LATENCY.search(line))]
+            heard = [Heard(m.group(1), int(m.group(3)), int(m.group(4)), float(m.group(2)))
+                     for r, p in agents.items() for line in p.lines()[marks[r]:]
+                     if (m := LATENCY.search(line))]
+            latencies = [h.latency_ms for h in heard]
+            broadcasts = {(h.sender, h.seq): h.sent_ns for h in heard}
             dead = [p.name for p in ros.processes if not p.alive()]
             if dead:
                 raise RuntimeError(f"processes died during the window: {dead}")
@@ -255,21 +316,24 @@ def run_fleet(n: int, window: float, tmp: Path) -> FleetResult:
                 print(f"{NOTE}vanish not measured: {err}", file=sys.stderr)
                 vanish = float("nan")
     return FleetResult(
-        n=n, messages=len(latencies), p50_ms=round(percentile(latencies, 50), 2),
+        n=n, pacing=pacing, messages=len(latencies), p50_ms=round(percentile(latencies, 50), 2),
         p99_ms=round(percentile(latencies, 99), 2), max_ms=round(max(latencies, default=0), 2),
+        crowding=round(crowding(list(broadcasts.values()), elapsed), 2),
         join_s=round(join, 2), leave_s=round(leave, 2), vanish_s=round(vanish, 2),
         cpu_agent_pct=round(cpu_agent, 1), cpu_master_pct=round(cpu_master, 1),
         master_start_cpu_s=round(master_start_cpu, 2), nodes=nodes, load=round(load, 1))
 
 
 def table(results: list[FleetResult]) -> str:
-    lines = ["| N robots | messages | latency p50 | p99 | max | join | leave (Ctrl-C) | "
-             "vanish (link cut) | CPU per agent | rosmaster CPU | rosmaster CPU for the start | "
-             "nodes | load |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| N robots | pacing | messages | latency p50 | p99 | max | crowding | join | "
+             "leave (Ctrl-C) | vanish (link cut) | CPU per agent | rosmaster CPU | "
+             "rosmaster CPU for the start | nodes | load |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
-        latency = (f"{r.p50_ms:.2f} ms | {r.p99_ms:.2f} ms | {r.max_ms:.1f} ms" if r.messages
-                   else "- | - | -")          # one robot: no other host to hear from
-        lines.append(f"| {r.n} | {r.messages} | {latency} | {r.join_s:.2f} s | {r.leave_s:.2f} s | "
+        latency = (f"{r.p50_ms:.2f} ms | {r.p99_ms:.2f} ms | {r.max_ms:.1f} ms | {r.crowding:.2f}"
+                   if r.messages else "- | - | - | -")   # one robot: no other host to hear from
+        lines.append(f"| {r.n} | {r.pacing} | {r.messages} | {latency} | {r.join_s:.2f} s | "
+                     f"{r.leave_s:.2f} s | "
                      f"{r.vanish_s:.2f} s | {r.cpu_agent_pct:.1f}% | {r.cpu_master_pct:.1f}% | "
                      f"{r.master_start_cpu_s:.2f} s | {r.nodes} | {r.load:.1f} |")
     return "\n".join(lines)
@@ -283,7 +347,8 @@ def plot(results: list[FleetResult], path: Path) -> None:
     ax.plot([r.n for r in heard], [r.p50_ms for r in heard], "o-", label="p50")
     ax.plot([r.n for r in heard], [r.p99_ms for r in heard], "s-", label="p99")
     ax.axhline(20, ls="--", color="k", label="aim: p99 < 20 ms")
-    ax.set_title("message latency between hosts")
+    ax.set_title(f"message latency between hosts ({', '.join(sorted({r.pacing for r in results}))}"
+                 " pacing)")
     ax.set_ylabel("ms")
     ax = axes[1]
     ax.plot(ns, [r.join_s for r in results], "o-", label="join")
@@ -317,6 +382,10 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[1, 5, 10, 20])
     parser.add_argument("--window", type=float, default=30.0, help="seconds of steady state")
+    parser.add_argument("--pacing", choices=sorted(PACING), default="slot",
+                        help="slot: every agent pings once in each 500 ms slot of its own, at a "
+                             "random moment of it; wait: 500 ms after each ping's move is done "
+                             "(the fleet falls into step)")
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "fleet")
     parser.add_argument("--replot", action="store_true",
                         help="only redraw the table and plot from OUT/fleet.csv")
@@ -324,7 +393,7 @@ def main() -> int:
     if args.replot:
         with open(args.out / "fleet.csv") as f:
             rows = list(csv.DictReader(f))
-        results = [FleetResult(**{fld.name: (int if fld.type == "int" else float)(row[fld.name])
+        results = [FleetResult(**{fld.name: FIELD_TYPES[fld.type](row[fld.name])
                                   for fld in fields(FleetResult)}) for row in rows]
         plot(results, args.out / "fleet.png")
         print(table(results))
@@ -337,7 +406,7 @@ def main() -> int:
     if os.environ.get("RASON_FLEET_ONE"):
         tmp = Path(tempfile.mkdtemp(prefix="rason-fleet-"))
         try:
-            result = run_fleet(int(os.environ["RASON_FLEET_ONE"]), args.window, tmp)
+            result = run_fleet(int(os.environ["RASON_FLEET_ONE"]), args.window, args.pacing, tmp)
         except BaseException:
             print(f"the nodes' logs are kept in {tmp}", file=sys.stderr)   # to see why
             raise
@@ -348,7 +417,8 @@ def main() -> int:
     results = []
     for n in args.sizes:
         print(f"{NOTE}N = {n} ...", flush=True)
-        done = subprocess.run([sys.executable, __file__, "--window", str(args.window)],
+        done = subprocess.run([sys.executable, __file__, "--window", str(args.window),
+                               "--pacing", args.pacing],
                               env={**os.environ, "RASON_FLEET_ONE": str(n)},
                               capture_output=True, text=True, timeout=1800)
         line = next((x for x in done.stdout.splitlines() if x.startswith("RESULT ")), None)
@@ -359,7 +429,7 @@ def main() -> int:
             if note.startswith(NOTE):
                 print(note, file=sys.stderr, flush=True)
         values = line[len("RESULT "):].split(",")
-        results.append(FleetResult(*(int(v) if f.type == "int" else float(v)
+        results.append(FleetResult(*(FIELD_TYPES[f.type](v)
                                      for f, v in zip(fields(FleetResult), values, strict=True))))
         print(table(results[-1:]).splitlines()[-1], flush=True)
     with open(args.out / "fleet.csv", "w", newline="") as f:
@@ -367,7 +437,8 @@ def main() -> int:
         writer.writerow([f.name for f in fields(FleetResult)])
         writer.writerows([list(asdict(r).values()) for r in results])
     plot(results, args.out / "fleet.png")
-    print(f"\nfleet of N robot hosts (this machine: {os.cpu_count()} cores)\n")
+    print(f"\nfleet of N robot hosts ({args.pacing} pacing; this machine: {os.cpu_count()} "
+          "cores)\n")
     print(table(results))
     last = results[-1]
     met = last.messages > 0 and last.p99_ms < 20      # no message measured is no latency met
