@@ -325,17 +325,17 @@ def run_fleet(n: int, window: float, pacing: str, tmp: Path) -> FleetResult:
 
 
 def table(results: list[FleetResult]) -> str:
-    lines = ["| N robots | pacing | messages | latency p50 | p99 | max | crowding | join | "
-             "leave (Ctrl-C) | vanish (link cut) | CPU per agent | rosmaster CPU | "
-             "rosmaster CPU for the start | nodes | load |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    columns = ["N robots", "pacing", "messages", "latency p50", "p99", "max", "crowding", "join",
+               "leave (Ctrl-C)", "vanish (link cut)", "CPU per agent", "rosmaster CPU",
+               "rosmaster CPU for the start", "nodes", "load"]
+    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for r in results:
         latency = (f"{r.p50_ms:.2f} ms | {r.p99_ms:.2f} ms | {r.max_ms:.1f} ms | {r.crowding:.2f}"
                    if r.messages else "- | - | - | -")   # one robot: no other host to hear from
         lines.append(f"| {r.n} | {r.pacing} | {r.messages} | {latency} | {r.join_s:.2f} s | "
-                     f"{r.leave_s:.2f} s | "
-                     f"{r.vanish_s:.2f} s | {r.cpu_agent_pct:.1f}% | {r.cpu_master_pct:.1f}% | "
-                     f"{r.master_start_cpu_s:.2f} s | {r.nodes} | {r.load:.1f} |")
+                     f"{r.leave_s:.2f} s | {r.vanish_s:.2f} s | {r.cpu_agent_pct:.1f}% | "
+                     f"{r.cpu_master_pct:.1f}% | {r.master_start_cpu_s:.2f} s | {r.nodes} | "
+                     f"{r.load:.1f} |")
     return "\n".join(lines)
 
 
