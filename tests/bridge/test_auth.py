@@ -79,14 +79,15 @@ def test_key_files(tmp_path):
         load_key(tmp_path / "none")
 
 
-def test_trust_policy_restricts_only_plan_and_goal_performatives():
+def test_trust_policy_leaves_untrusted_senders_only_tell_untell_and_ask():
     open_policy = TrustPolicy()
     assert open_policy.accepts("robot", "anyone", "tellHow")
     policy = TrustPolicy.of(["boss", " "])
-    for performative in ("tellHow", "untellHow", "askHow", "achieve", "unachieve"):
+    for performative in ("tellHow", "untellHow", "askHow", "achieve", "unachieve", "signal",
+                         "madeUp", ""):
         assert not policy.accepts("robot", "mallory", performative)
         assert policy.accepts("robot", "boss", performative)
     assert policy.accepts("robot", "robot", "achieve")          # an agent may ask itself
-    assert policy.accepts("robot", "mallory", "tell")
-    assert policy.accepts("robot", "mallory", "askOne")
+    for performative in ("tell", "untell", "askOne", "askAll"):
+        assert policy.accepts("robot", "mallory", performative)
 

@@ -158,12 +158,20 @@ class RosAgArch(AgentArch):
         self.node.console(agent_name, text)
 
     def accepts(self, message: Message) -> bool:
-        """Jason's message acceptance hook: may `message` reach this agent at all?
+        """Jason's message acceptance hook: may `message` reach this agent at all?"""
+        return self.refusal(message) is None
 
-        By default senders outside the trust policy may not use ``tellHow``, ``untellHow``,
-        ``askHow``, ``achieve`` or ``unachieve``; override in a subclass to decide otherwise.
+    def refusal(self, message: Message) -> str | None:
+        """Why `message` may not reach this agent (None: it may).
+
+        By default senders outside the trust policy may only tell, untell and ask, and no
+        message's content may call an internal action outside the node's
+        ``~remote_internal_actions`` (:mod:`rason.ros.acceptance`); override in a subclass to
+        decide otherwise.
         """
-        return self.trust.accepts(self.name, message.sender, message.performative)
+        if not self.trust.accepts(self.name, message.sender, message.performative):
+            return "not a trusted sender"
+        return self.node.remote_actions.refusal(message.performative, message.content)
 
     # -- from the node -------------------------------------------------------------------------------
     def on_perception(self, source: str, perceptions: list[str]) -> None:

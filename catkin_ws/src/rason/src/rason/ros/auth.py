@@ -9,9 +9,11 @@ defences, both off by default (today's open behaviour):
   altered fields), stale (sent longer ago than the replay window, or from the future beyond it)
   or replayed (a nonce already seen within the window).
 * **Acceptance** (:class:`TrustPolicy`, the model is Jason's message acceptance hook): an agent
-  may name the senders allowed to change its plans or give it goals (``tellHow``,
-  ``untellHow``, ``askHow``, ``achieve``, ``unachieve``); the others' such messages are dropped.
-  Without authentication a sender name is only a claim, so use both on an untrusted network.
+  may name the senders it trusts; the others may only tell, untell and ask (``tell``,
+  ``untell``, ``askOne``, ``askAll``): every other performative (goals, plans, signals, any
+  unknown one) from them is dropped. Whatever the sender, a message never runs an internal
+  action outside an allow-list (:mod:`rason.ros.acceptance`). Without authentication a sender
+  name is only a claim, so use both on an untrusted network.
 """
 
 from __future__ import annotations
@@ -29,8 +31,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-#: Performatives that change what an agent does: restricted by a TrustPolicy.
-RESTRICTED_PERFORMATIVES = frozenset({"tellHow", "untellHow", "askHow", "achieve", "unachieve"})
+#: The only performatives a sender outside a TrustPolicy may use: they give information or ask
+#: for it; every other one (achieve, unachieve, tellHow, untellHow, askHow, signal...) gives the
+#: agent goals or plans.
+OPEN_PERFORMATIVES = frozenset({"tell", "untell", "askOne", "askAll"})
 #: Prefix of a signature: the scheme, so another one can be introduced later.
 SCHEME = "hmac-sha256"
 #: A key shorter than this (bytes) is refused: it would be guessable.
@@ -165,7 +169,8 @@ class MessageAuth:
 
 @dataclass(frozen=True)
 class TrustPolicy:
-    """Which senders may use the restricted performatives (empty `senders` = everyone)."""
+    """Which senders may use every performative (empty `senders` = everyone); the others
+    only the :data:`OPEN_PERFORMATIVES`."""
 
     senders: frozenset[str] = frozenset()
 
@@ -175,6 +180,6 @@ class TrustPolicy:
 
     def accepts(self, receiver: str, sender: str, performative: str) -> bool:
         """Jason's acceptance hook: may `sender` send `performative` to `receiver`?"""
-        if not self.senders or performative not in RESTRICTED_PERFORMATIVES:
+        if not self.senders or performative in OPEN_PERFORMATIVES:
             return True
         return sender == receiver or sender in self.senders

@@ -42,6 +42,7 @@ from jason_msgs.srv import Mind, MindResponse
 from rason.asl import Agent, AgentOptions, Message, load_agent_source, parse_term_text, term_str, term_text
 from rason.asl.df import DF_NAME, ProviderNotice, Registration, ServiceDirectory
 from rason.asl.terms import ListTerm, Literal, list_to_python, non_finite_part
+from rason.ros.acceptance import RemoteActions
 from rason.ros.arch import RosAgArch, ros_now
 from rason.ros.auth import (
     AuthKeyError,
@@ -123,9 +124,14 @@ class AgentNodeParams:
         10.0, "s (ROS time) a signed message stays acceptable after its stamp (hosts' clocks "
         "must agree within it: chrony/NTP); a nonce seen within it is a replay", minimum=0.0)
     trusted_senders: list = param(
-        [], "the only senders whose tellHow, untellHow, askHow, achieve and unachieve reach the "
-        "agents of this node (Jason's message acceptance hook); [] = everyone. In a .mas2j, per "
-        "agent: trusted_senders=\"[boss]\"")
+        [], "the only senders whose every message may reach the agents of this node (Jason's "
+        "message acceptance hook); the others' are dropped but for tell, untell, askOne and "
+        "askAll; [] = everyone. In a .mas2j, per agent: trusted_senders=\"[boss]\"")
+    remote_internal_actions: list = param(
+        [], "the internal actions a message from another agent may make the receiver run when "
+        "its content is evaluated (an askOne .my_name(N), a told rule calling .count...), for "
+        "every sender, trusted or not, e.g. \"[.my_name, .count]\"; a message whose content "
+        "calls any other (or holds a plan term) is dropped with a warning. [] = none")
     tro: bool = param(AgentOptions().tro, "tail-recursion optimisation as Jason's tro agent option: "
                       "+!loop <- ...; !loop. runs in constant memory")
     max_intention_depth: int = param(
@@ -204,6 +210,11 @@ class RasonNode:
         self._declared_ttls: dict[str, float | None] = {}
         self.auth = _message_auth(params.auth_key_file, params.auth_window)
         self.trust = TrustPolicy.of(params.trusted_senders)
+        self.remote_actions = RemoteActions.of(params.remote_internal_actions)
+        if self.auth is None:
+            rospy.logwarn("no ~auth_key_file: this node accepts any sender on the ROS graph (any "
+                          "process may send its agents messages in any agent's name; messages "
+                          "run no internal action outside ~remote_internal_actions)")
         # Rejected messages, expired perception sources: one warning per kind and 10 s at most.
         self.warnings = RateLimitedWarnings(period=10.0)
         self.agents: dict[str, HostedAgent] = {}
@@ -529,10 +540,12 @@ class RasonNode:
     def _receive(self, hosted: HostedAgent, message: Message, run_here: bool = False) -> None:
         """Give `message` to a hosted agent if its acceptance hook lets it in (``run_here``:
         a receiving thread that may reason for the agent, see ``Agent.receive``)."""
-        if not hosted.arch.accepts(message):
-            self.warnings.warn(f"untrusted {shorten(message.sender, 64)}",
-                            f"[{hosted.arch.name}] dropped {message.performative} from "
-                            f"'{message.sender}': not a trusted sender")
+        refusal = hosted.arch.refusal(message)
+        if refusal is not None:
+            self.warnings.warn(f"refused {shorten(message.sender, 64)} "
+                               f"{shorten(message.performative, 32)} {refusal[:60]}",
+                               f"[{hosted.arch.name}] dropped {shorten(message.performative, 32)} "
+                               f"from '{shorten(message.sender, 64)}': {refusal}")
             return
         self.note_message(hosted.agent.name, message, outgoing=False)
         hosted.agent.receive(message, run_here=run_here)
