@@ -27,6 +27,8 @@ class CancelReason:
     NO_DECOMPOSER = "no_decomposer"     # not acknowledged within ~ack_timeout
     DROPPED = "dropped"                 # its intention was dropped, or failed or ended above it
     SHUTDOWN = "shutdown"               # the agent's node is shutting down
+    STOP_MAS = "stop_mas"               # an agent of its node called .stopMAS: the node stops
+    AGENT_ENDED = "agent_ended"         # the agent's reasoning ended on an error
 
 
 class EventLike(Protocol):

@@ -20,6 +20,13 @@ Topic jason/NAME/mind_state (std_msgs/String, latched): the mind as JSON for the
   someone subscribes.
 
 Private parameters: :class:`AgentNodeParams` (``rosrun rason agent --help`` prints them).
+
+Stopping is stopping: however an agent ends, its pending actions are cancelled on jason/cancel
+(with the reason: ``stop_mas``, ``shutdown``, ``dropped``, ``agent_ended``), it says goodbye
+and no presence beat follows, so its decomposers stop the robot. ``.stopMAS`` stops the whole
+node, every agent it hosts, and the node exits with status 0 (Jason's platform ends the MAS);
+``.kill_agent`` ends one agent and the node goes on; SIGINT/SIGTERM and node shutdown end all;
+an agent whose reasoning ends on an error is ended as ``.kill_agent`` would.
 """
 
 from __future__ import annotations
@@ -220,6 +227,7 @@ class RasonNode:
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
+        self._stop_lock = threading.Lock()       # shutdown runs once
         self.bad_input = BadInputLog(rospy.logwarn, rospy.get_time)
 
         # -- topics (subscriptions start with the agents: see start) -------------------------------
@@ -331,18 +339,35 @@ class RasonNode:
             self._announce(name, "hello")
 
     def _run_agent(self, agent: Agent) -> None:
+        """An agent's thread: its reasoning cycle, then, however it ended, its actions
+        cancelled and its goodbye (``.stopMAS`` stops the whole node, as Jason's platform)."""
+        error: Exception | None = None
         try:
             agent.run(self.stop)
         except Exception as err:
+            error = err
             rospy.logerr("agent %s stopped: %s", agent.name, err)
+        hosted = self.agents.get(agent.name)
+        if self.stop.is_set() or hosted is None or hosted.agent is not agent:
+            return        # the node stops (it says goodbye for all) or .kill_agent did it
+        if error is None and agent.stop_requested:
+            rospy.loginfo("agent %s called .stopMAS: the node stops", agent.name)
+            self.shutdown(CancelReason.STOP_MAS)
+            rospy.signal_shutdown(f"{agent.name} called .stopMAS")
+        else:
+            self.kill_agent(agent.name, CancelReason.AGENT_ENDED)
 
-    def shutdown(self) -> None:
-        """Stop every reasoning cycle, cancel the pending actions, say goodbye on the network."""
-        self.stop.set()
+    def shutdown(self, reason: str = CancelReason.SHUTDOWN) -> None:
+        """Stop every reasoning cycle, cancel the pending actions (``reason``), say goodbye on
+        the network; presence ends (done once: later calls do nothing)."""
+        with self._stop_lock:
+            if self.stop.is_set():
+                return
+            self.stop.set()
         cancelled = 0
         for name, hosted in list(self.agents.items()):
             hosted.agent.wake()
-            cancelled += hosted.arch.cancel_all(CancelReason.SHUTDOWN)
+            cancelled += hosted.arch.cancel_all(reason)
             try:
                 self._announce(name, GOODBYE)
             except rospy.ROSException:
@@ -350,7 +375,8 @@ class RasonNode:
         if cancelled:
             time.sleep(0.1)       # let the cancels leave before the connections close
         for hosted in list(self.agents.values()):
-            hosted.thread.join(2.0)
+            if hosted.thread is not threading.current_thread() and hosted.thread.is_alive():
+                hosted.thread.join(2.0)
 
     # -- output -----------------------------------------------------------------------------------------
     def publish_action(self, agent: str, action_id: int, action) -> bool:
@@ -500,14 +526,15 @@ class RasonNode:
             hosted.thread.start()
         return final
 
-    def kill_agent(self, name: str) -> bool:
-        """``.kill_agent``: the agent stops, its actions are cancelled, it says goodbye."""
+    def kill_agent(self, name: str, reason: str = CancelReason.DROPPED) -> bool:
+        """``.kill_agent``: the agent stops, its actions are cancelled (``reason``), it says
+        goodbye."""
         hosted = self.agents.pop(name, None)
         if hosted is None:
             return False
         hosted.agent.request_stop()
         hosted.agent.wake()
-        hosted.arch.cancel_all(CancelReason.DROPPED)
+        hosted.arch.cancel_all(reason)
         self.directory.remove_local(name)
         self.services.forget_agent(name)
         if hosted.mind_service is not None:
@@ -568,8 +595,8 @@ class RasonNode:
 
     def greet(self, publish_to_newcomer: Callable[[AgentMessage], None]) -> None:
         """A node just subscribed to /jason/messages: tell it (only it) which agents we host."""
-        if not self._started:
-            return      # start() says hello to everyone
+        if not self._started or self.stop.is_set():
+            return      # start() says hello to everyone; a stopping node said goodbye
         impl = self.message_pub.impl
         if impl is None:
             return      # closing
@@ -620,7 +647,7 @@ class RasonNode:
                 return
             if self.directory.heard(msg.sender, now):   # new, or back after a lapse
                 rospy.loginfo("agent %s present", msg.sender)
-            if msg.content == HELLO:           # a newcomer: let it know us at once
+            if msg.content == HELLO and not self.stop.is_set():   # a newcomer: know us now
                 for name in list(self.agents):
                     self._announce(name)
             return
@@ -708,6 +735,8 @@ class RasonNode:
             return None
 
     def on_presence(self, _event: rospy.timer.TimerEvent) -> None:
+        if self.stop.is_set():
+            return          # goodbye said: no beat may follow it
         now = rospy.get_time()
         for name in list(self.agents):
             # everyone hears any message as presence: an agent that spoke within the last half
