@@ -31,7 +31,9 @@ What the base does (names relative, so ``__ns:=/robot`` puts it under the robot)
   a ValueError/TypeError from :meth:`Decomposer.parse` answers ``bad_parameters`` instead.
   With ``exclusive`` (default) a new action preempts the running one (``preempted``).
 * ``jason/event`` (jason_msgs/Event, out): ``action_feedback [RESULT, id, message]`` once per
-  action, RESULT ``OK`` or a reason (:mod:`rason.execution.results`).
+  action, RESULT ``OK`` or a reason (:mod:`rason.execution.results`); ``action_accepted [id,
+  beat period]`` and, every ``~beat_period`` while actions run, ``action_running [id...]``
+  (the agent's supervision of its decomposer, see :mod:`rason.ros.feedback`).
 * ``jason/cancel`` (jason_msgs/ActionCancel, in): the agent gave the action up; it is halted at
   once and ends ``cancelled``.
 * ``jason/presence`` (jason_msgs/AgentMessage, in): the presence beats and goodbyes the agent
@@ -82,7 +84,7 @@ from rason.ros.auth import SignedFields, message_auth
 from rason.ros.auth import Verdict as Authenticity
 from rason.ros.badinput import shorten
 from rason.ros.fanout import direct_publisher
-from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
+from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK, ACTION_RUNNING
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.master_watch import watch_master
 from rason.ros.params import load_or_exit, param, start_node
@@ -107,6 +109,10 @@ class DecomposerParams:
                                     minimum=0.0)
     watchdog_rate: float = param(20.0, "Hz (ROS time) of step() and of the checks above",
                                  minimum=0.1, maximum=1000.0)
+    beat_period: float = param(
+        1.0, "s (ROS time) between two action_running beats on jason/event while actions run "
+        "(announced in each action_accepted): an agent fails an action whose decomposer falls "
+        "silent with decomposer_lost (its ~decomposer_timeout); 0 = no beats", minimum=0.0)
     auth_key_file: str = param(
         "", "the agents' shared key file (their ~auth_key_file): only messages signed with it "
         "count as an agent's presence; empty = every message counts (no authentication)")
@@ -159,6 +165,8 @@ class Decomposer:
         self.warnings = RateLimitedWarnings()
         self.goals: dict[tuple[str, int], Goal] = {}
         self.heard: dict[str, float] = {}          # agent -> ROS time it was last heard
+        self.beat_period: float = self.params.beat_period
+        self._last_beat = -1.0                     # ROS time of the last action_running beats
         self.auth = message_auth(self.params.auth_key_file, self.params.auth_window,
                                  warn=rospy.logwarn)
         self.events = direct_publisher("jason/event", Event, queue_size=100)
@@ -254,8 +262,11 @@ class Decomposer:
         self.goals[goal.key] = goal
         self.watchdog.kick()
         if self.acknowledge:
+            accepted = [str(msg.action_id)]
+            if self.beat_period > 0:
+                accepted.append(f"{self.beat_period:g}")
             self.events.publish(Event(agent=msg.agent, event_type=ACTION_ACCEPTED,
-                                      parameters=[str(msg.action_id)]))
+                                      parameters=accepted))
         rospy.loginfo(f"{self.name}: {goal}")
         self._settle(goal, self.start, goal)
 
@@ -299,6 +310,19 @@ class Decomposer:
                 self.finish(goal, verdict)
             else:
                 self._settle(goal, self.step, goal, now)
+        self._beat(now)
+
+    def _beat(self, now: float) -> None:
+        """Every ``~beat_period``, tell each agent which of its actions still run here."""
+        if not self.acknowledge or self.beat_period <= 0 or \
+                0 <= now - self._last_beat < self.beat_period:
+            return
+        self._last_beat = now
+        by_agent: dict[str, list[str]] = {}
+        for goal in self.running():
+            by_agent.setdefault(goal.agent, []).append(str(goal.action_id))
+        for agent, ids in by_agent.items():
+            self.events.publish(Event(agent=agent, event_type=ACTION_RUNNING, parameters=ids))
 
     def _forget_long_gone(self, now: float) -> None:
         """Forget the agents not heard for four presence timeouts that run nothing here

@@ -62,7 +62,13 @@ from rason.ros.auth import (
 )
 from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.fanout import direct_publisher
-from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
+from rason.ros.feedback import (
+    CancelReason,
+    accepted_beat_period,
+    parse_accepted,
+    parse_feedback,
+    parse_running,
+)
 from rason.ros.frames import MAX_NICE, MAX_SLICE_S, framed_subscriber
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.holdback import HoldBack
@@ -83,6 +89,8 @@ from rason.ros.ticker import Ticker
 
 #: s (ROS time) between two checks of action timeouts and perception TTLs
 CHECK_PERIOD = 0.05
+#: s of wall time ROS time may stand still while an agent waits on it before a warning
+FROZEN_CLOCK_S = 3.0
 
 
 @dataclass(frozen=True)
@@ -96,6 +104,10 @@ class AgentNodeParams:
     action_timeout: float = param(
         120.0, "s an accepted action may run before it fails with action_timeout (and is "
         "cancelled on jason/cancel); 0 disables", minimum=0.0)
+    decomposer_timeout: float = param(
+        3.0, "s (ROS time, and three of its beat periods at least) an accepted action's "
+        "decomposer may stay silent, when it announced action_running beats, before the action "
+        "fails with decomposer_lost (and is cancelled); 0 disables", minimum=0.0)
     perception_mode: str = param(
         "replace", "replace: per-source replacement (thesis 5.2); queue: every message is "
         "applied (the thesis' unfiltered baseline)")
@@ -203,6 +215,7 @@ class RasonNode:
         self.params = params
         self.ack_timeout = params.ack_timeout
         self.action_timeout = params.action_timeout
+        self.decomposer_timeout = params.decomposer_timeout
         self.perception_mode = params.perception_mode
         self.default_filter = PerceptionFilter.from_lists(params.perception_functors,
                                                           params.perception_sources)
@@ -317,11 +330,34 @@ class RasonNode:
                 mind_state(None)
 
         self.checks = Ticker(1.0 / period, on_checks, self._checks_needed, name="node-checks")
+        if not rospy.rostime.is_wallclock():     # simulated time can stand still
+            threading.Thread(target=guarded("clock watch")(self._watch_clock),
+                             name="clock-watch", daemon=True).start()
         rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
         for name in list(self.agents):
             self._announce(name, HELLO)
         for hosted in list(self.agents.values()):
             hosted.thread.start()
+
+    def _watch_clock(self) -> None:
+        """Warn (once per stop) when ROS time stands still for FROZEN_CLOCK_S of wall time
+        while an agent waits on it: the one place where wall time is the right measure."""
+        last, since, warned = rospy.get_time(), time.monotonic(), False
+        while not self.stop.wait(FROZEN_CLOCK_S / 4):
+            now = rospy.get_time()
+            if now != last:
+                last, since, warned = now, time.monotonic(), False
+                continue
+            stood = time.monotonic() - since
+            if warned or stood < FROZEN_CLOCK_S:
+                continue
+            waits = [f"[{name}] {what}" for name, hosted in list(self.agents.items())
+                     for what in hosted.arch.waits_on_time()]
+            if waits:
+                warned = True
+                rospy.logwarn("ROS time has stood still at %.3f s for %.0f s of wall time (is "
+                              "/clock published? the simulator stopped?) while waiting on it: %s",
+                              now, stood, shorten("; ".join(waits), 400))
 
     def kick_checks(self) -> None:
         """Something may need the periodic checks now (see :meth:`_checks_needed`)."""
@@ -618,7 +654,11 @@ class RasonNode:
             return  # another agent's event: ignored (thesis 5.2)
         accepted = parse_accepted(msg)
         if accepted is not None:
-            hosted.arch.on_accepted(accepted)
+            hosted.arch.on_accepted(accepted, accepted_beat_period(msg))
+            return
+        running = parse_running(msg)
+        if running is not None:
+            hosted.arch.on_running(running)
             return
         feedback = parse_feedback(msg)
         if feedback is not None:
@@ -691,7 +731,8 @@ class RasonNode:
     def on_check_actions(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()
         for hosted in list(self.agents.values()):
-            hosted.arch.check_timeouts(now, self.ack_timeout, self.action_timeout)
+            hosted.arch.check_timeouts(now, self.ack_timeout, self.action_timeout,
+                                       self.decomposer_timeout)
 
     def on_check_perceptions(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()
