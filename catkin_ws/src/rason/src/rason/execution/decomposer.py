@@ -80,7 +80,15 @@ from rason.execution.results import (
     TIMEOUT,
     Verdict,
 )
-from rason.ros.auth import SignedFields, message_auth
+from rason.ros.auth import (
+    ACTION_KIND,
+    EVENT_KIND,
+    SignedFields,
+    message_auth,
+    sign_parameters,
+    split_signed,
+    verify_parameters,
+)
 from rason.ros.auth import Verdict as Authenticity
 from rason.ros.badinput import shorten
 from rason.ros.fanout import direct_publisher
@@ -115,7 +123,9 @@ class DecomposerParams:
         "silent with decomposer_lost (its ~decomposer_timeout); 0 = no beats", minimum=0.0)
     auth_key_file: str = param(
         "", "the agents' shared key file (their ~auth_key_file): only messages signed with it "
-        "count as an agent's presence; empty = every message counts (no authentication)")
+        "count as an agent's presence, only actions signed with it run (the others are "
+        "ignored with a warning), and every event this decomposer publishes is signed; empty "
+        "= no authentication (every message counts, every action runs)")
     auth_window: float = param(
         10.0, "s (ROS time) a signed message stays acceptable after its stamp (the agents' "
         "~auth_window)", minimum=0.0)
@@ -231,8 +241,15 @@ class Decomposer:
     def feedback(self, agent: str, action_id: int, verdict: Verdict) -> None:
         log = rospy.loginfo if verdict.ok or verdict.result == PREEMPTED else rospy.logwarn
         log(f"{self.name}: action {action_id} of {agent} -> {verdict.result} ({verdict.message})")
-        self.events.publish(Event(agent=agent, event_type=ACTION_FEEDBACK,
-                                  parameters=[verdict.result, str(action_id), verdict.message]))
+        self.publish_event(agent, ACTION_FEEDBACK,
+                           [verdict.result, str(action_id), verdict.message])
+
+    def publish_event(self, agent: str, event_type: str, parameters: list[str]) -> None:
+        """An Event on jason/event, signed when this decomposer has a key."""
+        if self.auth is not None:
+            parameters = sign_parameters(self.auth, EVENT_KIND, agent, event_type, parameters,
+                                         rospy.get_rostime().to_nsec())
+        self.events.publish(Event(agent=agent, event_type=event_type, parameters=parameters))
 
     # -- callbacks ------------------------------------------------------------------------
     def _locked(self, what: str, callback: Callable[..., None]) -> Callable[..., None]:
@@ -245,7 +262,9 @@ class Decomposer:
     def _on_action(self, msg: Action) -> None:
         if msg.action not in self.actions or (self.agents and msg.agent not in self.agents):
             return
-        parameters = list(msg.parameters)
+        parameters = self._signed_parameters(msg)
+        if parameters is None:
+            return
         try:
             target = self.parse(msg.action, parameters)
         except (ValueError, TypeError, IndexError) as err:
@@ -265,10 +284,26 @@ class Decomposer:
             accepted = [str(msg.action_id)]
             if self.beat_period > 0:
                 accepted.append(f"{self.beat_period:g}")
-            self.events.publish(Event(agent=msg.agent, event_type=ACTION_ACCEPTED,
-                                      parameters=accepted))
+            self.publish_event(msg.agent, ACTION_ACCEPTED, accepted)
         rospy.loginfo(f"{self.name}: {goal}")
         self._settle(goal, self.start, goal)
+
+    def _signed_parameters(self, msg: Action) -> list[str] | None:
+        """The action's parameters without their signature; None (and a rate-limited warning)
+        when this decomposer has a key and the signature is missing or wrong: the action is
+        ignored, never answered (its agent's ~ack_timeout fails it)."""
+        if self.auth is None:
+            return split_signed(list(msg.parameters))[0]
+        parameters, verdict = verify_parameters(
+            self.auth, ACTION_KIND, msg.agent, f"{msg.action_id} {msg.action}",
+            list(msg.parameters), rospy.get_rostime().to_nsec())
+        if verdict is Authenticity.OK:
+            return parameters
+        self.warnings.warn(f"{verdict.value} action {shorten(msg.agent, 64)}",
+                           f"{self.name}: ignored a {verdict.value} action "
+                           f"{shorten(msg.action, 32)} claiming to be from "
+                           f"'{shorten(msg.agent, 64)}' (not signed with ~auth_key_file)")
+        return None
 
     def _on_cancel(self, msg: ActionCancel) -> None:
         reason = shorten(msg.reason or "no reason given", 100)
@@ -322,7 +357,7 @@ class Decomposer:
         for goal in self.running():
             by_agent.setdefault(goal.agent, []).append(str(goal.action_id))
         for agent, ids in by_agent.items():
-            self.events.publish(Event(agent=agent, event_type=ACTION_RUNNING, parameters=ids))
+            self.publish_event(agent, ACTION_RUNNING, ids)
 
     def _forget_long_gone(self, now: float) -> None:
         """Forget the agents not heard for four presence timeouts that run nothing here

@@ -52,6 +52,8 @@ from rason.asl.terms import ListTerm, Literal, list_to_python, non_finite_part
 from rason.ros.acceptance import RemoteActions
 from rason.ros.arch import RosAgArch, ros_now
 from rason.ros.auth import (
+    ACTION_KIND,
+    EVENT_KIND,
     AuthKeyError,
     MessageAuth,
     SignedFields,
@@ -59,6 +61,9 @@ from rason.ros.auth import (
     Verdict,
     message_auth,
     new_nonce,
+    sign_parameters,
+    split_signed,
+    verify_parameters,
 )
 from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.fanout import direct_publisher
@@ -137,7 +142,9 @@ class AgentNodeParams:
         "", "file holding a shared secret (16 bytes or more) that signs every message this node "
         "publishes on /jason/messages (HMAC-SHA256 over all fields, stamp and nonce); unsigned, "
         "forged, stale or replayed ones are dropped (make one: head -c 32 /dev/urandom | base64 > "
-        "fleet.key; chmod 600 fleet.key). Empty = NO authentication: anyone on the ROS graph "
+        "fleet.key; chmod 600 fleet.key). Its actions on jason/action are signed too (a last "
+        "parameter #auth:...) and only signed jason/event feedback is heard: give the robot's "
+        "decomposers the same key. Empty = NO authentication: anyone on the ROS graph "
         "can send anything with any sender, as in the thesis")
     auth_window: float = param(
         10.0, "s (ROS time) a signed message stays acceptable after its stamp (hosts' clocks "
@@ -421,6 +428,9 @@ class RasonNode:
         if self.action_listeners() == 0:
             return False
         name, args = action.functor, [term_str(arg) for arg in action.args]
+        if self.auth is not None:
+            args = sign_parameters(self.auth, ACTION_KIND, agent, f"{action_id} {name}", args,
+                                   rospy.get_rostime().to_nsec())
         self.action_pub.publish(Action(agent=agent, action_id=action_id, action=name,
                                        parameters=args))
         return True
@@ -652,6 +662,9 @@ class RasonNode:
         hosted = self.agents.get(msg.agent)
         if hosted is None:
             return  # another agent's event: ignored (thesis 5.2)
+        msg = self._signed_event(msg)
+        if msg is None:
+            return
         accepted = parse_accepted(msg)
         if accepted is not None:
             hosted.arch.on_accepted(accepted, accepted_beat_period(msg))
@@ -665,6 +678,23 @@ class RasonNode:
             hosted.arch.on_feedback(feedback)
         elif msg.event_type == "action_feedback":
             rospy.logwarn("unreadable action_feedback for %s: %s", msg.agent, list(msg.parameters))
+
+    def _signed_event(self, msg: Event) -> Event | None:
+        """`msg` without its signature parameter; None (and a rate-limited warning) when this
+        node has a key and the signature is missing or wrong: anyone could fake feedback."""
+        if self.auth is None:
+            parameters, _ = split_signed(list(msg.parameters))
+            return Event(agent=msg.agent, event_type=msg.event_type, parameters=parameters)
+        parameters, verdict = verify_parameters(self.auth, EVENT_KIND, msg.agent,
+                                                msg.event_type, list(msg.parameters),
+                                                rospy.get_rostime().to_nsec())
+        if verdict is not Verdict.OK:
+            kind = shorten(msg.event_type, 32)
+            self.warnings.warn(f"{verdict.value} event {kind} {shorten(msg.agent, 64)}",
+                               f"[{shorten(msg.agent, 64)}] ignored a {verdict.value} {kind} "
+                               "event on jason/event (not signed with ~auth_key_file)")
+            return None
+        return Event(agent=msg.agent, event_type=msg.event_type, parameters=parameters)
 
     def on_perception(self, msg: Perception) -> None:
         for hosted in list(self.agents.values()):
