@@ -71,6 +71,9 @@ def test_a_killed_decomposer_fails_the_action_with_decomposer_lost(ros: RosHarne
         assert ("mover", CancelReason.DECOMPOSER_LOST) in reasons, reasons
         assert "moved" not in agent.output()
         assert agent.alive()
+        # a node without a key says once that it is open
+        assert decomposer.output().count("accepts actions from any sender") == 1
+        assert agent.output().count("accepts any sender on the ROS graph") == 1
     finally:
         for sub in subs:
             sub.unregister()

@@ -78,6 +78,7 @@ def test_forged_feedback_and_forged_actions_are_ignored(ros: RosHarness, tmp_pat
                    for p in mind(ros, NS, "mover")["pending_actions"])
         with lock:
             assert not [e for e in events if parse_accepted(e) in (901, 902)], events
+        assert "any sender" not in decomposer.output() + out      # keyed: not open
     finally:
         for endpoint in (sub, forged_events, forged_actions):
             endpoint.unregister()

@@ -179,6 +179,10 @@ class Decomposer:
         self._last_beat = -1.0                     # ROS time of the last action_running beats
         self.auth = message_auth(self.params.auth_key_file, self.params.auth_window,
                                  warn=rospy.logwarn)
+        if self.auth is None:
+            rospy.logwarn(f"{self.name}: no ~auth_key_file: this decomposer accepts actions "
+                          "from any sender on the ROS graph, and any process may keep them "
+                          "running with presence beats in the agent's name")
         self.events = direct_publisher("jason/event", Event, queue_size=100)
         # the watchdog ticks only while an action runs: an idle decomposer's thread sleeps
         self.watchdog = Ticker(self.params.watchdog_rate, self._locked("watchdog", self._on_tick),
