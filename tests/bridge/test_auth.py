@@ -8,12 +8,18 @@ import os
 import pytest
 
 from rason.ros.auth import (
+    ACTION_KIND,
+    AUTH_PARAMETER,
+    EVENT_KIND,
     AuthKeyError,
     MessageAuth,
     SignedFields,
     TrustPolicy,
     Verdict,
     load_key,
+    sign_parameters,
+    split_signed,
+    verify_parameters,
 )
 
 KEY = b"k" * 32
@@ -79,14 +85,44 @@ def test_key_files(tmp_path):
         load_key(tmp_path / "none")
 
 
-def test_trust_policy_restricts_only_plan_and_goal_performatives():
+def test_trust_policy_leaves_untrusted_senders_only_tell_untell_and_ask():
     open_policy = TrustPolicy()
     assert open_policy.accepts("robot", "anyone", "tellHow")
     policy = TrustPolicy.of(["boss", " "])
-    for performative in ("tellHow", "untellHow", "askHow", "achieve", "unachieve"):
+    for performative in ("tellHow", "untellHow", "askHow", "achieve", "unachieve", "signal",
+                         "madeUp", ""):
         assert not policy.accepts("robot", "mallory", performative)
         assert policy.accepts("robot", "boss", performative)
     assert policy.accepts("robot", "robot", "achieve")          # an agent may ask itself
-    assert policy.accepts("robot", "mallory", "tell")
-    assert policy.accepts("robot", "mallory", "askOne")
+    for performative in ("tell", "untell", "askOne", "askAll"):
+        assert policy.accepts("robot", "mallory", performative)
 
+
+
+def test_signed_action_and_event_parameters():
+    """A signed Action/Event carries its signature as a last parameter; it covers the kind,
+    the agent, the head and every parameter, and is checked like a message's."""
+    now = 100 * SECOND
+    auth = MessageAuth(KEY)
+    signed = sign_parameters(auth, ACTION_KIND, "mover", "7 move", ["1", "f(a, b)"], now)
+    assert signed[:2] == ["1", "f(a, b)"] and signed[2].startswith(AUTH_PARAMETER)
+    assert split_signed(signed) == (["1", "f(a, b)"], signed[2])
+    assert split_signed(["1"]) == (["1"], "")
+    assert verify_parameters(MessageAuth(KEY), ACTION_KIND, "mover", "7 move", signed, now) \
+        == (["1", "f(a, b)"], Verdict.OK)
+    for kind, agent, head, params in ((EVENT_KIND, "mover", "7 move", signed),
+                                      (ACTION_KIND, "other", "7 move", signed),
+                                      (ACTION_KIND, "mover", "8 move", signed),
+                                      (ACTION_KIND, "mover", "7 move", ["2", *signed[1:]])):
+        assert verify_parameters(MessageAuth(KEY), kind, agent, head, params, now)[1] \
+            is Verdict.FORGED
+    fresh = MessageAuth(KEY)
+    assert verify_parameters(fresh, ACTION_KIND, "mover", "7 move", signed, now)[1] is Verdict.OK
+    assert verify_parameters(fresh, ACTION_KIND, "mover", "7 move", signed, now)[1] \
+        is Verdict.REPLAYED
+    assert verify_parameters(MessageAuth(KEY), ACTION_KIND, "mover", "7 move", signed,
+                             now + 60 * SECOND)[1] is Verdict.STALE
+    assert verify_parameters(auth, ACTION_KIND, "mover", "7 move", ["1"], now)[1] \
+        is Verdict.UNSIGNED
+    assert verify_parameters(auth, ACTION_KIND, "mover", "7 move", ["1", AUTH_PARAMETER + "x:y:z"],
+                             now)[1] is Verdict.FORGED

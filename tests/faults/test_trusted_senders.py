@@ -5,14 +5,12 @@ messages from ``rostopic pub`` and from a raw rospy publisher."""
 from __future__ import annotations
 
 import json
-import os
 import secrets
 import time
-from pathlib import Path
 
 import pytest
 
-from rason.testing.agent_nodes import connected_to, start_agent, wait_until
+from rason.testing.agent_nodes import connected_to, key_file, start_agent, wait_until
 from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
@@ -40,13 +38,6 @@ def spoof(ros: RosHarness, sender: str, receiver: str, performative: str, conten
               "nonce": secrets.token_hex(8), "signature": signature}
     ros.check_output(["rostopic", "pub", "-1", "/jason/messages", "jason_msgs/AgentMessage",
                       json.dumps(fields)], timeout=30)
-
-
-def key_file(tmp_path: Path, name: str) -> Path:
-    path = tmp_path / name
-    path.write_text(secrets.token_urlsafe(32) + "\n")
-    os.chmod(path, 0o600)
-    return path
 
 
 def test_an_untrusted_sender_cannot_install_plans_or_give_goals(ros, tmp_path):

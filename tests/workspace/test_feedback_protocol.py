@@ -4,7 +4,14 @@ from types import SimpleNamespace
 
 import pytest
 
-from rason.ros.feedback import Feedback, parse_accepted, parse_feedback, split_action
+from rason.ros.feedback import (
+    Feedback,
+    accepted_beat_period,
+    parse_accepted,
+    parse_feedback,
+    parse_running,
+    split_action,
+)
 
 
 def event(kind: str, *params: str) -> SimpleNamespace:
@@ -33,6 +40,16 @@ def test_other_event_types_are_not_feedback():
     assert parse_feedback(event("something", "OK", "1")) is None
     assert parse_accepted(event("action_accepted", "42")) == 42
     assert parse_accepted(event("action_feedback", "42")) is None
+
+
+def test_beats_announced_on_acceptance_and_beats_themselves():
+    assert parse_accepted(event("action_accepted", "42", "1")) == 42     # thesis agents: same
+    assert accepted_beat_period(event("action_accepted", "42", "0.5")) == 0.5
+    for params in (("42",), ("42", "nan"), ("42", "0"), ("42", "-1"), ("42", "inf"), ("42", "x")):
+        assert accepted_beat_period(event("action_accepted", *params)) is None
+    assert parse_running(event("action_running", "3", "x", "4")) == [3, 4]
+    assert parse_running(event("action_feedback", "OK", "3")) is None
+    assert parse_feedback(event("action_running", "3")) is None
 
 
 def test_split_action_respects_nesting_and_quotes():

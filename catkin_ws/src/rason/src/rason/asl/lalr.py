@@ -72,6 +72,17 @@ class UnexpectedToken(UnexpectedInput):
         super().__init__(f"unexpected {token.type} {str(token)!r} at line {token.line} column {token.column}")
 
 
+class NestedTooDeep(UnexpectedInput):
+    """The parser's state stack outgrew its bound: the text nests too deeply."""
+
+    def __init__(self, token: Token, bound: int) -> None:
+        self.token = token
+        self.line = token.line
+        self.column = token.column
+        super().__init__(f"nested too deeply at line {token.line} column {token.column} "
+                         f"(more than {bound} parser states)")
+
+
 class _Inlined(list):
     """The children of one of lark's inlined rules (``item*`` and the like): its parent splices
     them into its own."""
@@ -99,10 +110,12 @@ class _Scanner:
 class LalrParser:
     """Parses texts of the grammar whose tables are the module ``tables``, calling ``callbacks``
     (an object with a method for each rule name the grammar reduces) as lark's LALR parser does
-    with a transformer."""
+    with a transformer. ``max_stack``: a text whose nesting needs more parser states is
+    refused with :class:`NestedTooDeep` (the stack holds a few states per level of nesting)."""
 
-    def __init__(self, tables: ModuleType, callbacks: Any) -> None:
+    def __init__(self, tables: ModuleType, callbacks: Any, max_stack: int = 1 << 62) -> None:
         self.tables = tables
+        self.max_stack = max_stack
         self.reductions = [(origin, size, _reduction(name, expand1, shape, callbacks))
                            for origin, size, name, expand1, shape in tables.RULES]
         self.root = _Scanner(tables, None)
@@ -126,6 +139,7 @@ class LalrParser:
         states = tables.STATES
         ignore = tables.IGNORE
         end_state = tables.END_STATE
+        max_stack = self.max_stack
         reductions = self.reductions
         root = self.root
         match = root.match
@@ -186,6 +200,8 @@ class LalrParser:
                 if act >= 0:
                     state_stack.append(act)
                     value_stack.append(token)
+                    if len(state_stack) > max_stack:
+                        raise NestedTooDeep(token, max_stack)
                     break
                 origin, size, reduce = reductions[~act]
                 if size:

@@ -17,7 +17,23 @@ from typing import Any
 
 from . import asl_tables
 from .containers import from_wire
-from .lalr import LalrParser, Token, UnexpectedCharacters, UnexpectedInput, UnexpectedToken
+from .lalr import (
+    LalrParser,
+    NestedTooDeep,
+    Token,
+    UnexpectedCharacters,
+    UnexpectedInput,
+    UnexpectedToken,
+)
+from .limits import (
+    MAX_PARSE_STACK,
+    MAX_SOURCE_CHARS,
+    MAX_TERM_CHARS,
+    MAX_TERM_DEPTH,
+    deeper_than,
+    too_deep,
+    too_long,
+)
 from .plain import read_plain_term
 from .plans import (
     ACHIEVE,
@@ -238,7 +254,7 @@ def _get_parser() -> LalrParser:
         if asl_tables.GRAMMAR != GRAMMAR:
             raise RuntimeError("rason.asl.asl_tables is stale: regenerate it with "
                                "python -m rason.asl.lalr_gen (see rason/asl/lalr_gen.py)")
-        _parser = LalrParser(asl_tables, _BUILDER)
+        _parser = LalrParser(asl_tables, _BUILDER, max_stack=MAX_PARSE_STACK)
     return _parser
 
 
@@ -721,7 +737,10 @@ def describe_syntax_error(e: Exception) -> str:
 
 
 def _parse_items(text: str, filename: str, tr: _ToAst) -> Any:
-    """The top-level items of ``text`` made by ``tr``; every error as :class:`AslSyntaxError`."""
+    """The top-level items of ``text`` made by ``tr``; every error as :class:`AslSyntaxError`
+    (a text longer than MAX_SOURCE_CHARS or nested deeper than MAX_TERM_DEPTH is one)."""
+    if len(text) > MAX_SOURCE_CHARS:
+        raise AslSyntaxError(filename, 1, 1, too_long(len(text), MAX_SOURCE_CHARS, "program"))
     try:
         with _PARSE_LOCK:
             return _BUILDER.parse(tr, text)
@@ -733,6 +752,8 @@ def _parse_items(text: str, filename: str, tr: _ToAst) -> Any:
         if line is None or line < 1:
             line = text.count("\n") + 1
             col = len(text) - (text.rfind("\n") + 1) + 1
+        if isinstance(e, NestedTooDeep):
+            raise AslSyntaxError(filename, line, col, too_deep()) from None
         raise AslSyntaxError(filename, line, col, describe_syntax_error(e)) from None
     except RecursionError:
         raise AslSyntaxError(filename, 1, 1, "program nested too deeply") from None
@@ -767,11 +788,14 @@ def path_include_resolver(search_path: list[str]) -> IncludeResolver:
 
 def parse_source(text: str, filename: str = "<string>", src: str | None = None,
                  exact: bool = False, include: IncludeResolver | None = None,
-                 _depth: int = 0, namespace: str | None = None) -> AgentSource:
+                 _depth: int = 0, namespace: str | None = None,
+                 _max_depth: int = MAX_TERM_DEPTH) -> AgentSource:
     """Parse a whole ``.asl`` program (``exact``: text written by ``term_text``, see
     :func:`parse_term_text`); ``include`` finds the files of ``{ include("f.asl") }``
     directives (default: relative to ``filename``'s folder); ``namespace``: the one its
-    literals without a namespace go to (a file included in a namespace)."""
+    literals without a namespace go to (a file included in a namespace). A text longer than
+    MAX_SOURCE_CHARS, or holding a term nested deeper than MAX_TERM_DEPTH, is refused
+    (:mod:`rason.asl.limits`)."""
     tr = _ToAst(filename, exact)
     if src is not None:
         tr.src = src
@@ -780,7 +804,11 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
     # the namespace of each open { begin ... } block (the file's own first)
     blocks: list[str | None] = [namespace if namespace != "default" else None]
     local: dict[str, str] = {}        # this file's local namespaces -> their unique names
+    # a term nested N deep takes N characters at least: short texts need no look
+    look_deep = len(text) > _max_depth
     for kind, obj, meta in items:
+        if look_deep and _nested_too_deep(kind, obj, _max_depth):
+            raise AslSyntaxError(filename, meta.line, meta.column, too_deep())
         ns = next((b for b in reversed(blocks) if b is not None), None)
         if kind in ("block", "directive"):
             _declare_namespace(obj, local)
@@ -813,6 +841,20 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
         else:
             out.plans.append(obj)
     return out
+
+
+def _nested_too_deep(kind: str, obj: Any, limit: int) -> bool:
+    """Does a parsed item (a belief, rule, goal, plan...) hold a term deeper than `limit`?"""
+    if kind != "plan":
+        return deeper_than(obj, limit)
+    found: builtins.list[Any] = []
+
+    def look(t: Any) -> Any:
+        if not found and deeper_than(t, limit):
+            found.append(t)
+        return t
+    obj.map_terms(look)
+    return bool(found)
 
 
 def _fork_deed(kind: str, left: Deed, right: Deed, line: int) -> Deed:
@@ -996,6 +1038,8 @@ def parse_term(text: str, exact: bool = False) -> Any:
     :class:`AslSyntaxError`. ``exact``: see :func:`parse_term_text`."""
     if not isinstance(text, str):
         raise AslSyntaxError("<term>", 1, 1, "not a string")
+    if len(text) > MAX_TERM_CHARS:
+        raise AslSyntaxError("<term>", 1, 1, too_long(len(text), MAX_TERM_CHARS, "term"))
     plain = read_plain_term(text)
     if plain is not None:
         return plain
@@ -1004,7 +1048,8 @@ def parse_term(text: str, exact: bool = False) -> Any:
 
 def parse_term_by_grammar(text: str, exact: bool = False) -> Any:
     """:func:`parse_term` without the plain-term reader (the reference it is tested against)."""
-    src = parse_source(f"t__({text}).", "<term>", exact=exact)
+    # the term is t__'s argument, one level down: the same limit as the plain reader's
+    src = parse_source(f"t__({text}).", "<term>", exact=exact, _max_depth=MAX_TERM_DEPTH + 1)
     if len(src.beliefs) != 1 or not isinstance(src.beliefs[0], Literal) or len(src.beliefs[0].args) != 1 \
             or src.beliefs[0].functor != "t__" or src.beliefs[0].annots:
         raise AslSyntaxError("<term>", 1, 1, f"not a single term: {text!r}")

@@ -6,7 +6,8 @@ fleet. This small reader takes those; it accepts a subset of the grammar's langu
 the very terms the grammar builds. Anything else (operators, list or annotation tails, quoted
 atoms, escapes, namespaces, comments, keywords...) and every error go to the grammar
 (:func:`rason.asl.parser.parse_term`), which stays the one definition of the language and of
-its error messages.
+its error messages. A term nested deeper than :data:`~rason.asl.limits.MAX_TERM_DEPTH` is
+left to the grammar too, which refuses it (this reader recurses, on the C stack when compiled).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
+from .limits import MAX_TERM_DEPTH
 from .terms import ListTerm, Literal, Var, fresh_name, is_constant, merge_annots
 
 _PLAIN_TOKEN = re.compile(r"""[ \t\f\r\n]*(?:
@@ -48,8 +50,10 @@ def _plain_tokens(text: str) -> list[tuple[str, str]]:
         pos = m.end()
 
 
-def _read_plain(tokens: list[tuple[str, str]], i: int) -> tuple[Any, int]:
-    """The plain term starting at token `i`, and the index after it."""
+def _read_plain(tokens: list[tuple[str, str]], i: int, depth: int) -> tuple[Any, int]:
+    """The plain term starting at token `i` (`depth` levels down), and the index after it."""
+    if depth > MAX_TERM_DEPTH:
+        raise _NotPlain
     kind, value = tokens[i]
     n = len(tokens)
     nxt = tokens[i + 1][1] if i + 1 < n else ""
@@ -70,22 +74,22 @@ def _read_plain(tokens: list[tuple[str, str]], i: int) -> tuple[Any, int]:
         args: tuple = ()
         annots: tuple = ()
         if nxt == "(":
-            args, i = _read_plain_items(tokens, i + 1, ")", allow_empty=False)
+            args, i = _read_plain_items(tokens, i + 1, ")", False, depth + 1)
             nxt = tokens[i][1] if i < n else ""
         if nxt == "[":
-            annots, i = _read_plain_items(tokens, i + 1, "]", allow_empty=True)
+            annots, i = _read_plain_items(tokens, i + 1, "]", True, depth + 1)
             annots = merge_annots((), annots)
         lit = Literal(name, args, annots, None, neg)
         is_constant(lit)
         return lit, i
     if value == "[":
-        items, i = _read_plain_items(tokens, i + 1, "]", allow_empty=True)
+        items, i = _read_plain_items(tokens, i + 1, "]", True, depth + 1)
         return (ListTerm(items) if items else ListTerm()), i
     raise _NotPlain
 
 
 def _read_plain_items(tokens: list[tuple[str, str]], i: int, close: str,
-                      allow_empty: bool) -> tuple[tuple, int]:
+                      allow_empty: bool, depth: int) -> tuple[tuple, int]:
     """Comma separated plain terms up to `close` (token `i` follows the opening bracket)."""
     items = []
     n = len(tokens)
@@ -94,7 +98,7 @@ def _read_plain_items(tokens: list[tuple[str, str]], i: int, close: str,
             raise _NotPlain
         return (), i + 1
     while i < n:
-        item, i = _read_plain(tokens, i)
+        item, i = _read_plain(tokens, i, depth)
         items.append(item)
         if i >= n or tokens[i][0] != "sym":
             raise _NotPlain
@@ -113,7 +117,7 @@ def read_plain_term(text: str) -> Any | None:
         tokens = _plain_tokens(text)
         if not tokens:
             return None
-        term, end = _read_plain(tokens, 0)
+        term, end = _read_plain(tokens, 0, 0)
     except (_NotPlain, IndexError, RecursionError):
         return None
     return term if end == len(tokens) else None

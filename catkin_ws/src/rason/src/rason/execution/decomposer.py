@@ -31,7 +31,9 @@ What the base does (names relative, so ``__ns:=/robot`` puts it under the robot)
   a ValueError/TypeError from :meth:`Decomposer.parse` answers ``bad_parameters`` instead.
   With ``exclusive`` (default) a new action preempts the running one (``preempted``).
 * ``jason/event`` (jason_msgs/Event, out): ``action_feedback [RESULT, id, message]`` once per
-  action, RESULT ``OK`` or a reason (:mod:`rason.execution.results`).
+  action, RESULT ``OK`` or a reason (:mod:`rason.execution.results`); ``action_accepted [id,
+  beat period]`` and, every ``~beat_period`` while actions run, ``action_running [id...]``
+  (the agent's supervision of its decomposer, see :mod:`rason.ros.feedback`).
 * ``jason/cancel`` (jason_msgs/ActionCancel, in): the agent gave the action up; it is halted at
   once and ends ``cancelled``.
 * ``jason/presence`` (jason_msgs/AgentMessage, in): the presence beats and goodbyes the agent
@@ -78,11 +80,19 @@ from rason.execution.results import (
     TIMEOUT,
     Verdict,
 )
-from rason.ros.auth import SignedFields, message_auth
+from rason.ros.auth import (
+    ACTION_KIND,
+    EVENT_KIND,
+    SignedFields,
+    message_auth,
+    sign_parameters,
+    split_signed,
+    verify_parameters,
+)
 from rason.ros.auth import Verdict as Authenticity
 from rason.ros.badinput import shorten
 from rason.ros.fanout import direct_publisher
-from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK
+from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK, ACTION_RUNNING
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.master_watch import watch_master
 from rason.ros.params import load_or_exit, param, start_node
@@ -107,9 +117,15 @@ class DecomposerParams:
                                     minimum=0.0)
     watchdog_rate: float = param(20.0, "Hz (ROS time) of step() and of the checks above",
                                  minimum=0.1, maximum=1000.0)
+    beat_period: float = param(
+        1.0, "s (ROS time) between two action_running beats on jason/event while actions run "
+        "(announced in each action_accepted): an agent fails an action whose decomposer falls "
+        "silent with decomposer_lost (its ~decomposer_timeout); 0 = no beats", minimum=0.0)
     auth_key_file: str = param(
         "", "the agents' shared key file (their ~auth_key_file): only messages signed with it "
-        "count as an agent's presence; empty = every message counts (no authentication)")
+        "count as an agent's presence, only actions signed with it run (the others are "
+        "ignored with a warning), and every event this decomposer publishes is signed; empty "
+        "= no authentication (every message counts, every action runs)")
     auth_window: float = param(
         10.0, "s (ROS time) a signed message stays acceptable after its stamp (the agents' "
         "~auth_window)", minimum=0.0)
@@ -159,8 +175,14 @@ class Decomposer:
         self.warnings = RateLimitedWarnings()
         self.goals: dict[tuple[str, int], Goal] = {}
         self.heard: dict[str, float] = {}          # agent -> ROS time it was last heard
+        self.beat_period: float = self.params.beat_period
+        self._last_beat = -1.0                     # ROS time of the last action_running beats
         self.auth = message_auth(self.params.auth_key_file, self.params.auth_window,
                                  warn=rospy.logwarn)
+        if self.auth is None:
+            rospy.logwarn(f"{self.name}: no ~auth_key_file: this decomposer accepts actions "
+                          "from any sender on the ROS graph, and any process may keep them "
+                          "running with presence beats in the agent's name")
         self.events = direct_publisher("jason/event", Event, queue_size=100)
         # the watchdog ticks only while an action runs: an idle decomposer's thread sleeps
         self.watchdog = Ticker(self.params.watchdog_rate, self._locked("watchdog", self._on_tick),
@@ -223,8 +245,15 @@ class Decomposer:
     def feedback(self, agent: str, action_id: int, verdict: Verdict) -> None:
         log = rospy.loginfo if verdict.ok or verdict.result == PREEMPTED else rospy.logwarn
         log(f"{self.name}: action {action_id} of {agent} -> {verdict.result} ({verdict.message})")
-        self.events.publish(Event(agent=agent, event_type=ACTION_FEEDBACK,
-                                  parameters=[verdict.result, str(action_id), verdict.message]))
+        self.publish_event(agent, ACTION_FEEDBACK,
+                           [verdict.result, str(action_id), verdict.message])
+
+    def publish_event(self, agent: str, event_type: str, parameters: list[str]) -> None:
+        """An Event on jason/event, signed when this decomposer has a key."""
+        if self.auth is not None:
+            parameters = sign_parameters(self.auth, EVENT_KIND, agent, event_type, parameters,
+                                         rospy.get_rostime().to_nsec())
+        self.events.publish(Event(agent=agent, event_type=event_type, parameters=parameters))
 
     # -- callbacks ------------------------------------------------------------------------
     def _locked(self, what: str, callback: Callable[..., None]) -> Callable[..., None]:
@@ -237,7 +266,9 @@ class Decomposer:
     def _on_action(self, msg: Action) -> None:
         if msg.action not in self.actions or (self.agents and msg.agent not in self.agents):
             return
-        parameters = list(msg.parameters)
+        parameters = self._signed_parameters(msg)
+        if parameters is None:
+            return
         try:
             target = self.parse(msg.action, parameters)
         except (ValueError, TypeError, IndexError) as err:
@@ -254,10 +285,29 @@ class Decomposer:
         self.goals[goal.key] = goal
         self.watchdog.kick()
         if self.acknowledge:
-            self.events.publish(Event(agent=msg.agent, event_type=ACTION_ACCEPTED,
-                                      parameters=[str(msg.action_id)]))
+            accepted = [str(msg.action_id)]
+            if self.beat_period > 0:
+                accepted.append(f"{self.beat_period:g}")
+            self.publish_event(msg.agent, ACTION_ACCEPTED, accepted)
         rospy.loginfo(f"{self.name}: {goal}")
         self._settle(goal, self.start, goal)
+
+    def _signed_parameters(self, msg: Action) -> list[str] | None:
+        """The action's parameters without their signature; None (and a rate-limited warning)
+        when this decomposer has a key and the signature is missing or wrong: the action is
+        ignored, never answered (its agent's ~ack_timeout fails it)."""
+        if self.auth is None:
+            return split_signed(list(msg.parameters))[0]
+        parameters, verdict = verify_parameters(
+            self.auth, ACTION_KIND, msg.agent, f"{msg.action_id} {msg.action}",
+            list(msg.parameters), rospy.get_rostime().to_nsec())
+        if verdict is Authenticity.OK:
+            return parameters
+        self.warnings.warn(f"{verdict.value} action {shorten(msg.agent, 64)}",
+                           f"{self.name}: ignored a {verdict.value} action "
+                           f"{shorten(msg.action, 32)} claiming to be from "
+                           f"'{shorten(msg.agent, 64)}' (not signed with ~auth_key_file)")
+        return None
 
     def _on_cancel(self, msg: ActionCancel) -> None:
         reason = shorten(msg.reason or "no reason given", 100)
@@ -299,6 +349,19 @@ class Decomposer:
                 self.finish(goal, verdict)
             else:
                 self._settle(goal, self.step, goal, now)
+        self._beat(now)
+
+    def _beat(self, now: float) -> None:
+        """Every ``~beat_period``, tell each agent which of its actions still run here."""
+        if not self.acknowledge or self.beat_period <= 0 or \
+                0 <= now - self._last_beat < self.beat_period:
+            return
+        self._last_beat = now
+        by_agent: dict[str, list[str]] = {}
+        for goal in self.running():
+            by_agent.setdefault(goal.agent, []).append(str(goal.action_id))
+        for agent, ids in by_agent.items():
+            self.publish_event(agent, ACTION_RUNNING, ids)
 
     def _forget_long_gone(self, now: float) -> None:
         """Forget the agents not heard for four presence timeouts that run nothing here

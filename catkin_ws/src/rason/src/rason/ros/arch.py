@@ -38,7 +38,13 @@ def ros_now() -> float:
 
 
 class RosClock(Clock):
-    """ROS time (``rospy.get_time``): wall time, or the simulator's ``/clock`` with use_sim_time."""
+    """ROS time (``rospy.get_time``): wall time, or the simulator's ``/clock`` with use_sim_time.
+
+    ``waiting_until``: the deadline (ROS time) the agent's thread sleeps until under simulated
+    time, else None (read by the node's frozen-clock watch).
+    """
+
+    waiting_until: float | None = None
 
     def now(self) -> float:
         return ros_now()
@@ -58,11 +64,15 @@ class RosClock(Clock):
                 event.wait(remaining)
             return
         # Simulated time may run faster or slower than real time: re-check it often.
-        while not event.is_set():
-            remaining = deadline - self.now()
-            if remaining <= 0:
-                return
-            event.wait(min(remaining, 0.02))
+        self.waiting_until = deadline
+        try:
+            while not event.is_set():
+                remaining = deadline - self.now()
+                if remaining <= 0:
+                    return
+                event.wait(min(remaining, 0.02))
+        finally:
+            self.waiting_until = None
 
 
 @dataclass
@@ -76,6 +86,10 @@ class PendingAction:
     #: the action term while it is held back, not yet published: no decomposer could answer it
     #: yet (an agent acting as soon as it starts acts before the connections are made)
     unheard: Any = None
+    #: the beat period its decomposer announced when it accepted it (None: it does not beat)
+    beat_period: float | None = None
+    #: when its decomposer last said anything about it (accepted, a beat)
+    heard_at: float | None = None
 
 
 class RosAgArch(AgentArch):
@@ -84,7 +98,8 @@ class RosAgArch(AgentArch):
     def __init__(self, node: RasonNode, name: str,
                  perception_filter: PerceptionFilter | None = None,
                  trust: TrustPolicy | None = None):
-        super().__init__(RosClock())
+        self.ros_clock = RosClock()
+        super().__init__(self.ros_clock)
         self.node = node
         self.name = name
         self.trust = trust or TrustPolicy()
@@ -158,12 +173,20 @@ class RosAgArch(AgentArch):
         self.node.console(agent_name, text)
 
     def accepts(self, message: Message) -> bool:
-        """Jason's message acceptance hook: may `message` reach this agent at all?
+        """Jason's message acceptance hook: may `message` reach this agent at all?"""
+        return self.refusal(message) is None
 
-        By default senders outside the trust policy may not use ``tellHow``, ``untellHow``,
-        ``askHow``, ``achieve`` or ``unachieve``; override in a subclass to decide otherwise.
+    def refusal(self, message: Message) -> str | None:
+        """Why `message` may not reach this agent (None: it may).
+
+        By default senders outside the trust policy may only tell, untell and ask, and no
+        message's content may call an internal action outside the node's
+        ``~remote_internal_actions`` (:mod:`rason.ros.acceptance`); override in a subclass to
+        decide otherwise.
         """
-        return self.trust.accepts(self.name, message.sender, message.performative)
+        if not self.trust.accepts(self.name, message.sender, message.performative):
+            return "not a trusted sender"
+        return self.node.remote_actions.refusal(message.performative, message.content)
 
     # -- from the node -------------------------------------------------------------------------------
     def on_perception(self, source: str, perceptions: list[str]) -> None:
@@ -190,11 +213,21 @@ class RosAgArch(AgentArch):
         if expired and self.agent is not None:
             self.agent.wake()
 
-    def on_accepted(self, action_id: int) -> None:
+    def on_accepted(self, action_id: int, beat_period: float | None = None) -> None:
         with self._lock:
             pending = self.pending.get(action_id)
             if pending is not None and pending.accepted_at is None:
-                pending.accepted_at = self.clock.now()
+                pending.accepted_at = pending.heard_at = self.clock.now()
+                pending.beat_period = beat_period
+
+    def on_running(self, action_ids: list[int]) -> None:
+        """A decomposer's beat: these actions still run."""
+        now = self.clock.now()
+        with self._lock:
+            for action_id in action_ids:
+                pending = self.pending.get(action_id)
+                if pending is not None:
+                    pending.heard_at = now
 
     def on_feedback(self, feedback: Feedback) -> None:
         with self._lock:
@@ -209,8 +242,10 @@ class RosAgArch(AgentArch):
                                        feedback.message or f"{pending.text} failed: {feedback.result}",
                                        run_here=True)
 
-    def check_timeouts(self, now: float, ack_timeout: float, action_timeout: float) -> None:
-        """Fail actions no decomposer acknowledged, and accepted ones that never finished."""
+    def check_timeouts(self, now: float, ack_timeout: float, action_timeout: float,
+                       decomposer_timeout: float = 0.0) -> None:
+        """Fail actions no decomposer acknowledged, accepted ones that never finished, and
+        those whose decomposer's beats stopped for `decomposer_timeout` (and three beats)."""
         failed: list[tuple[PendingAction, str, str]] = []
         with self._lock:
             unheard = [p for p in self.pending.values() if p.unheard is not None]
@@ -228,6 +263,11 @@ class RosAgArch(AgentArch):
                         > action_timeout:
                     failed.append((pending, CancelReason.ACTION_TIMEOUT,
                                    f"{pending.text} did not finish within {action_timeout:g} s"))
+                elif self._decomposer_lost(pending, now, decomposer_timeout):
+                    failed.append((pending, CancelReason.DECOMPOSER_LOST,
+                                   f"the decomposer running {pending.text} fell silent "
+                                   f"{now - (pending.heard_at or now):.1f} s ago (it announced "
+                                   f"a beat every {pending.beat_period:g} s): it is gone"))
             for pending, _, _ in failed:
                 del self.pending[pending.action_id]
         for pending, reason, text in failed:
@@ -235,6 +275,22 @@ class RosAgArch(AgentArch):
             self.node.publish_cancel(self.name, pending.action_id, reason)
             if self.agent is not None:
                 self.agent.action_feedback(pending.action_id, False, reason, text)
+
+    @staticmethod
+    def _decomposer_lost(pending: PendingAction, now: float, timeout: float) -> bool:
+        if timeout <= 0 or pending.beat_period is None or pending.heard_at is None:
+            return False
+        return now - pending.heard_at > max(timeout, 3 * pending.beat_period)
+
+    def waits_on_time(self) -> list[str]:
+        """What this agent waits for that only ROS time ends: its pending actions (their
+        timeouts) and its reasoning's sleep until a deadline (``.wait``...)."""
+        with self._lock:
+            waits = [f"action {p.text}" for p in self.pending.values()]
+        deadline = self.ros_clock.waiting_until
+        if deadline is not None:
+            waits.append(f"a wait until {deadline:.3f} s (.wait or a timed event)")
+        return waits
 
     def cancel_all(self, reason: str) -> int:
         """Cancel every pending action (the agent stops); how many there were."""

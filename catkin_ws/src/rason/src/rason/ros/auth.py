@@ -9,9 +9,11 @@ defences, both off by default (today's open behaviour):
   altered fields), stale (sent longer ago than the replay window, or from the future beyond it)
   or replayed (a nonce already seen within the window).
 * **Acceptance** (:class:`TrustPolicy`, the model is Jason's message acceptance hook): an agent
-  may name the senders allowed to change its plans or give it goals (``tellHow``,
-  ``untellHow``, ``askHow``, ``achieve``, ``unachieve``); the others' such messages are dropped.
-  Without authentication a sender name is only a claim, so use both on an untrusted network.
+  may name the senders it trusts; the others may only tell, untell and ask (``tell``,
+  ``untell``, ``askOne``, ``askAll``): every other performative (goals, plans, signals, any
+  unknown one) from them is dropped. Whatever the sender, a message never runs an internal
+  action outside an allow-list (:mod:`rason.ros.acceptance`). Without authentication a sender
+  name is only a claim, so use both on an untrusted network.
 """
 
 from __future__ import annotations
@@ -29,8 +31,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-#: Performatives that change what an agent does: restricted by a TrustPolicy.
-RESTRICTED_PERFORMATIVES = frozenset({"tellHow", "untellHow", "askHow", "achieve", "unachieve"})
+#: The only performatives a sender outside a TrustPolicy may use: they give information or ask
+#: for it; every other one (achieve, unachieve, tellHow, untellHow, askHow, signal...) gives the
+#: agent goals or plans.
+OPEN_PERFORMATIVES = frozenset({"tell", "untell", "askOne", "askAll"})
 #: Prefix of a signature: the scheme, so another one can be introduced later.
 SCHEME = "hmac-sha256"
 #: A key shorter than this (bytes) is refused: it would be guessable.
@@ -165,7 +169,8 @@ class MessageAuth:
 
 @dataclass(frozen=True)
 class TrustPolicy:
-    """Which senders may use the restricted performatives (empty `senders` = everyone)."""
+    """Which senders may use every performative (empty `senders` = everyone); the others
+    only the :data:`OPEN_PERFORMATIVES`."""
 
     senders: frozenset[str] = frozenset()
 
@@ -175,6 +180,57 @@ class TrustPolicy:
 
     def accepts(self, receiver: str, sender: str, performative: str) -> bool:
         """Jason's acceptance hook: may `sender` send `performative` to `receiver`?"""
-        if not self.senders or performative not in RESTRICTED_PERFORMATIVES:
+        if not self.senders or performative in OPEN_PERFORMATIVES:
             return True
         return sender == receiver or sender in self.senders
+
+
+# -- actions and their feedback (jason/action, jason/event) -----------------------------------------
+#: The last parameter of a signed Action or Event: ``#auth:<stamp ns>:<nonce>:<signature>``.
+#: The thesis' messages keep their fields (and md5sums); a parameter never starts this way
+#: otherwise (an action's parameters are terms, a decomposer's own come before it).
+AUTH_PARAMETER = "#auth:"
+#: What a signature of an action or an event covers besides its parameters (the kinds apart, so
+#: a signature cannot be moved from one to the other or to an AgentMessage).
+ACTION_KIND = "jason/action"
+EVENT_KIND = "jason/event"
+
+
+def split_signed(parameters: list[str]) -> tuple[list[str], str]:
+    """An Action's or Event's parameters without their signature parameter, and it ("")."""
+    if parameters and parameters[-1].startswith(AUTH_PARAMETER):
+        return list(parameters[:-1]), parameters[-1]
+    return list(parameters), ""
+
+
+def _parameter_fields(kind: str, agent: str, head: str, parameters: list[str], stamp_ns: int,
+                      nonce: str) -> SignedFields:
+    return SignedFields(sender=agent, receiver=kind, performative=head,
+                        content=json.dumps(parameters, ensure_ascii=False), reply_with="",
+                        in_reply_to="", stamp_ns=stamp_ns, nonce=nonce)
+
+
+def sign_parameters(auth: MessageAuth, kind: str, agent: str, head: str,
+                    parameters: list[str], now_ns: int) -> list[str]:
+    """`parameters` with a signature parameter over `kind` (ACTION_KIND, EVENT_KIND), `agent`,
+    `head` (the action id and name, or the event type), the parameters, the stamp and a nonce."""
+    nonce = new_nonce()
+    signature = auth.sign(_parameter_fields(kind, agent, head, parameters, now_ns, nonce))
+    return [*parameters, f"{AUTH_PARAMETER}{now_ns}:{nonce}:{signature}"]
+
+
+def verify_parameters(auth: MessageAuth, kind: str, agent: str, head: str,
+                      parameters: list[str], now_ns: int) -> tuple[list[str], Verdict]:
+    """The parameters without their signature, and what the signature says (as
+    :meth:`MessageAuth.verify`: UNSIGNED, FORGED, STALE, REPLAYED or OK)."""
+    bare, auth_parameter = split_signed(parameters)
+    if not auth_parameter:
+        return bare, Verdict.UNSIGNED
+    stamp, _, rest = auth_parameter[len(AUTH_PARAMETER):].partition(":")
+    nonce, _, signature = rest.partition(":")
+    try:
+        stamp_ns = int(stamp)
+    except ValueError:
+        return bare, Verdict.FORGED
+    fields = _parameter_fields(kind, agent, head, bare, stamp_ns, nonce)
+    return bare, auth.verify(fields, signature, now_ns)

@@ -8,6 +8,13 @@ used ``[action_id, result, message]``; :func:`parse_feedback` accepts that order
 unambiguous (first parameter an integer, second not). An agent that gives an action up
 publishes ``ActionCancel(agent, action_id, reason)`` on ``jason/cancel`` (rason's addition):
 the decomposer stops it and answers ``cancelled``.
+
+Supervision of the decomposer (rason's addition, #37): a decomposer may announce in its
+``action_accepted`` a second parameter, the period (s, ROS time) of its beats, and then publish
+``Event(agent, "action_running", [action_id, ...])`` that often while the actions run. An
+agent fails an action whose decomposer announced beats and fell silent for its
+``~decomposer_timeout`` with ``decomposer_lost`` (a killed decomposer, a lost link). Thesis
+agents ignore both additions; a decomposer that announces nothing is not supervised.
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ from typing import Protocol
 
 ACTION_ACCEPTED = "action_accepted"
 ACTION_FEEDBACK = "action_feedback"
+ACTION_RUNNING = "action_running"
 OK = "OK"
 
 
@@ -25,8 +33,11 @@ class CancelReason:
 
     ACTION_TIMEOUT = "action_timeout"   # accepted, but not finished within ~action_timeout
     NO_DECOMPOSER = "no_decomposer"     # not acknowledged within ~ack_timeout
+    DECOMPOSER_LOST = "decomposer_lost"  # its decomposer's beats stopped (killed, link lost)
     DROPPED = "dropped"                 # its intention was dropped, or failed or ended above it
     SHUTDOWN = "shutdown"               # the agent's node is shutting down
+    STOP_MAS = "stop_mas"               # an agent of its node called .stopMAS: the node stops
+    AGENT_ENDED = "agent_ended"         # the agent's reasoning ended on an error
 
 
 class EventLike(Protocol):
@@ -77,6 +88,26 @@ def parse_accepted(event: EventLike) -> int | None:
     if event.event_type != ACTION_ACCEPTED or not event.parameters:
         return None
     return _as_int(event.parameters[0])
+
+
+def accepted_beat_period(event: EventLike) -> float | None:
+    """The beat period an ``action_accepted`` Event announces (its second parameter, a
+    positive finite number of seconds), or None (a decomposer that does not beat)."""
+    if len(event.parameters) < 2:
+        return None
+    try:
+        period = float(event.parameters[1])
+    except ValueError:
+        return None
+    return period if 0 < period < float("inf") else None
+
+
+def parse_running(event: EventLike) -> list[int] | None:
+    """The action ids an ``action_running`` beat names, or None if it is not one."""
+    if event.event_type != ACTION_RUNNING:
+        return None
+    ids = [_as_int(p) for p in event.parameters]
+    return [i for i in ids if i is not None]
 
 
 def split_top_level(text: str) -> tuple[list[str], int, bool]:

@@ -20,6 +20,13 @@ Topic jason/NAME/mind_state (std_msgs/String, latched): the mind as JSON for the
   someone subscribes.
 
 Private parameters: :class:`AgentNodeParams` (``rosrun rason agent --help`` prints them).
+
+Stopping is stopping: however an agent ends, its pending actions are cancelled on jason/cancel
+(with the reason: ``stop_mas``, ``shutdown``, ``dropped``, ``agent_ended``), it says goodbye
+and no presence beat follows, so its decomposers stop the robot. ``.stopMAS`` stops the whole
+node, every agent it hosts, and the node exits with status 0 (Jason's platform ends the MAS);
+``.kill_agent`` ends one agent and the node goes on; SIGINT/SIGTERM and node shutdown end all;
+an agent whose reasoning ends on an error is ended as ``.kill_agent`` would.
 """
 
 from __future__ import annotations
@@ -42,8 +49,11 @@ from jason_msgs.srv import Mind, MindResponse
 from rason.asl import Agent, AgentOptions, Message, load_agent_source, parse_term_text, term_str, term_text
 from rason.asl.df import DF_NAME, ProviderNotice, Registration, ServiceDirectory
 from rason.asl.terms import ListTerm, Literal, list_to_python, non_finite_part
+from rason.ros.acceptance import RemoteActions
 from rason.ros.arch import RosAgArch, ros_now
 from rason.ros.auth import (
+    ACTION_KIND,
+    EVENT_KIND,
     AuthKeyError,
     MessageAuth,
     SignedFields,
@@ -51,10 +61,19 @@ from rason.ros.auth import (
     Verdict,
     message_auth,
     new_nonce,
+    sign_parameters,
+    split_signed,
+    verify_parameters,
 )
 from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.fanout import direct_publisher
-from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
+from rason.ros.feedback import (
+    CancelReason,
+    accepted_beat_period,
+    parse_accepted,
+    parse_feedback,
+    parse_running,
+)
 from rason.ros.frames import MAX_NICE, MAX_SLICE_S, framed_subscriber
 from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.holdback import HoldBack
@@ -75,6 +94,8 @@ from rason.ros.ticker import Ticker
 
 #: s (ROS time) between two checks of action timeouts and perception TTLs
 CHECK_PERIOD = 0.05
+#: s of wall time ROS time may stand still while an agent waits on it before a warning
+FROZEN_CLOCK_S = 3.0
 
 
 @dataclass(frozen=True)
@@ -88,6 +109,10 @@ class AgentNodeParams:
     action_timeout: float = param(
         120.0, "s an accepted action may run before it fails with action_timeout (and is "
         "cancelled on jason/cancel); 0 disables", minimum=0.0)
+    decomposer_timeout: float = param(
+        3.0, "s (ROS time, and three of its beat periods at least) an accepted action's "
+        "decomposer may stay silent, when it announced action_running beats, before the action "
+        "fails with decomposer_lost (and is cancelled); 0 disables", minimum=0.0)
     perception_mode: str = param(
         "replace", "replace: per-source replacement (thesis 5.2); queue: every message is "
         "applied (the thesis' unfiltered baseline)")
@@ -117,15 +142,22 @@ class AgentNodeParams:
         "", "file holding a shared secret (16 bytes or more) that signs every message this node "
         "publishes on /jason/messages (HMAC-SHA256 over all fields, stamp and nonce); unsigned, "
         "forged, stale or replayed ones are dropped (make one: head -c 32 /dev/urandom | base64 > "
-        "fleet.key; chmod 600 fleet.key). Empty = NO authentication: anyone on the ROS graph "
+        "fleet.key; chmod 600 fleet.key). Its actions on jason/action are signed too (a last "
+        "parameter #auth:...) and only signed jason/event feedback is heard: give the robot's "
+        "decomposers the same key. Empty = NO authentication: anyone on the ROS graph "
         "can send anything with any sender, as in the thesis")
     auth_window: float = param(
         10.0, "s (ROS time) a signed message stays acceptable after its stamp (hosts' clocks "
         "must agree within it: chrony/NTP); a nonce seen within it is a replay", minimum=0.0)
     trusted_senders: list = param(
-        [], "the only senders whose tellHow, untellHow, askHow, achieve and unachieve reach the "
-        "agents of this node (Jason's message acceptance hook); [] = everyone. In a .mas2j, per "
-        "agent: trusted_senders=\"[boss]\"")
+        [], "the only senders whose every message may reach the agents of this node (Jason's "
+        "message acceptance hook); the others' are dropped but for tell, untell, askOne and "
+        "askAll; [] = everyone. In a .mas2j, per agent: trusted_senders=\"[boss]\"")
+    remote_internal_actions: list = param(
+        [], "the internal actions a message from another agent may make the receiver run when "
+        "its content is evaluated (an askOne .my_name(N), a told rule calling .count...), for "
+        "every sender, trusted or not, e.g. \"[.my_name, .count]\"; a message whose content "
+        "calls any other (or holds a plan term) is dropped with a warning. [] = none")
     tro: bool = param(AgentOptions().tro, "tail-recursion optimisation as Jason's tro agent option: "
                       "+!loop <- ...; !loop. runs in constant memory")
     max_intention_depth: int = param(
@@ -190,6 +222,7 @@ class RasonNode:
         self.params = params
         self.ack_timeout = params.ack_timeout
         self.action_timeout = params.action_timeout
+        self.decomposer_timeout = params.decomposer_timeout
         self.perception_mode = params.perception_mode
         self.default_filter = PerceptionFilter.from_lists(params.perception_functors,
                                                           params.perception_sources)
@@ -204,11 +237,17 @@ class RasonNode:
         self._declared_ttls: dict[str, float | None] = {}
         self.auth = _message_auth(params.auth_key_file, params.auth_window)
         self.trust = TrustPolicy.of(params.trusted_senders)
+        self.remote_actions = RemoteActions.of(params.remote_internal_actions)
+        if self.auth is None:
+            rospy.logwarn("no ~auth_key_file: this node accepts any sender on the ROS graph (any "
+                          "process may send its agents messages in any agent's name; messages "
+                          "run no internal action outside ~remote_internal_actions)")
         # Rejected messages, expired perception sources: one warning per kind and 10 s at most.
         self.warnings = RateLimitedWarnings(period=10.0)
         self.agents: dict[str, HostedAgent] = {}
         self.stop = threading.Event()
         self._console_lock = threading.Lock()
+        self._stop_lock = threading.Lock()       # shutdown runs once
         self.bad_input = BadInputLog(rospy.logwarn, rospy.get_time)
 
         # -- topics (subscriptions start with the agents: see start) -------------------------------
@@ -298,11 +337,34 @@ class RasonNode:
                 mind_state(None)
 
         self.checks = Ticker(1.0 / period, on_checks, self._checks_needed, name="node-checks")
+        if not rospy.rostime.is_wallclock():     # simulated time can stand still
+            threading.Thread(target=guarded("clock watch")(self._watch_clock),
+                             name="clock-watch", daemon=True).start()
         rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
         for name in list(self.agents):
             self._announce(name, HELLO)
         for hosted in list(self.agents.values()):
             hosted.thread.start()
+
+    def _watch_clock(self) -> None:
+        """Warn (once per stop) when ROS time stands still for FROZEN_CLOCK_S of wall time
+        while an agent waits on it: the one place where wall time is the right measure."""
+        last, since, warned = rospy.get_time(), time.monotonic(), False
+        while not self.stop.wait(FROZEN_CLOCK_S / 4):
+            now = rospy.get_time()
+            if now != last:
+                last, since, warned = now, time.monotonic(), False
+                continue
+            stood = time.monotonic() - since
+            if warned or stood < FROZEN_CLOCK_S:
+                continue
+            waits = [f"[{name}] {what}" for name, hosted in list(self.agents.items())
+                     for what in hosted.arch.waits_on_time()]
+            if waits:
+                warned = True
+                rospy.logwarn("ROS time has stood still at %.3f s for %.0f s of wall time (is "
+                              "/clock published? the simulator stopped?) while waiting on it: %s",
+                              now, stood, shorten("; ".join(waits), 400))
 
     def kick_checks(self) -> None:
         """Something may need the periodic checks now (see :meth:`_checks_needed`)."""
@@ -320,18 +382,35 @@ class RasonNode:
             self._announce(name, "hello")
 
     def _run_agent(self, agent: Agent) -> None:
+        """An agent's thread: its reasoning cycle, then, however it ended, its actions
+        cancelled and its goodbye (``.stopMAS`` stops the whole node, as Jason's platform)."""
+        error: Exception | None = None
         try:
             agent.run(self.stop)
         except Exception as err:
+            error = err
             rospy.logerr("agent %s stopped: %s", agent.name, err)
+        hosted = self.agents.get(agent.name)
+        if self.stop.is_set() or hosted is None or hosted.agent is not agent:
+            return        # the node stops (it says goodbye for all) or .kill_agent did it
+        if error is None and agent.stop_requested:
+            rospy.loginfo("agent %s called .stopMAS: the node stops", agent.name)
+            self.shutdown(CancelReason.STOP_MAS)
+            rospy.signal_shutdown(f"{agent.name} called .stopMAS")
+        else:
+            self.kill_agent(agent.name, CancelReason.AGENT_ENDED)
 
-    def shutdown(self) -> None:
-        """Stop every reasoning cycle, cancel the pending actions, say goodbye on the network."""
-        self.stop.set()
+    def shutdown(self, reason: str = CancelReason.SHUTDOWN) -> None:
+        """Stop every reasoning cycle, cancel the pending actions (``reason``), say goodbye on
+        the network; presence ends (done once: later calls do nothing)."""
+        with self._stop_lock:
+            if self.stop.is_set():
+                return
+            self.stop.set()
         cancelled = 0
         for name, hosted in list(self.agents.items()):
             hosted.agent.wake()
-            cancelled += hosted.arch.cancel_all(CancelReason.SHUTDOWN)
+            cancelled += hosted.arch.cancel_all(reason)
             try:
                 self._announce(name, GOODBYE)
             except rospy.ROSException:
@@ -339,7 +418,8 @@ class RasonNode:
         if cancelled:
             time.sleep(0.1)       # let the cancels leave before the connections close
         for hosted in list(self.agents.values()):
-            hosted.thread.join(2.0)
+            if hosted.thread is not threading.current_thread() and hosted.thread.is_alive():
+                hosted.thread.join(2.0)
 
     # -- output -----------------------------------------------------------------------------------------
     def publish_action(self, agent: str, action_id: int, action) -> bool:
@@ -348,6 +428,9 @@ class RasonNode:
         if self.action_listeners() == 0:
             return False
         name, args = action.functor, [term_str(arg) for arg in action.args]
+        if self.auth is not None:
+            args = sign_parameters(self.auth, ACTION_KIND, agent, f"{action_id} {name}", args,
+                                   rospy.get_rostime().to_nsec())
         self.action_pub.publish(Action(agent=agent, action_id=action_id, action=name,
                                        parameters=args))
         return True
@@ -489,14 +572,15 @@ class RasonNode:
             hosted.thread.start()
         return final
 
-    def kill_agent(self, name: str) -> bool:
-        """``.kill_agent``: the agent stops, its actions are cancelled, it says goodbye."""
+    def kill_agent(self, name: str, reason: str = CancelReason.DROPPED) -> bool:
+        """``.kill_agent``: the agent stops, its actions are cancelled (``reason``), it says
+        goodbye."""
         hosted = self.agents.pop(name, None)
         if hosted is None:
             return False
         hosted.agent.request_stop()
         hosted.agent.wake()
-        hosted.arch.cancel_all(CancelReason.DROPPED)
+        hosted.arch.cancel_all(reason)
         self.directory.remove_local(name)
         self.services.forget_agent(name)
         if hosted.mind_service is not None:
@@ -529,10 +613,12 @@ class RasonNode:
     def _receive(self, hosted: HostedAgent, message: Message, run_here: bool = False) -> None:
         """Give `message` to a hosted agent if its acceptance hook lets it in (``run_here``:
         a receiving thread that may reason for the agent, see ``Agent.receive``)."""
-        if not hosted.arch.accepts(message):
-            self.warnings.warn(f"untrusted {shorten(message.sender, 64)}",
-                            f"[{hosted.arch.name}] dropped {message.performative} from "
-                            f"'{message.sender}': not a trusted sender")
+        refusal = hosted.arch.refusal(message)
+        if refusal is not None:
+            self.warnings.warn(f"refused {shorten(message.sender, 64)} "
+                               f"{shorten(message.performative, 32)} {refusal[:60]}",
+                               f"[{hosted.arch.name}] dropped {shorten(message.performative, 32)} "
+                               f"from '{shorten(message.sender, 64)}': {refusal}")
             return
         self.note_message(hosted.agent.name, message, outgoing=False)
         hosted.agent.receive(message, run_here=run_here)
@@ -555,8 +641,8 @@ class RasonNode:
 
     def greet(self, publish_to_newcomer: Callable[[AgentMessage], None]) -> None:
         """A node just subscribed to /jason/messages: tell it (only it) which agents we host."""
-        if not self._started:
-            return      # start() says hello to everyone
+        if not self._started or self.stop.is_set():
+            return      # start() says hello to everyone; a stopping node said goodbye
         impl = self.message_pub.impl
         if impl is None:
             return      # closing
@@ -576,15 +662,39 @@ class RasonNode:
         hosted = self.agents.get(msg.agent)
         if hosted is None:
             return  # another agent's event: ignored (thesis 5.2)
+        msg = self._signed_event(msg)
+        if msg is None:
+            return
         accepted = parse_accepted(msg)
         if accepted is not None:
-            hosted.arch.on_accepted(accepted)
+            hosted.arch.on_accepted(accepted, accepted_beat_period(msg))
+            return
+        running = parse_running(msg)
+        if running is not None:
+            hosted.arch.on_running(running)
             return
         feedback = parse_feedback(msg)
         if feedback is not None:
             hosted.arch.on_feedback(feedback)
         elif msg.event_type == "action_feedback":
             rospy.logwarn("unreadable action_feedback for %s: %s", msg.agent, list(msg.parameters))
+
+    def _signed_event(self, msg: Event) -> Event | None:
+        """`msg` without its signature parameter; None (and a rate-limited warning) when this
+        node has a key and the signature is missing or wrong: anyone could fake feedback."""
+        if self.auth is None:
+            parameters, _ = split_signed(list(msg.parameters))
+            return Event(agent=msg.agent, event_type=msg.event_type, parameters=parameters)
+        parameters, verdict = verify_parameters(self.auth, EVENT_KIND, msg.agent,
+                                                msg.event_type, list(msg.parameters),
+                                                rospy.get_rostime().to_nsec())
+        if verdict is not Verdict.OK:
+            kind = shorten(msg.event_type, 32)
+            self.warnings.warn(f"{verdict.value} event {kind} {shorten(msg.agent, 64)}",
+                               f"[{shorten(msg.agent, 64)}] ignored a {verdict.value} {kind} "
+                               "event on jason/event (not signed with ~auth_key_file)")
+            return None
+        return Event(agent=msg.agent, event_type=msg.event_type, parameters=parameters)
 
     def on_perception(self, msg: Perception) -> None:
         for hosted in list(self.agents.values()):
@@ -607,7 +717,7 @@ class RasonNode:
                 return
             if self.directory.heard(msg.sender, now):   # new, or back after a lapse
                 rospy.loginfo("agent %s present", msg.sender)
-            if msg.content == HELLO:           # a newcomer: let it know us at once
+            if msg.content == HELLO and not self.stop.is_set():   # a newcomer: know us now
                 for name in list(self.agents):
                     self._announce(name)
             return
@@ -651,7 +761,8 @@ class RasonNode:
     def on_check_actions(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()
         for hosted in list(self.agents.values()):
-            hosted.arch.check_timeouts(now, self.ack_timeout, self.action_timeout)
+            hosted.arch.check_timeouts(now, self.ack_timeout, self.action_timeout,
+                                       self.decomposer_timeout)
 
     def on_check_perceptions(self, _event: rospy.timer.TimerEvent) -> None:
         now = rospy.get_time()
@@ -695,6 +806,8 @@ class RasonNode:
             return None
 
     def on_presence(self, _event: rospy.timer.TimerEvent) -> None:
+        if self.stop.is_set():
+            return          # goodbye said: no beat may follow it
         now = rospy.get_time()
         for name in list(self.agents):
             # everyone hears any message as presence: an agent that spoke within the last half

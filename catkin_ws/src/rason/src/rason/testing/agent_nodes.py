@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+import secrets
 import textwrap
 import time
 from pathlib import Path
@@ -49,3 +51,11 @@ def wait_until(condition, timeout: float, what: str, poll: float = 0.05) -> floa
 def connected_to(publisher, node: str) -> bool:
     """True once rospy `publisher` has a connection to the subscriber node `node` (full name)."""
     return any(getattr(c, "endpoint_id", "") == node for c in publisher.impl.connections)
+
+
+def key_file(folder: Path, name: str) -> Path:
+    """A fresh shared key (``~auth_key_file``) in ``folder/NAME``, readable by its owner only."""
+    path = folder / name
+    path.write_text(secrets.token_urlsafe(32) + "\n")
+    os.chmod(path, 0o600)
+    return path

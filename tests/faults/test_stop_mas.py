@@ -1,0 +1,134 @@
+"""Stopping is stopping (#37 item 4): an agent that ends, however it ends, cancels its pending
+actions, says goodbye and beats no more, so its decomposer stops the robot.
+
+A real agent node runs ``move(60)`` on the echo decomposer (which holds it: ``~delay`` 60 s) and
+then ends: by ``.stopMAS`` (the node exits with status 0, as Jason's platform does), by SIGTERM,
+or by ``.kill_agent`` of itself (the node stays up for its other agents). The test hears
+jason/cancel, jason/event and jason/presence.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+import rospy
+from jason_msgs.msg import ActionCancel, AgentMessage, Event
+
+from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
+from rason.ros.presence import GOODBYE, PRESENCE
+from rason.testing.agent_nodes import start_agent, wait_until
+from rason.testing.harness import Process, RosHarness
+
+pytestmark = pytest.mark.ros
+
+MOVER = """
+    !go.
+    +!go <- !!drive; .wait(4000); .print("ending"); {ending}.
+    +!drive <- move(60); .print("moved").
+    """
+
+
+@dataclass
+class Heard:
+    """jason/cancel, jason/event and jason/presence of one namespace, with wall arrival times."""
+
+    ns: str
+    lock: threading.Lock = field(default_factory=threading.Lock)
+    cancels: list[ActionCancel] = field(default_factory=list)
+    events: list[Event] = field(default_factory=list)
+    beats: list[tuple[float, AgentMessage]] = field(default_factory=list)
+    subs: list[rospy.Subscriber] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.subs = [rospy.Subscriber(f"{self.ns}/jason/cancel", ActionCancel, self._add(self.cancels)),
+                     rospy.Subscriber(f"{self.ns}/jason/event", Event, self._add(self.events)),
+                     rospy.Subscriber(f"{self.ns}/jason/presence", AgentMessage, self._beat)]
+
+    def _add(self, into: list):
+        def add(msg) -> None:
+            with self.lock:
+                into.append(msg)
+        return add
+
+    def _beat(self, msg: AgentMessage) -> None:
+        if msg.performative == PRESENCE:
+            with self.lock:
+                self.beats.append((time.monotonic(), msg))
+
+    def accepted(self) -> list[int]:
+        with self.lock:
+            return [a for a in map(parse_accepted, self.events) if a is not None]
+
+    def results(self) -> list[tuple[int, str]]:
+        with self.lock:
+            return [(f.action_id, f.result) for f in map(parse_feedback, self.events)
+                    if f is not None]
+
+    def close(self) -> None:
+        for sub in self.subs:
+            sub.unregister()
+
+
+def drive_then_end(ros: RosHarness, tmp_path: Path, ns: str, ending: str,
+                   ) -> tuple[Process, Heard, int]:
+    """Start the echo decomposer and the agent; wait until move(60) is accepted; let the agent
+    end its way (`ending`, its last deed, 4 s after the start); the move's action id."""
+    ros.init_rospy()
+    heard = Heard(ns)
+    ros.rosrun("rason", "echo_decomposer", ns=ns, params={"delay": 60.0})
+    ros.wait_for_subscriber(f"{ns}/jason/cancel")
+    agent = start_agent(ros, tmp_path, "mover", MOVER.format(ending=ending), ns=ns)
+    wait_until(lambda: heard.accepted(), 20, "move(60) to be accepted")
+    return agent, heard, heard.accepted()[0]
+
+
+def assert_stopped(heard: Heard, action_id: int, reason: str) -> None:
+    """The move was cancelled with `reason`, answered cancelled, and the goodbye was the
+    agent's last beat."""
+    wait_until(lambda: (action_id, "cancelled") in heard.results(), 15,
+               "the decomposer to answer cancelled")
+    with heard.lock:
+        cancels = [(c.agent, c.action_id, c.reason) for c in heard.cancels]
+    assert ("mover", action_id, reason) in cancels, cancels
+    wait_until(lambda: any(m.content == GOODBYE for _, m in heard.beats), 10, "a goodbye")
+    time.sleep(2.5)            # more than two presence periods
+    with heard.lock:
+        beats = [m.content for _, m in heard.beats if m.sender == "mover"]
+    assert beats[-1] == GOODBYE and beats.count(GOODBYE) == 1, beats
+
+
+def test_stop_mas_cancels_the_move_says_goodbye_and_the_node_exits(ros: RosHarness,
+                                                                   tmp_path: Path):
+    agent, heard, action_id = drive_then_end(ros, tmp_path, "/stop1", ".stopMAS")
+    try:
+        assert_stopped(heard, action_id, CancelReason.STOP_MAS)
+        assert agent.wait(15) == 0, agent.output()[-2000:]
+        assert "mover called .stopMAS: the node stops" in agent.output()
+    finally:
+        heard.close()
+
+
+def test_sigterm_cancels_the_move_and_says_goodbye(ros: RosHarness, tmp_path: Path):
+    agent, heard, action_id = drive_then_end(ros, tmp_path, "/stop2", ".wait(60000)")
+    try:
+        agent.signal_group(signal.SIGTERM)
+        assert_stopped(heard, action_id, CancelReason.SHUTDOWN)
+        agent.wait(15)
+    finally:
+        heard.close()
+
+
+def test_an_agent_killing_itself_cancels_its_move_and_its_node_stays(ros: RosHarness,
+                                                                    tmp_path: Path):
+    agent, heard, action_id = drive_then_end(ros, tmp_path, "/stop3",
+                                             ".my_name(Me); .kill_agent(Me)")
+    try:
+        assert_stopped(heard, action_id, CancelReason.DROPPED)
+        assert agent.alive()          # a node hosts agents: it outlives one of them
+    finally:
+        heard.close()
