@@ -19,7 +19,7 @@ from pathlib import Path
 import yaml
 
 from rason.inspector.main import InspectorParams
-from rason_diagnosis import thesis
+from rason_diagnosis import thesis, workstation
 from rason_diagnosis.hosts import LinkCut, interrupt
 from rason_diagnosis.scenario import FAULTS, Outcome, default_fault, run_scenario
 from turtlebot_sim.config import resolve
@@ -52,6 +52,8 @@ def world_problem(path: Path) -> str | None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    if "--real" in (sys.argv[1:] if argv is None else argv):   # real robots: workstation side
+        return workstation.main(argv)
     parser = argparse.ArgumentParser(prog="./run.sh demo", description=__doc__.split("\n")[0])
     parser.add_argument("--fault", choices=FAULTS, help="fault to inject (default: picked by the seed)")
     parser.add_argument("--seed", type=int, default=None,

@@ -51,9 +51,13 @@ class StepTimes:
 
 
 class RunMonitor:
-    """Subscribes to a running scenario; all times are ROS (simulated) seconds."""
+    """Subscribes to a running scenario; all times are ROS (simulated) seconds.
 
-    def __init__(self, faulty: str = "faulty", helper: str = "helper"):
+    With ``sensors=False`` (real robots over Wi-Fi: :mod:`rason_diagnosis.workstation`) it
+    hears only the agents' actions and messages: no ground truth (there is none), no odometry,
+    no camera frames (megabytes a second that would cross the robots' link)."""
+
+    def __init__(self, faulty: str = "faulty", helper: str = "helper", sensors: bool = True):
         self.faulty, self.helper = faulty, helper
         self.times = StepTimes()
         self.paths = {"faulty_true": Path2D(), "helper_true": Path2D(), "faulty_odom": Path2D()}
@@ -64,7 +68,10 @@ class RunMonitor:
         self.feedback_frame: tuple[Image, PointCloud2 | None] | None = None
         self._subs = [
             rospy.Subscriber(f"/{faulty}/jason/action", Action, self.on_action),
-            rospy.Subscriber("/jason/messages", AgentMessage, self.on_message, queue_size=100),
+            rospy.Subscriber("/jason/messages", AgentMessage, self.on_message, queue_size=100)]
+        if not sensors:
+            return
+        self._subs += [
             rospy.Subscriber(f"/{faulty}/ground_truth/odom", Odometry,
                              lambda m: self._path("faulty_true", m)),
             rospy.Subscriber(f"/{helper}/ground_truth/odom", Odometry,
