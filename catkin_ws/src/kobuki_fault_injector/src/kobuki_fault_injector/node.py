@@ -5,6 +5,14 @@ Sits between the robot's consumers and its base driver, all names relative to th
     cmd_vel (Twist)          -> [fault] -> mobile_base/commands/velocity (Twist)
     mobile_base/odom (Odometry) -> [fault] -> odom (Odometry)
 
+These are the names of this simulator's default profile (kobuki_node's own odometry name). Under
+the stock driver names (turtlebot_bringup remaps the driver's odometry to ``odom``) run it with
+``mobile_base/odom:=odom odom:=fault_injector/odom`` and point the odometry readers at
+``fault_injector/odom``; on a robot with turtlebot's velocity mux add
+``mobile_base/commands/velocity:=cmd_vel_mux/input/navi`` (docs/drivers.md). When the odometry
+input stays silent for 3 s while another Odometry topic of the namespace flows, the node warns,
+naming both (:mod:`rason.ros.input_watch`).
+
 Service ``fault_injector`` (``kobuki_fault_injector/FaultInjector``): ``left_actuator``,
 ``right_actuator``, ``both_actuators``, ``odometry`` or ``cancel``; see
 :mod:`kobuki_fault_injector.faults` for what each does. The active fault (``none`` without one)
@@ -34,7 +42,13 @@ from kobuki_fault_injector.srv import (
     FaultInjectorResponse,
 )
 from rason.ros.guard import guarded
+from rason.ros.input_watch import watch_input
 from rason.ros.master_watch import watch_master
+
+#: How to wire the odometry under the stock driver names (the miswiring warning ends with it).
+STOCK_HINT = ("Under the stock driver names (the driver publishes odom) run the injector with "
+              "mobile_base/odom:=odom odom:=fault_injector/odom and its readers with "
+              "odom:=fault_injector/odom (docs/drivers.md).")
 
 
 def twist_to_velocity(msg: Twist) -> Velocity:
@@ -66,6 +80,7 @@ class FaultInjectorNode:
         # Guarded callbacks: a bad message costs a rate-limited warning, never the node.
         rospy.Subscriber("cmd_vel", Twist, guarded("fault_injector cmd_vel")(self.on_cmd_vel),
                          queue_size=10)
+        self.odom_watch = watch_input("mobile_base/odom", Odometry, hint=STOCK_HINT)
         rospy.Subscriber("mobile_base/odom", Odometry,
                          guarded("fault_injector odom")(self.on_odom), queue_size=50)
         rospy.Service("fault_injector", FaultInjector, self.on_request)
@@ -86,6 +101,7 @@ class FaultInjectorNode:
         self.cmd_out.publish(velocity_to_twist(out))
 
     def on_odom(self, msg: Odometry) -> None:
+        self.odom_watch.heard(rospy.get_time())
         with self.lock:
             out = self.state.odom(msg)
         if out is not msg:
