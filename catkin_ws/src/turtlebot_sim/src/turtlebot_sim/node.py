@@ -231,6 +231,10 @@ class SimParams:
     camera_rate: float | None = param(None, "Kinect frames per sim second (default: the world "
                                       "file's camera.rate; stock: 30, the Kinect's); 0 = no "
                                       "camera", minimum=0.0)
+    camera_width: int | None = param(None, "Kinect image width in pixels, the height 3/4 of it: "
+                                     "640 (VGA), 320 (QVGA) or 160 (QQVGA) as openni's image "
+                                     "modes; the camera_info follows (default: the world file's "
+                                     "camera.width and height)", minimum=16, maximum=1280)
     seed: int | None = param(None, "randomisation seed: poses, lighting, colours, noise "
                              "(default: the world file's seed)")
     render_workers: int = param(1, "Kinect rendering processes (2 help at 30 Hz on an idle "
@@ -251,9 +255,12 @@ class SimParams:
 
 
 def resolve_world(params: SimParams) -> dict:
-    """The world config of a run: the file, the seed and, under the stock profile, the Kinect's
-    own focal length (openni's 525 px at VGA, scaled to the rendered width)."""
+    """The world config of a run: the file, the seed, the camera size and, under the stock
+    profile, the Kinect's own focal length (openni's 525 px at VGA, scaled to the width)."""
     cfg = worldcfg.resolve(params.world, params.seed)
+    if params.camera_width is not None:
+        cfg["camera"]["width"] = params.camera_width
+        cfg["camera"]["height"] = params.camera_width * 3 // 4
     if params.drivers == Drivers.STOCK:
         cfg["camera"]["hfov_deg"] = stock.kinect_hfov_deg(int(cfg["camera"]["width"]))
     return cfg
