@@ -140,3 +140,5 @@ def test_the_documented_bring_up_diagnoses_the_injected_fault(ros: RosHarness):
         for sub, pub in mux:
             sub.unregister()
             pub.unregister()
+        # the session's master outlives the test: leave no stock profile to the next simulator
+        rospy.delete_param("/turtlebot_sim")
