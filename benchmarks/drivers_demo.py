@@ -32,7 +32,7 @@ def main() -> int:
     for seed in args.seeds:
         for fault in args.faults:
             row = {"fault": fault, "seed": seed}
-            for drivers in sorted(WIRINGS, reverse=True):          # sim first, then stock
+            for drivers in sorted(WIRINGS, reverse=True):        # stock first, then sim
                 (args.out / drivers / "runs").mkdir(parents=True, exist_ok=True)
                 result = run_one(fault, seed, args.out / drivers,
                                  ["--drivers", drivers, "--no-inspector"])

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import Any
 
 import rosgraph
 import rospy
@@ -95,10 +96,11 @@ def publications() -> list[Publication]:
             for topic, nodes in published]
 
 
-def watch_input(topic: str, msg_class: type, hint: str = "",
+def watch_input(topic: str, msg_class: Any, hint: str = "",
                 after: float = SILENCE) -> InputWatch:
     """Start watching the input ``topic`` (as the node names it; remaps apply) of ``msg_class``;
-    call ``.heard(rospy.get_time())`` from its callback. Checks once a second (ROS time) and
+    call ``.heard(rospy.get_time())`` from its callback (``msg_class``: a generated message
+    class, e.g. nav_msgs.msg.Odometry). Checks once a second (ROS time) and
     logs a warning naming the input."""
     watch = InputWatch(topic=rospy.resolve_name(topic), msg_type=msg_class._type,
                        node=rospy.get_name(), namespace=rospy.get_namespace(),
