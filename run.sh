@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The one entry point of rason. Sets the machine up on first use (./setup.sh), then:
 #   ./run.sh test [PYTEST_ARGS...]   run the whole test suite (what CI runs)
-#   ./run.sh demo [--fault NAME] [--seed N] [--record]
+#   ./run.sh demo [--fault NAME] [--seed N] [--drivers sim|stock] [--record]
 #                                    the cooperative fault diagnosis in simulation
 #   ./run.sh campaign [--runs N] [--out DIR]   all scenarios, N runs each, report + plots
 #   ./run.sh bench NAME [ARGS...]    a benchmark from benchmarks/ (e.g. reasoning_cycle)

@@ -25,6 +25,9 @@ APT_PACKAGES=(
   chromium chromium-driver
   # ./run.sh demo --hosts: a robot host's firewall (nft), as on the robots (README)
   nftables
+  # the stock-driver profile (docs/drivers.md): /tf messages, and Debian's own image pipeline
+  # between the Kinect topics and the vision (the -dev packages carry the nodelet plugin lists)
+  python3-tf2-msgs ros-tf2-msgs libnodeletlib-tools libimage-proc-dev libdepth-image-proc-dev
 )
 
 step() { printf '\n==> setup: %s\n' "$*"; }

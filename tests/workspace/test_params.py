@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import pytest
 
-from rason.ros.params import ParamError, help_text, param, parse, required
+from rason.ros.params import ParamError, _kinds, help_text, param, parse, required
 
 
 @dataclass(frozen=True)
@@ -62,3 +62,24 @@ def test_sim_node_help_is_its_parameter_table():
                          text=True, timeout=60)
     assert out.returncode == 0, out.stderr
     assert "~world" in out.stdout and "required" in out.stdout and "~real_time_factor" in out.stdout
+
+
+@pytest.mark.parametrize("annotation, kinds", [
+    ("float | None", ((float,), True)), ("list[str]", ((list,), False)),
+    ("Optional[int]", ((int,), True)), ("typing.Optional[str]", ((str,), True)),
+    ("dict[str, list[str]] | None", ((dict,), True)), (float, ((float,), False)),
+    (int | None, ((int,), True)), (list[str], ((list,), False)),
+])
+def test_annotations_are_read_as_text_without_evaluating_them(annotation, kinds):
+    """``from __future__ import annotations`` leaves text that Python 3.8 (the robots' Noetic)
+    cannot evaluate (``float | None``): the parameter types are read from it instead."""
+    assert _kinds(annotation) == kinds
+
+
+def test_an_unknown_parameter_type_is_a_clear_error():
+    @dataclass(frozen=True)
+    class Odd:
+        where: complex = param(1j, "a complex number")
+
+    with pytest.raises(ParamError, match=r"unsupported parameter type 'complex'"):
+        parse(Odd, {"where": 1})

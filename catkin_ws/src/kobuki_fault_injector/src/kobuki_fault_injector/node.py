@@ -5,6 +5,17 @@ Sits between the robot's consumers and its base driver, all names relative to th
     cmd_vel (Twist)          -> [fault] -> mobile_base/commands/velocity (Twist)
     mobile_base/odom (Odometry) -> [fault] -> odom (Odometry)
 
+The odometry names are parameters (``~odom_input``, ``~odom_output``; ``--help`` lists them):
+the defaults are this simulator's default profile (kobuki_node's own odometry name). Under the
+stock driver names (turtlebot_bringup remaps the driver's odometry to ``odom``) run it with
+``_odom_input:=odom _odom_output:=fault_injector/odom`` and point the odometry readers at
+``fault_injector/odom`` (``odom:=fault_injector/odom``). Parameters, not remaps: rospy applies
+remaps one after the other, so ``mobile_base/odom:=odom odom:=fault_injector/odom`` would
+subscribe the node to its own output. On a robot with turtlebot's velocity mux add
+``mobile_base/commands/velocity:=cmd_vel_mux/input/navi`` (docs/drivers.md). When the odometry
+input stays silent for 3 s while another Odometry topic of the namespace flows, the node warns,
+naming both (:mod:`rason.ros.input_watch`).
+
 Service ``fault_injector`` (``kobuki_fault_injector/FaultInjector``): ``left_actuator``,
 ``right_actuator``, ``both_actuators``, ``odometry`` or ``cancel``; see
 :mod:`kobuki_fault_injector.faults` for what each does. The active fault (``none`` without one)
@@ -19,7 +30,9 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 import threading
+from dataclasses import dataclass
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
@@ -34,7 +47,14 @@ from kobuki_fault_injector.srv import (
     FaultInjectorResponse,
 )
 from rason.ros.guard import guarded
+from rason.ros.input_watch import watch_input
 from rason.ros.master_watch import watch_master
+from rason.ros.params import ParamError, exit_on_help, load_or_exit, param
+
+#: How to wire the odometry under the stock driver names (the miswiring warning ends with it).
+STOCK_HINT = ("Under the stock driver names (the driver publishes odom) run the injector with "
+              "_odom_input:=odom _odom_output:=fault_injector/odom and its readers with "
+              "odom:=fault_injector/odom (docs/drivers.md).")
 
 
 def twist_to_velocity(msg: Twist) -> Velocity:
@@ -49,24 +69,42 @@ def velocity_to_twist(vel: Velocity) -> Twist:
     return msg
 
 
+@dataclass(frozen=True)
+class InjectorParams:
+    """The fault injector's private parameters."""
+
+    odom_input: str = param("mobile_base/odom", "the base driver's odometry, read (stock driver "
+                            "names: odom)")
+    odom_output: str = param("odom", "the odometry as the fault leaves it, for the decomposer "
+                             "and the synthesizer (stock driver names: fault_injector/odom)")
+
+    def __post_init__(self) -> None:
+        if rospy.names.canonicalize_name(self.odom_input) == \
+                rospy.names.canonicalize_name(self.odom_output):
+            raise ParamError(f"~odom_input and ~odom_output are both {self.odom_input!r}: the "
+                             "node would read its own output")
+
+
 class FaultInjectorNode:
     """Topics, service and diagnostics around a :class:`FaultState`."""
 
-    def __init__(self) -> None:
+    def __init__(self, params: InjectorParams | None = None) -> None:
+        params = params or InjectorParams()
         self.lock = threading.Lock()
         self.state = FaultState()
         self.diagnostic_name = f"{rospy.get_namespace().strip('/') or 'robot'}: fault_injector"
 
         # -- topics (relative names: run the node inside the robot's namespace) ------------
         self.cmd_out = rospy.Publisher("mobile_base/commands/velocity", Twist, queue_size=10)
-        self.odom_out = rospy.Publisher("odom", Odometry, queue_size=50)
+        self.odom_out = rospy.Publisher(params.odom_output, Odometry, queue_size=50)
         self.status_pub = rospy.Publisher("fault_injector/status", String, queue_size=1,
                                           latch=True)
         self.diagnostics_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
         # Guarded callbacks: a bad message costs a rate-limited warning, never the node.
         rospy.Subscriber("cmd_vel", Twist, guarded("fault_injector cmd_vel")(self.on_cmd_vel),
                          queue_size=10)
-        rospy.Subscriber("mobile_base/odom", Odometry,
+        self.odom_watch = watch_input(params.odom_input, Odometry, hint=STOCK_HINT)
+        rospy.Subscriber(params.odom_input, Odometry,
                          guarded("fault_injector odom")(self.on_odom), queue_size=50)
         rospy.Service("fault_injector", FaultInjector, self.on_request)
 
@@ -86,6 +124,7 @@ class FaultInjectorNode:
         self.cmd_out.publish(velocity_to_twist(out))
 
     def on_odom(self, msg: Odometry) -> None:
+        self.odom_watch.heard(rospy.get_time())
         with self.lock:
             out = self.state.odom(msg)
         if out is not msg:
@@ -129,9 +168,14 @@ class FaultInjectorNode:
         self.diagnostics_pub.publish(array)
 
 
-def main() -> int:
-    rospy.init_node("fault_injector")
-    FaultInjectorNode()
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``rosrun kobuki_fault_injector fault_injector``."""
+    argv = argv if argv is not None else sys.argv
+    exit_on_help(argv, InjectorParams,
+                 "rosrun kobuki_fault_injector fault_injector __ns:=/ROBOT [_name:=value ...]",
+                 __doc__.split("\n")[0].split(": ", 1)[-1])
+    rospy.init_node("fault_injector", argv=argv)
+    FaultInjectorNode(load_or_exit(InjectorParams, "fault_injector"))
     watch_master()              # a restarted roscore gets the topics and the service again
     rospy.loginfo("fault_injector ready in namespace %s", rospy.get_namespace())
     rospy.spin()

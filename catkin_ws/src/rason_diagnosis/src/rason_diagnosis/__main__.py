@@ -1,10 +1,12 @@
-"""``./run.sh demo [--fault NAME] [--seed N] [--record] [--out DIR] [--world FILE]``: one diagnosis.
+"""``./run.sh demo [--fault NAME] [--seed N] [--drivers sim|stock] [--record] ...``: one diagnosis.
 
 Starts roscore, the simulator (Faulty and Helper side by side 1.5 m apart), a fault injector and
 a motion decomposer per robot, Helper's vision synthesizer and both agents, each with ``rosrun``;
 injects the fault with the real service before Faulty starts; streams the agents' console; prints
 the diagnosis, whether it matches the injected fault, and the latency of the three steps in
-simulated seconds; writes a picture of the run. Exit status 0 only when the diagnosis is right.
+simulated seconds (wall seconds with ``--drivers stock``, which runs the simulator under the real
+drivers' topic names on wall time, see docs/drivers.md); writes a picture of the run. Exit status
+0 only when the diagnosis is right.
 """
 
 from __future__ import annotations
@@ -19,7 +21,8 @@ from pathlib import Path
 import yaml
 
 from rason.inspector.main import InspectorParams
-from rason_diagnosis import thesis
+from rason_diagnosis import thesis, workstation
+from rason_diagnosis.drivers import SIM, WIRINGS
 from rason_diagnosis.hosts import LinkCut, interrupt
 from rason_diagnosis.scenario import FAULTS, Outcome, default_fault, run_scenario
 from turtlebot_sim.config import resolve
@@ -52,6 +55,8 @@ def world_problem(path: Path) -> str | None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    if "--real" in (sys.argv[1:] if argv is None else argv):   # real robots: workstation side
+        return workstation.main(argv)
     parser = argparse.ArgumentParser(prog="./run.sh demo", description=__doc__.split("\n")[0])
     parser.add_argument("--fault", choices=FAULTS, help="fault to inject (default: picked by the seed)")
     parser.add_argument("--seed", type=int, default=None,
@@ -60,6 +65,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=None, help="folder for the picture and logs")
     parser.add_argument("--world", type=Path, default=None,
                         help="world file (robot poses, room, lighting; as worlds/case_study.yaml)")
+    parser.add_argument("--drivers", choices=sorted(WIRINGS), default=SIM.drivers.value,
+                        help="the simulator's topics: sim (its own, sim time) or stock (the real "
+                             "kobuki_node + Kinect drivers' names, wall time; docs/drivers.md)")
     parser.add_argument("--json", action="store_true", help="print the result as JSON at the end")
     parser.add_argument("--quiet", action="store_true", help="do not stream the agents' console")
     parser.add_argument("--timeout", type=float, default=300.0, help="simulated seconds allowed")
@@ -85,7 +93,8 @@ def main(argv: list[str] | None = None) -> int:
     seed = args.seed if args.seed is not None else int(time.time()) % 100000
     fault = args.fault or default_fault(seed)
     out = args.out or Path("out") / f"demo-{fault}-{seed}"
-    print(f"[demo] fault {fault}, seed {seed}; output in {out}", flush=True)
+    print(f"[demo] fault {fault}, seed {seed}, drivers {args.drivers}; output in {out}",
+          flush=True)
     # SIGTERM (the campaign's timeout, a service manager) ends the run as Ctrl-C does: every
     # node, roscore included, is stopped on the way out, also in the middle of the start
     signal.signal(signal.SIGTERM, interrupt)
@@ -93,7 +102,8 @@ def main(argv: list[str] | None = None) -> int:
         result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,
                               sim_timeout=args.timeout,
                               inspector_port=args.inspector_port if args.inspector else None,
-                              hosts=args.hosts, cuts=args.cut, world=args.world)
+                              hosts=args.hosts, cuts=args.cut, world=args.world,
+                              wiring=WIRINGS[args.drivers])
     except KeyboardInterrupt:
         print("\n[demo] interrupted: every node of the run was stopped", flush=True)
         return 130
@@ -102,6 +112,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"[demo] injected fault : {fault}")
     print(f"[demo] diagnosis      : {result.diagnosis}  (expected {result.expected}) -> "
           f"{VERDICTS[result.outcome]}")
+    clock = "simulated" if WIRINGS[args.drivers].sim_time else "wall (stock drivers)"
     for label, value, index in (("fault detection", result.detection_s, 0),
                                 ("robot location", result.location_s, 1),
                                 ("diagnosis", result.diagnosis_s, 2),
@@ -109,7 +120,7 @@ def main(argv: list[str] | None = None) -> int:
         shown = f"{value:6.2f} s" if value is not None else "     - "
         ref = (f"   (thesis mean {thesis.mean(fault, index):.2f} s)" if fault in thesis.TABLES
                else "")
-        print(f"[demo] {label:15s}: {shown} simulated{ref}")
+        print(f"[demo] {label:15s}: {shown} {clock}{ref}")
     print(f"[demo] wall-clock     : {result.wall_s:.1f} s")
     if result.error:
         print(f"[demo] error          : {result.error}")

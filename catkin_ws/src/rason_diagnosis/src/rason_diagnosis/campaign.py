@@ -1,4 +1,4 @@
-"""``./run.sh campaign [--runs N] [--out DIR] [--layouts fixed|random]``: every scenario N times.
+"""``./run.sh campaign [--runs N] [--drivers sim|stock] [--layouts fixed|random]``: every scenario N times.
 
 Each run is a separate demo process (its own roscore, simulator, nodes and agents) with a seed
 that varies start poses, lighting and sensor noise. Writes ``runs.csv``, ``report.md`` (tables in
@@ -26,6 +26,7 @@ import yaml
 
 from rason.testing.harness import processes_left_by
 from rason_diagnosis import thesis
+from rason_diagnosis.drivers import SIM, WIRINGS
 from rason_diagnosis.paths import world_file
 from rason_diagnosis.scenario import FAULTS, Outcome, outcome_of
 
@@ -57,6 +58,11 @@ def run_one(fault: str, seed: int, out: Path, extra: Sequence[str] = ()) -> dict
         result = {"fault": fault, "seed": seed, "correct": False, "error": "no result.json"}
     result["orphans"] = len(processes_left_by(demo.pid))
     return result
+
+
+def demo_options(args: argparse.Namespace) -> list[str]:
+    """The demo options every run of the campaign gets."""
+    return [*(["--hosts"] if args.hosts else []), "--drivers", args.drivers]
 
 
 def progress(done: int, total: int, started: float, last: dict) -> None:
@@ -170,6 +176,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--first-seed", type=int, default=1)
     parser.add_argument("--hosts", action="store_true",
                         help="every run across hosts of its own (./run.sh demo --hosts; root)")
+    parser.add_argument("--drivers", choices=sorted(WIRINGS), default=SIM.drivers.value,
+                        help="every run under this driver profile (./run.sh demo --drivers; "
+                             "docs/drivers.md)")
     parser.add_argument("--layouts", choices=("fixed", "random"), default="fixed",
                         help="fixed: the thesis' layout; random: a seeded layout per run index "
                              "(the same N layouts for every fault)")
@@ -187,7 +196,7 @@ def main(argv: list[str] | None = None) -> int:
     results: list[dict] = []
     started = time.monotonic()
     for done, (fault, seed) in enumerate(jobs, 1):
-        results.append(run_one(fault, seed, args.out, ["--hosts"] if args.hosts else []))
+        results.append(run_one(fault, seed, args.out, demo_options(args)))
         progress(done, len(jobs), started, results[-1])
         with open(args.out / "runs.csv", "w", newline="") as f:
             writer = csv.DictWriter(f, FIELDS, extrasaction="ignore")
@@ -226,7 +235,7 @@ def random_campaign(args: argparse.Namespace) -> int:
     results: list[dict] = []
     started = time.monotonic()
     for done, (fault, lay) in enumerate(jobs, 1):
-        extra = ["--world", str(worlds[lay.seed]), *(["--hosts"] if args.hosts else [])]
+        extra = ["--world", str(worlds[lay.seed]), *demo_options(args)]
         result = run_one(fault, lay.seed, args.out, extra)
         result.update({k: round(getattr(lay, k), 3) for k in LAYOUT_FIELDS})
         result["outcome"] = outcome(result)

@@ -51,9 +51,19 @@ class StepTimes:
 
 
 class RunMonitor:
-    """Subscribes to a running scenario; all times are ROS (simulated) seconds."""
+    """Subscribes to a running scenario; all times are ROS (simulated) seconds.
 
-    def __init__(self, faulty: str = "faulty", helper: str = "helper"):
+    With ``sensors=False`` (real robots over Wi-Fi: :mod:`rason_diagnosis.workstation`) it
+    hears only the agents' actions and messages: no ground truth (there is none), no odometry,
+    no camera frames (megabytes a second that would cross the robots' link)."""
+
+    def __init__(self, faulty: str = "faulty", helper: str = "helper", odom_topic: str = "odom",
+                 image_topic: str = "camera/rgb/image_raw",
+                 cloud_topic: str | None = "camera/depth_registered/points",
+                 sensors: bool = True):
+        """``odom_topic``: Faulty's odometry as its nodes read it; ``image_topic``: Helper's
+        colour image; ``cloud_topic``: its cloud, None for none (all relative to the robot's
+        namespace)."""
         self.faulty, self.helper = faulty, helper
         self.times = StepTimes()
         self.paths = {"faulty_true": Path2D(), "helper_true": Path2D(), "faulty_odom": Path2D()}
@@ -64,17 +74,22 @@ class RunMonitor:
         self.feedback_frame: tuple[Image, PointCloud2 | None] | None = None
         self._subs = [
             rospy.Subscriber(f"/{faulty}/jason/action", Action, self.on_action),
-            rospy.Subscriber("/jason/messages", AgentMessage, self.on_message, queue_size=100),
+            rospy.Subscriber("/jason/messages", AgentMessage, self.on_message, queue_size=100)]
+        if not sensors:
+            return
+        self._subs += [
             rospy.Subscriber(f"/{faulty}/ground_truth/odom", Odometry,
                              lambda m: self._path("faulty_true", m)),
             rospy.Subscriber(f"/{helper}/ground_truth/odom", Odometry,
                              lambda m: self._path("helper_true", m)),
-            rospy.Subscriber(f"/{faulty}/odom", Odometry, lambda m: self._path("faulty_odom", m)),
-            rospy.Subscriber(f"/{helper}/camera/rgb/image_raw", Image, self.on_image,
+            rospy.Subscriber(f"/{faulty}/{odom_topic}", Odometry,
+                             lambda m: self._path("faulty_odom", m)),
+            rospy.Subscriber(f"/{helper}/{image_topic}", Image, self.on_image,
                              queue_size=1, buff_size=2**24),
-            rospy.Subscriber(f"/{helper}/camera/depth_registered/points", PointCloud2,
-                             self.on_cloud, queue_size=1, buff_size=2**25),
         ]
+        if cloud_topic is not None:
+            self._subs.append(rospy.Subscriber(f"/{helper}/{cloud_topic}", PointCloud2,
+                                               self.on_cloud, queue_size=1, buff_size=2**25))
 
     def close(self) -> None:
         for sub in self._subs:

@@ -18,6 +18,7 @@ from enum import StrEnum
 from pathlib import Path
 
 from rason.testing.harness import HarnessError, RosHarness
+from rason_diagnosis.drivers import SIM, Wiring
 from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
 from rason_diagnosis.paths import agent_file, world_file
 
@@ -54,7 +55,7 @@ def outcome_of(correct: object, diagnosis: str | None) -> Outcome:
 
 @dataclass
 class RunResult:
-    """The outcome of one run; times in simulated seconds."""
+    """The outcome of one run; times in simulated seconds (wall seconds under stock drivers)."""
 
     fault: str
     seed: int
@@ -77,6 +78,7 @@ class RunResult:
     presence: list[dict] = field(default_factory=list)
     dead: list[str] = field(default_factory=list)
     unknown_reason: str = ""
+    drivers: str = "sim"
 
     @property
     def outcome(self) -> Outcome:
@@ -109,7 +111,8 @@ HELPER_VISION: dict[str, object] = {"odom_bearings": True, "frame_stamps": True}
 def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, echo: bool = True,
                  sim_timeout: float = 300.0, real_time_factor: float = 1.0,
                  inspector_port: int | None = None, hosts: bool = False,
-                 cuts: Sequence[LinkCut] = (), world: Path | None = None) -> RunResult:
+                 cuts: Sequence[LinkCut] = (), world: Path | None = None,
+                 wiring: Wiring = SIM) -> RunResult:
     """Run one scenario; returns its result (never raises for a failed diagnosis).
 
     With `inspector_port` (0: any free port) the mind inspector watches the run; its address is
@@ -117,12 +120,14 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
     ``hosts``: world, helper and faulty on their own network namespaces (see hosts.py);
     ``cuts``: links taken down and up again during the run (implies ``hosts``).
     ``world``: a world file (robot poses, room, lighting, camera; see ``worlds/case_study.yaml``),
-    default the thesis' layout.
+    default the thesis' layout. ``wiring``: the driver profile (:mod:`rason_diagnosis.drivers`);
+    under ``STOCK`` the times are wall seconds, as on robots.
     """
     if fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
     out_dir.mkdir(parents=True, exist_ok=True)
     result = RunResult(fault=fault, seed=seed, expected=expected_diagnosis(fault),
+                       drivers=wiring.drivers.value,
                        out_dir=str(out_dir), hosts=hosts or bool(cuts),
                        cuts=[str(c) for c in cuts])
     started = time.monotonic()
@@ -131,7 +136,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
             if result.hosts else None
         if network and inspector_port is not None:   # the inspector on the world host
             inspector_port = network.relay_port        # at the address relayed to this machine
-        ros = RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs",
+        ros = RosHarness(sim_time=wiring.sim_time, echo=False, log_dir=out_dir / "logs",
                          master_host=network.world if network else None,
                          placement=network.placement() if network else None)
         try:
@@ -139,7 +144,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                 if inspector_port is not None:
                     result.inspector = _start_inspector(ros, inspector_port)
                 _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor,
-                     network, cuts, world or world_file())
+                     network, cuts, world or world_file(), wiring)
         except HarnessError as err:
             result.error = str(err).splitlines()[0]
     result.wall_s = round(time.monotonic() - started, 1)
@@ -150,28 +155,38 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
 
 def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: bool,
          sim_timeout: float, real_time_factor: float, network: CaseStudyLan | None = None,
-         cuts: Sequence[LinkCut] = (), world: Path | None = None) -> None:
+         cuts: Sequence[LinkCut] = (), world: Path | None = None,
+         wiring: Wiring = SIM) -> None:
     import rospy  # the demo process joins the run as an observer
 
     from rason_diagnosis.monitor import RunMonitor
     from rason_diagnosis.plots import save_run_picture
 
     sim = ros.rosrun("turtlebot_sim", "sim", params={
-        "world": str(world or world_file()), "seed": result.seed, "real_time_factor": real_time_factor})
-    ros.wait_for_topic("/clock", timeout=60, watch=[sim])
+        "world": str(world or world_file()), "seed": result.seed,
+        "real_time_factor": real_time_factor, **wiring.sim_params()})
+    ros.wait_for_topic(wiring.ready_topic, timeout=60, watch=[sim])
     for robot in ROBOTS:
-        ros.rosrun("kobuki_fault_injector", "fault_injector", ns=f"/{robot}")
-        ros.rosrun("rason", "motion_decomposer", ns=f"/{robot}",
+        ros.rosrun("kobuki_fault_injector", "fault_injector", ns=f"/{robot}",
+                   params=wiring.injector_params)
+        ros.rosrun("rason", "motion_decomposer", *wiring.odom_reader_args, ns=f"/{robot}",
                    params=HELPER_MOTION if robot == "helper" else None)
-    ros.rosrun("rason_vision", "robot_synthesizer", ns="/helper", params=HELPER_VISION)
+    for line in wiring.vision_nodes:
+        ros.rosrun(line.package, line.executable, *line.args, ns=line.ns)
+    ros.rosrun("rason_vision", "robot_synthesizer", *wiring.odom_reader_args,
+               *wiring.synthesizer_args, ns="/helper",
+               params={**HELPER_VISION, **wiring.synthesizer_params})
     for robot in ROBOTS:
         ros.wait_for_service(f"/{robot}/fault_injector", timeout=30)
         ros.wait_for_subscriber(f"/{robot}/jason/action", timeout=30)
     ros.wait_for_topic("/helper/jason/perception", timeout=60, watch=[sim])
     ros.init_rospy("rason_demo")
-    monitor = RunMonitor()
+    monitor = RunMonitor(odom_topic=wiring.odom_topic, image_topic=wiring.image_topic,
+                         cloud_topic=wiring.cloud_topic)
     if record:
-        ros.run(["rosbag", "record", "-O", str(out_dir / "run.bag"), *RECORDED_TOPICS],
+        topics = [t for t in RECORDED_TOPICS if wiring.sim_time or t != "/clock"]
+        topics += [f"/{r}/{wiring.odom_topic}" for r in ROBOTS if wiring.odom_topic != "odom"]
+        ros.run(["rosbag", "record", "-O", str(out_dir / "run.bag"), *topics],
                 label="rosbag_record", echo=False)
 
     if result.fault != "none":

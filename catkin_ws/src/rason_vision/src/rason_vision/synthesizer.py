@@ -124,7 +124,7 @@ class HeadingHistory:
             samples = list(self._samples)
         if not samples or samples[-1].t < t - ODOM_LAG_S:
             return False                       # the odometry does not know `t` yet
-        first = bisect.bisect_right(samples, t - margin, key=_time_of) - 1
+        first = bisect.bisect_right(_times(samples), t - margin) - 1
         if first < 0:
             return False                       # nothing as old as `t` - `margin`
         now = samples[-1]
@@ -139,7 +139,7 @@ class HeadingHistory:
             samples = list(self._samples)
         if not samples:
             return None
-        i = bisect.bisect_left(samples, t, key=_time_of)
+        i = bisect.bisect_left(_times(samples), t)
         if i == len(samples):
             last = samples[-1]
             return last.heading if t - last.t <= tolerance else None
@@ -151,8 +151,9 @@ class HeadingHistory:
         return wrap_deg(before.heading + turned * (t - before.t) / (after.t - before.t))
 
 
-def _time_of(sample: OdomSample) -> float:
-    return sample.t
+def _times(samples: list[OdomSample]) -> list[float]:
+    """The samples' times, to bisect (bisect's key= is Python 3.10+; the robots run 3.8)."""
+    return [sample.t for sample in samples]
 
 
 def sighting_annotations(t: float, headings: HeadingHistory | None, rest_margin: float,

@@ -39,8 +39,10 @@ def yaw_quaternion(yaw: float) -> Quaternion:
 
 
 def odometry(t: float, frame: str, child: str, x: float, y: float, yaw: float, v: float,
-             w: float) -> Odometry:
-    """A planar nav_msgs/Odometry (twist in the child frame, as kobuki_node sends it)."""
+             w: float, pose_covariance: list[float] | None = None,
+             twist_covariance: list[float] | None = None) -> Odometry:
+    """A planar nav_msgs/Odometry (twist in the child frame, as kobuki_node sends it); the
+    covariances default to this profile's (see ``_POSE_COV``)."""
     msg = Odometry()
     msg.header.stamp = stamp(t)
     msg.header.frame_id = frame
@@ -48,10 +50,10 @@ def odometry(t: float, frame: str, child: str, x: float, y: float, yaw: float, v
     msg.pose.pose.position.x = x
     msg.pose.pose.position.y = y
     msg.pose.pose.orientation = yaw_quaternion(yaw)
-    msg.pose.covariance = _POSE_COV
+    msg.pose.covariance = _POSE_COV if pose_covariance is None else pose_covariance
     msg.twist.twist.linear.x = v
     msg.twist.twist.angular.z = w
-    msg.twist.covariance = _TWIST_COV
+    msg.twist.covariance = _TWIST_COV if twist_covariance is None else twist_covariance
     return msg
 
 

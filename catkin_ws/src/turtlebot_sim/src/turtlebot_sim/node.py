@@ -2,34 +2,45 @@
 
 Private parameters: :class:`SimParams` (``rosrun turtlebot_sim sim --help`` prints them).
 
-Topics (``<r>`` = each robot's name, relative to the node's namespace, so ``__ns:=/test1`` gives
-``/test1/faulty/...``; all stamps are sim time; /clock every physics step):
+Topics of the default profile (``_drivers:=sim``; ``<r>`` = each robot's name, relative to the
+node's namespace, so ``__ns:=/test1`` gives ``/test1/faulty/...``; all stamps are sim time;
+/clock every physics step):
     /clock                                   rosgraph_msgs/Clock        (published)
     /<r>/mobile_base/commands/velocity       geometry_msgs/Twist        (subscribed)
     /<r>/mobile_base/odom                    nav_msgs/Odometry odom -> base_footprint, wheels
+    /<r>/mobile_base/events/bumper           kobuki_msgs/BumperEvent    (on contact changes)
     /<r>/ground_truth/odom                   nav_msgs/Odometry world -> <r>/base_footprint
     /<r>/camera/rgb/image_raw                sensor_msgs/Image rgb8      (robots with a Kinect)
     /<r>/camera/depth_registered/points      sensor_msgs/PointCloud2 x y z rgb, organised
 
-The node does not set ``/use_sim_time``: set it before starting the other nodes. After a roscore
-restart it registers its topics again (:mod:`rason.ros.master_watch`).
+``_drivers:=stock`` publishes the real drivers' topics on wall time instead, without /clock:
+docs/drivers.md has the table.
+
+Under the default profile the node does not set ``/use_sim_time``: set it before starting the
+other nodes. After a roscore restart it registers its topics again (:mod:`rason.ros.master_watch`).
 """
 
 from __future__ import annotations
 
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
+from enum import StrEnum
 
 import rospy
 from geometry_msgs.msg import Twist
+from kobuki_msgs.msg import BumperEvent, ButtonEvent, CliffEvent, SensorState, WheelDropEvent
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
-from sensor_msgs.msg import Image, PointCloud2
+from sensor_msgs.msg import CameraInfo, Image, JointState, PointCloud2
+from tf2_msgs.msg import TFMessage
 
 from rason.ros.master_watch import watch_master
-from rason.ros.params import exit_on_help, load_or_exit, param, required
-from turtlebot_sim import msgs
+from rason.ros.params import ParamError, exit_on_help, load_or_exit, param, required
+from turtlebot_sim import config as worldcfg
+from turtlebot_sim import msgs, stock
+from turtlebot_sim.base_events import BumperSwitches
 from turtlebot_sim.render import Frame, RenderPool
 from turtlebot_sim.world import World
 
@@ -37,22 +48,32 @@ from turtlebot_sim.world import World
 MAX_LAG = 0.25
 
 
-class RobotIO:
-    """One robot's publishers, subscriber and command bookkeeping."""
+class Drivers(StrEnum):
+    """Which drivers' topics the simulation speaks (docs/drivers.md)."""
 
-    def __init__(self, world: World, name: str, has_camera: bool, timeout: float):
+    SIM = "sim"        # this simulator's own names, sim time and /clock (the default)
+    STOCK = "stock"    # kobuki_node + turtlebot_bringup and openni + rgbd_launch, wall time
+
+
+class RobotIO:
+    """One robot's publishers, subscriber and command bookkeeping (both profiles).
+
+    ``stamp_of`` turns sim seconds into the stamp's seconds (the identity on sim time; the wall
+    clock's seconds under the stock profile).
+    """
+
+    def __init__(self, world: World, name: str, has_camera: bool, timeout: float,
+                 stamp_of: Callable[[float], float]):
         self.world = world
         self.name = name
         self.timeout = timeout
+        self.stamp_of = stamp_of
         self.last_cmd = -1.0e9       # sim time of the last velocity command
-        self.odom = rospy.Publisher(f"{name}/mobile_base/odom", Odometry, queue_size=10)
+        self.has_camera = has_camera
         self.truth = rospy.Publisher(f"{name}/ground_truth/odom", Odometry, queue_size=10)
-        self.optical_frame = f"{name}/camera_rgb_optical_frame"
-        self.image = self.points = None
-        if has_camera:
-            self.image = rospy.Publisher(f"{name}/camera/rgb/image_raw", Image, queue_size=2)
-            self.points = rospy.Publisher(f"{name}/camera/depth_registered/points",
-                                          PointCloud2, queue_size=2)
+        self.bumpers = BumperSwitches()
+        self.bumper = rospy.Publisher(f"{name}/mobile_base/events/bumper", BumperEvent,
+                                      queue_size=100)
         self.cmd = rospy.Subscriber(f"{name}/mobile_base/commands/velocity", Twist,
                                     self.on_cmd_vel, queue_size=10)
 
@@ -67,20 +88,105 @@ class RobotIO:
             self.world.set_cmd_vel(self.name, 0.0, 0.0)
             self.last_cmd = -1.0e9
 
+    def check_bumpers(self) -> None:
+        """A BumperEvent for each switch that a contact pressed or released since the last
+        check, as kobuki_node sends them (the robot itself does not stop: the consumers do)."""
+        for change in self.bumpers.update(self.world.contact_bearings(self.name)):
+            self.bumper.publish(stock.bumper_event(change))
+            rospy.loginfo("turtlebot_sim: %s bumper %s %s", self.name, change.bumper.name,
+                          change.state.name)
+
     def publish_odometry(self) -> None:
-        t = self.world.time
-        x, y, yaw, v, w = self.world.odometry(self.name)
-        self.odom.publish(msgs.odometry(t, "odom", "base_footprint", x, y, yaw, v, w))
+        t = self.stamp_of(self.world.time)
+        self.publish_base(t)
         gx, gy, gyaw = self.world.pose(self.name)
         gv, gw = self.world.velocity(self.name)
         self.truth.publish(msgs.odometry(t, "world", f"{self.name}/base_footprint",
                                          gx, gy, gyaw, gv, gw))
 
+    def publish_base(self, t: float) -> None:
+        """The base driver's periodic topics, stamped ``t``."""
+        raise NotImplementedError
+
+    def publish_frame(self, frame: Frame) -> None:
+        """The topics of one Kinect frame."""
+        raise NotImplementedError
+
+
+class SimRobotIO(RobotIO):
+    """The default profile: ``mobile_base/odom``, rgb8 image + cloud sharing one stamp."""
+
+    def __init__(self, world: World, name: str, has_camera: bool, timeout: float,
+                 stamp_of: Callable[[float], float]):
+        super().__init__(world, name, has_camera, timeout, stamp_of)
+        self.odom = rospy.Publisher(f"{name}/mobile_base/odom", Odometry, queue_size=10)
+        self.optical_frame = f"{name}/camera_rgb_optical_frame"
+        if has_camera:
+            self.image = rospy.Publisher(f"{name}/camera/rgb/image_raw", Image, queue_size=2)
+            self.points = rospy.Publisher(f"{name}/camera/depth_registered/points",
+                                          PointCloud2, queue_size=2)
+
+    def publish_base(self, t: float) -> None:
+        x, y, yaw, v, w = self.world.odometry(self.name)
+        self.odom.publish(msgs.odometry(t, "odom", "base_footprint", x, y, yaw, v, w))
+
     def publish_frame(self, frame: Frame) -> None:
         """Image and cloud of one Kinect frame, with the same stamp and frame id."""
-        assert self.image is not None and self.points is not None
-        self.image.publish(msgs.image(frame.stamp, self.optical_frame, frame.rgb))
-        self.points.publish(msgs.cloud(frame.stamp, self.optical_frame, frame.cloud))
+        t = self.stamp_of(frame.stamp)
+        self.image.publish(msgs.image(t, self.optical_frame, frame.rgb))
+        self.points.publish(msgs.cloud(t, self.optical_frame, frame.cloud))
+
+
+class StockRobotIO(RobotIO):
+    """The stock-driver profile: kobuki_node under turtlebot_bringup's minimal launch and a
+    Kinect through openni + rgbd_launch (docs/drivers.md has the table)."""
+
+    def __init__(self, world: World, name: str, has_camera: bool, timeout: float,
+                 stamp_of: Callable[[float], float], tf: rospy.Publisher):
+        super().__init__(world, name, has_camera, timeout, stamp_of)
+        self.tf = tf
+        self.odom = rospy.Publisher(f"{name}/odom", Odometry, queue_size=10)
+        self.joints = rospy.Publisher(f"{name}/joint_states", JointState, queue_size=10)
+        self.core = rospy.Publisher(f"{name}/mobile_base/sensors/core", SensorState,
+                                    queue_size=10)
+        # Advertised as kobuki_node does; the simulated floor is level and the buttons untouched.
+        self.cliff = rospy.Publisher(f"{name}/mobile_base/events/cliff", CliffEvent,
+                                     queue_size=100)
+        self.wheel_drop = rospy.Publisher(f"{name}/mobile_base/events/wheel_drop",
+                                          WheelDropEvent, queue_size=100)
+        self.button = rospy.Publisher(f"{name}/mobile_base/events/button", ButtonEvent,
+                                      queue_size=100)
+        if has_camera:
+            intr = world.intrinsics
+            self.info = (intr.width, intr.height, intr.fx, intr.fy, intr.cx, intr.cy)
+            self.image = rospy.Publisher(f"{name}/camera/rgb/image_raw", Image, queue_size=2)
+            self.image_info = rospy.Publisher(f"{name}/camera/rgb/camera_info", CameraInfo,
+                                              queue_size=2)
+            self.depth = rospy.Publisher(f"{name}/camera/depth_registered/image_raw", Image,
+                                         queue_size=2)
+            self.depth_info = rospy.Publisher(f"{name}/camera/depth_registered/camera_info",
+                                              CameraInfo, queue_size=2)
+
+    def publish_base(self, t: float) -> None:
+        x, y, yaw, v, w = self.world.odometry(self.name)
+        self.tf.publish(stock.tf_message([stock.transform(t, x, y, yaw)]))
+        self.odom.publish(stock.odometry(t, x, y, yaw, v, w))
+        wheels = self.world.wheels(self.name)
+        self.joints.publish(stock.joint_states(t, wheels))
+        if self.core.get_num_connections() > 0:     # kobuki_node skips it without subscribers
+            self.core.publish(stock.sensor_state(t, wheels, self.bumpers.bits))
+
+    def publish_frame(self, frame: Frame) -> None:
+        """Bayer image and registered depth of one frame, each with its camera_info; the depth
+        stamped ``DEPTH_TIME_OFFSET`` before the image, as turtlebot's Kinect settings do."""
+        t = self.stamp_of(frame.stamp)
+        t_depth = t + stock.DEPTH_TIME_OFFSET
+        if self.depth.get_num_connections() or self.depth_info.get_num_connections():
+            self.depth.publish(stock.depth_image(t_depth, stock.depth_mm(frame.cloud[:, :, 2])))
+            self.depth_info.publish(stock.camera_info(t_depth, *self.info))
+        if self.image.get_num_connections() or self.image_info.get_num_connections():
+            self.image.publish(stock.bayer_image(t, stock.bayer_grbg(frame.rgb)))
+            self.image_info.publish(stock.camera_info(t, *self.info))
 
 
 class Stats:
@@ -96,6 +202,7 @@ class Stats:
         self.frames = 0
         self.render_ms = 0.0
         self.waited = 0.0
+        self.dropped = 0          # frames not rendered because the renderer was busy (stock)
 
     def due(self) -> bool:
         return time.monotonic() - self.wall0 >= self.period
@@ -106,7 +213,8 @@ class Stats:
         per_frame = self.render_ms / self.frames if self.frames else 0.0
         return (f"turtlebot_sim stats: rtf {sim / wall:.3f} sim {sim:.2f} s wall {wall:.2f} s "
                 f"frames {self.frames} ({self.frames / max(sim, 1e-9):.1f}/sim s) "
-                f"render {per_frame:.1f} ms/frame, waited {self.waited:.2f} s for the renderer")
+                f"render {per_frame:.1f} ms/frame, waited {self.waited:.2f} s for the renderer, "
+                f"dropped {self.dropped} frames")
 
 
 @dataclass(frozen=True)
@@ -115,10 +223,18 @@ class SimParams:
 
     world: str = required("path of the world file (YAML, see turtlebot_sim.config), e.g. "
                           "$(rospack find rason_diagnosis)/worlds/case_study.yaml")
-    real_time_factor: float = param(1.0, "sim seconds per wall second; 0 = as fast as possible",
-                                    minimum=0.0)
+    drivers: str = param(Drivers.SIM.value, "'sim': this simulator's topics on sim time with "
+                         "/clock; 'stock': kobuki_node + turtlebot_bringup and openni + "
+                         "rgbd_launch topics on wall time, no /clock (docs/drivers.md)")
+    real_time_factor: float = param(1.0, "sim seconds per wall second; 0 = as fast as possible "
+                                    "(the stock profile runs at 1: wall time)", minimum=0.0)
     camera_rate: float | None = param(None, "Kinect frames per sim second (default: the world "
-                                      "file's camera.rate); 0 = no camera", minimum=0.0)
+                                      "file's camera.rate; stock: 30, the Kinect's); 0 = no "
+                                      "camera", minimum=0.0)
+    camera_width: int | None = param(None, "Kinect image width in pixels, the height 3/4 of it: "
+                                     "640 (VGA), 320 (QVGA) or 160 (QQVGA) as openni's image "
+                                     "modes; the camera_info follows (default: the world file's "
+                                     "camera.width and height)", minimum=16, maximum=1280)
     seed: int | None = param(None, "randomisation seed: poses, lighting, colours, noise "
                              "(default: the world file's seed)")
     render_workers: int = param(1, "Kinect rendering processes (2 help at 30 Hz on an idle "
@@ -130,32 +246,70 @@ class SimParams:
                                 "(rtf, frames, ms per rendered frame, time waiting for the "
                                 "renderer)", minimum=0.1)
 
+    def __post_init__(self) -> None:
+        if self.drivers not in set(Drivers):
+            raise ParamError(f"~drivers must be one of {', '.join(Drivers)}, "
+                             f"not {self.drivers!r}")
+        if self.drivers == Drivers.STOCK and self.real_time_factor != 1.0:
+            raise ParamError("~drivers stock runs on wall time: ~real_time_factor must be 1")
+
+
+def resolve_world(params: SimParams) -> dict:
+    """The world config of a run: the file, the seed, the camera size and, under the stock
+    profile, the Kinect's own focal length (openni's 525 px at VGA, scaled to the width)."""
+    cfg = worldcfg.resolve(params.world, params.seed)
+    if params.camera_width is not None:
+        cfg["camera"]["width"] = params.camera_width
+        cfg["camera"]["height"] = params.camera_width * 3 // 4
+    if params.drivers == Drivers.STOCK:
+        cfg["camera"]["hfov_deg"] = stock.kinect_hfov_deg(int(cfg["camera"]["width"]))
+    return cfg
+
 
 class SimNode:
     """The physics loop: step, publish /clock, odometry and Kinect frames, keep the pace."""
 
     def __init__(self, params: SimParams) -> None:
-        self.world = World.from_yaml(params.world, seed=params.seed)
+        self.drivers = Drivers(params.drivers)
+        self.world = World(resolve_world(params))
         cfg = self.world.config
         self.rtf = params.real_time_factor
-        self.camera_rate = (params.camera_rate if params.camera_rate is not None
-                            else float(cfg["camera"]["rate"]))
+        default_rate = (stock.KINECT_RATE if self.drivers == Drivers.STOCK
+                        else float(cfg["camera"]["rate"]))
+        self.camera_rate = params.camera_rate if params.camera_rate is not None else default_rate
         workers = params.render_workers
         odom_rate = params.odom_rate
         timeout = params.cmd_timeout
         self.odom_every = max(1, round(1.0 / (odom_rate * self.world.dt)))
-
-        self.clock = rospy.Publisher("/clock", Clock, queue_size=10)
-        self.robots = {name: RobotIO(self.world, name, name in self.world.cameras, timeout)
-                       for name in self.world.names}
+        #: Stamp seconds minus sim seconds: 0 on sim time; the wall clock's epoch under the
+        #: stock profile (moved forward when the loop gives up catching up, see run()).
+        self.stamp_offset = 0.0
+        self.robots: dict[str, RobotIO]
+        self.clock: rospy.Publisher | None = None
+        if self.drivers == Drivers.STOCK:
+            self.stamp_offset = time.time() - self.world.time
+            tf = rospy.Publisher("/tf", TFMessage, queue_size=100)
+            self.robots = {name: StockRobotIO(self.world, name, name in self.world.cameras,
+                                              timeout, self.stamp_of, tf)
+                           for name in self.world.names}
+        else:
+            self.clock = rospy.Publisher("/clock", Clock, queue_size=10)
+            self.robots = {name: SimRobotIO(self.world, name, name in self.world.cameras,
+                                            timeout, self.stamp_of)
+                           for name in self.world.names}
         self.pool: RenderPool | None = None
         if self.world.cameras and self.camera_rate > 0:
             self.pool = RenderPool(cfg, workers=workers)
         self.next_frame = 0.0
         self.stats = Stats(params.stats_period)
-        rospy.loginfo("turtlebot_sim: world %s, robots %s, cameras %s at %.1f Hz, "
-                      "real-time factor %s, seed %s", params.world, self.world.names,
-                      self.world.cameras, self.camera_rate, self.rtf or "max", cfg["seed"])
+        rospy.loginfo("turtlebot_sim: world %s, drivers %s, robots %s, cameras %s at %.1f Hz, "
+                      "real-time factor %s, seed %s", params.world, self.drivers,
+                      self.world.names, self.world.cameras, self.camera_rate,
+                      self.rtf or "max", cfg["seed"])
+
+    def stamp_of(self, sim_seconds: float) -> float:
+        """The stamp (s) of a sim instant: sim time itself, or wall time under stock drivers."""
+        return sim_seconds + self.stamp_offset
 
     def run(self) -> None:
         """Step until shutdown."""
@@ -165,9 +319,11 @@ class SimNode:
             for robot in self.robots.values():
                 robot.check_timeout()
             self.world.step()
-            self.clock.publish(msgs.clock(self.world.time))
+            if self.clock is not None:
+                self.clock.publish(msgs.clock(self.world.time))
             if self.world.steps % self.odom_every == 0:
                 for robot in self.robots.values():
+                    robot.check_bumpers()
                     robot.publish_odometry()
             if self.pool is not None:
                 self.camera()
@@ -184,14 +340,23 @@ class SimNode:
                     time.sleep(ahead)
                 elif ahead < -MAX_LAG:      # fell behind (load, renderer): no sprint to catch up
                     wall0 = time.monotonic() - self.world.time / self.rtf
+                    if self.drivers == Drivers.STOCK:    # stamps stay on the wall clock
+                        self.stamp_offset = time.time() - self.world.time
 
     def camera(self) -> None:
-        """Queue the Kinect frames that are due; publish the finished ones."""
+        """Queue the Kinect frames that are due; publish the finished ones.
+
+        On sim time a lagging renderer sets the pace (the physics waits); on wall time (stock)
+        a frame due while every render worker is busy is dropped, as a real driver drops it.
+        """
         assert self.pool is not None
         if self.world.time + 1e-9 >= self.next_frame:
             self.next_frame += 1.0 / self.camera_rate
             states = self.world.base_states()
             for name in self.world.cameras:
+                if self.drivers == Drivers.STOCK and self.pool.busy():
+                    self.stats.dropped += 1
+                    continue
                 while self.pool.busy():        # the renderer sets the pace when it lags
                     start = time.monotonic()
                     frames = self.pool.collect(block=True)

@@ -14,6 +14,7 @@ No ROS here; the ROS node (:mod:`turtlebot_sim.node`) wraps this. Typical use::
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +26,18 @@ from turtlebot_sim import kinect, kobuki, room
 
 #: A robot's base state for re-posing a copy of the scene: position (x, y, z) and quaternion.
 BaseState = tuple[tuple[float, float, float], tuple[float, float, float, float]]
+#: A contact counts when the bodies are closer than this (m; pybullet reports touching as <= 0).
+CONTACT_DISTANCE = 0.001
+
+
+@dataclass(frozen=True)
+class WheelState:
+    """The two wheel joints: angles (rad, unwrapped) and rates (rad/s)."""
+
+    left_angle: float
+    right_angle: float
+    left_rate: float
+    right_rate: float
 
 
 class Robot:
@@ -215,6 +228,26 @@ class World:
         """Wheel-encoder odometry (x, y, yaw, v, w) in the odom frame (the start pose)."""
         o = self._robot(robot).odometry
         return o.x, o.y, o.yaw, o.v, o.w
+
+    def wheels(self, robot: str) -> WheelState:
+        """The wheels' joint angles (rad, unwrapped) and rates (rad/s)."""
+        r = self._robot(robot)
+        left, right = p.getJointStates(r.body.body, [r.body.left_joint, r.body.right_joint],
+                                       physicsClientId=self.client)
+        return WheelState(left[0], right[0], left[1], right[1])
+
+    def contact_bearings(self, robot: str) -> list[float]:
+        """Bearings (rad in ``base_footprint``, CCW from ahead) of the points where the robot's
+        body touches anything but the floor: a wall, another robot, an object."""
+        r = self._robot(robot)
+        x, y, yaw = self.pose(robot)
+        bearings = []
+        for contact in p.getContactPoints(bodyA=r.body.body, physicsClientId=self.client):
+            other, on_robot, distance = contact[2], contact[5], contact[8]
+            if other in (self.floor, r.body.body) or distance > CONTACT_DISTANCE:
+                continue
+            bearings.append(math.atan2(on_robot[1] - y, on_robot[0] - x) - yaw)
+        return bearings
 
     def reset_odometry(self, robot: str) -> None:
         """Restart a robot's odometry at (0, 0, 0) from its current wheel angles."""

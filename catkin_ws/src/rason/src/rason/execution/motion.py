@@ -11,7 +11,8 @@ Topics:
         the pose when the action starts, so it does not depend on how late the action comes.
     ``jason/event`` (jason_msgs/Event, out): ``action_accepted [action_id]`` when a motion
         starts; ``action_feedback [RESULT, action_id, message]`` when it ends, RESULT one of
-        ``OK``, ``no_progress``, ``bad_move``, ``bad_parameters``, ``preempted``, ``cancelled``.
+        ``OK``, ``no_progress``, ``bad_move``, ``bad_parameters``, ``preempted``, ``cancelled``,
+        or the base's safety results ``bumper``, ``cliff``, ``wheel_drop`` (below).
     ``jason/cancel`` (jason_msgs/ActionCancel, in), ``jason/presence`` (the agents'): as every
         decomposer (:mod:`rason.execution.decomposer`): a cancelled action, or one whose agent
         is gone, stops the robot at once and ends ``cancelled``.
@@ -19,6 +20,13 @@ Topics:
         ends, however it ends. Nothing is published while idle.
     ``odom`` (nav_msgs/Odometry, in): progress and trajectory checks
         (:mod:`rason.execution.progress`).
+    ``mobile_base/events/bumper``, ``mobile_base/events/cliff``, ``mobile_base/events/wheel_drop``
+        (kobuki_msgs/BumperEvent, CliffEvent, WheelDropEvent, in; kobuki_node's names, remap
+        them like any topic): a bumper pressed, a cliff seen or a wheel dropped stops the
+        running motion at once (a zero Twist), which ends ``bumper``, ``cliff`` or
+        ``wheel_drop`` with a message naming the bumper, sensor or wheel; while it lasts, a
+        new motion that would drive into it is refused with the same result (a backward move
+        away from a pressed bumper is allowed; :mod:`rason.execution.safety` has the rules).
 
 Private parameters: :class:`MotionParams` (``rosrun rason motion_decomposer --help`` prints
 them), those of every decomposer included. With ``~settle_time`` > 0, OK is reported once the
@@ -38,6 +46,7 @@ from dataclasses import dataclass
 import rospy
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action
+from kobuki_msgs.msg import BumperEvent, CliffEvent, WheelDropEvent
 from nav_msgs.msg import Odometry
 
 from rason.execution.decomposer import Decomposer, DecomposerParams, Goal, run
@@ -55,6 +64,7 @@ from rason.execution.progress import (
     parse_target,
 )
 from rason.execution.ramp import SpeedLimits, next_speed
+from rason.execution.safety import BUMPER, CLIFF, WHEEL_DROP, BaseSafety
 from rason.ros.params import param
 from turtlebot_model.geometry import wrap_rad, yaw_from_quaternion
 
@@ -109,6 +119,11 @@ def pose_of(msg: Odometry) -> Pose2D:
     return pose
 
 
+def motion_text(goal: Goal) -> str:
+    """``move(1)``: the action as the agent wrote it."""
+    return f"{goal.action}({', '.join(goal.parameters)})"
+
+
 class MotionDecomposer(Decomposer):
     """move(m) and turn(deg) actions to cmd_vel, checked against odom (thesis 6.3)."""
 
@@ -128,6 +143,13 @@ class MotionDecomposer(Decomposer):
         self.odom_at = 0.0                    # ROS time (s) of the last odometry message
         self.cmd_vel = rospy.Publisher("cmd_vel", Twist, queue_size=10)
         self.subscribe("odom", Odometry, self.on_odom, queue_size=10)
+        self.safety = BaseSafety()
+        self.subscribe("mobile_base/events/bumper", BumperEvent, lambda msg: self.on_hazard(
+            BUMPER, msg.bumper, msg.state == BumperEvent.PRESSED), queue_size=10)
+        self.subscribe("mobile_base/events/cliff", CliffEvent, lambda msg: self.on_hazard(
+            CLIFF, msg.sensor, msg.state == CliffEvent.CLIFF), queue_size=10)
+        self.subscribe("mobile_base/events/wheel_drop", WheelDropEvent, lambda msg: self.on_hazard(
+            WHEEL_DROP, msg.wheel, msg.state == WheelDropEvent.DROPPED), queue_size=10)
 
     # -- the protocol's hooks ----------------------------------------------------------------
     def parse(self, action: str, parameters: list[str]) -> float:
@@ -138,6 +160,10 @@ class MotionDecomposer(Decomposer):
 
     def start(self, goal: Goal) -> Verdict | None:
         goal.state = Motion(last_step=goal.started)
+        if goal.action != TURN_TO:                 # a heading's turn is known in begin()
+            refused = self.refusal(goal, goal.action, goal.target)
+            if refused is not None:
+                return refused
         if self.pose is not None:
             return self.begin(goal, self.pose, goal.started)
         return None
@@ -165,6 +191,24 @@ class MotionDecomposer(Decomposer):
             return monitor.done(", next action before it came to rest")
         return super().preempted(goal, by)
 
+    # -- the base's safety events (called with the lock held) ---------------------------------
+    def on_hazard(self, kind: str, index: int, on: bool) -> None:
+        """A bumper, cliff or wheel-drop event: a hazard that begins stops every motion."""
+        hazard = self.safety.event(kind, index, on)
+        if hazard is None:
+            return
+        for goal in self.running():
+            motion: Motion = goal.state
+            doing = (motion.monitor.progress_text() if motion.monitor is not None
+                     else "nothing (no odometry yet)")
+            self.finish(goal, hazard.stopped(motion_text(goal), doing))
+
+    def refusal(self, goal: Goal, kind: str, target: float) -> Verdict | None:
+        """The verdict refusing `goal` (a `kind` of signed `target`) if it would drive into an
+        active safety hazard."""
+        linear, angular = (target, 0.0) if kind == MOVE else (0.0, target)
+        return self.safety.refusal(motion_text(goal), linear, angular)
+
     # -- control (called with the lock held) -------------------------------------------------
     def on_odom(self, msg: Odometry) -> None:
         now = rospy.get_time()
@@ -183,6 +227,10 @@ class MotionDecomposer(Decomposer):
         if goal.action == TURN_TO:  # from the heading to the turn that reaches it from here
             goal.target = wrap_rad(goal.target - pose.yaw)
         kind = TURN if goal.action == TURN_TO else goal.action
+        if goal.action == TURN_TO:
+            refused = self.refusal(goal, kind, goal.target)
+            if refused is not None:
+                return refused
         motion.monitor = MotionMonitor(kind, goal.target, pose, now, self.checks)
         if motion.monitor.remaining <= 0.0:          # move(0), turn(0)
             return Verdict(OK, f"nothing to do for {goal.action}(0)")

@@ -154,7 +154,7 @@ class MotionMonitor:
             return None
         if still > self.params.no_progress_timeout:
             return Verdict(NO_PROGRESS, f"odometry unchanged for {still:.2f} s after "
-                                        f"{self._progress_text()}")
+                                        f"{self.progress_text()}")
         return None
 
     def _changed(self, pose: Pose2D) -> bool:
@@ -162,7 +162,8 @@ class MotionMonitor:
         return (math.hypot(pose.x - ref.x, pose.y - ref.y) > self.params.position_epsilon
                 or abs(wrap_rad(pose.yaw - ref.yaw)) > self.params.yaw_epsilon)
 
-    def _progress_text(self) -> str:
+    def progress_text(self) -> str:
+        """How far the motion got, e.g. ``0.420 m of 1.000 m``."""
         if self.kind == MOVE:
             return f"{self.travelled:.3f} m of {abs(self.target):.3f} m"
         return f"{math.degrees(self.progress):.1f} deg of {math.degrees(abs(self.target)):.1f} deg"

@@ -12,6 +12,11 @@ OK = "OK"
 #: The motion decomposer's checks (thesis 6.3).
 NO_PROGRESS = "no_progress"
 BAD_MOVE = "bad_move"
+#: The base's safety events (:mod:`rason.execution.safety`): a bumper pressed, a cliff sensor
+#: over a drop, a wheel dropped; the motion stopped at once, or a new one was refused.
+BUMPER = "bumper"
+CLIFF = "cliff"
+WHEEL_DROP = "wheel_drop"
 #: The protocol's own endings (every decomposer built on rason.execution.decomposer).
 BAD_PARAMETERS = "bad_parameters"   # parse() refused the parameters; the action never started
 PREEMPTED = "preempted"             # a newer action took the actuator over

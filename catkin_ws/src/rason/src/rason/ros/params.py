@@ -22,6 +22,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
+import re
 import sys
 import types
 import typing
@@ -58,13 +59,37 @@ def required(doc: str) -> Any:
                                                            "maximum": None})
 
 
+#: The types a parameter may have, by the name its annotation gives them.
+_NAMED_KINDS: dict[str, type] = {"bool": bool, "int": int, "float": float, "str": str,
+                                 "list": list, "List": list, "dict": dict, "Dict": dict,
+                                 "None": type(None)}
+#: ``int | None`` and ``list[str]`` at run time (3.10+; absent on the robots' Python 3.8).
+_UNION_TYPES = (typing.Union, getattr(types, "UnionType", typing.Union))
+
+
 def _kinds(hint: Any) -> tuple[tuple[type, ...], bool]:
-    """The accepted Python types of a field's annotation, and whether None is allowed."""
-    if isinstance(hint, types.UnionType) or typing.get_origin(hint) is typing.Union:
-        args = typing.get_args(hint)
-        kinds = tuple(typing.get_origin(a) or a for a in args if a is not type(None))
-        return kinds, type(None) in args
-    return (typing.get_origin(hint) or hint,), False
+    """The accepted Python types of a field's annotation (a type, or its text as
+    ``from __future__ import annotations`` leaves it), and whether None is allowed.
+
+    The text is read here rather than evaluated (``typing.get_type_hints``), so that
+    ``float | None`` and ``list[str]`` work on Python 3.8 (the robots' Noetic) as on 3.11."""
+    if isinstance(hint, str):
+        return _kinds_of_text(hint)
+    args = typing.get_args(hint) if typing.get_origin(hint) in _UNION_TYPES else (hint,)
+    kinds = tuple(typing.get_origin(a) or a for a in args if a is not type(None))
+    return kinds, type(None) in args
+
+
+def _kinds_of_text(text: str) -> tuple[tuple[type, ...], bool]:
+    optional = re.fullmatch(r"\s*(?:typing\.)?Optional\[(.*)\]\s*", text)
+    parts = [optional.group(1), "None"] if optional else re.split(r"\|(?![^\[]*\])", text)
+    names = [re.sub(r"^(?:typing\.)?(\w+).*$", r"\1", part.strip(), flags=re.S)
+             for part in parts]
+    unknown = [name for name in names if name not in _NAMED_KINDS]
+    if unknown:
+        raise ParamError(f"unsupported parameter type {text!r}")
+    kinds = tuple(_NAMED_KINDS[name] for name in names if name != "None")
+    return kinds, "None" in names
 
 
 def _convert(name: str, value: Any, hint: Any, spec: dataclasses.Field) -> Any:
@@ -121,11 +146,10 @@ def _convert(name: str, value: Any, hint: Any, spec: dataclasses.Field) -> Any:
 
 def parse(cls: type[T], given: dict[str, Any]) -> T:
     """The parameters of ``cls`` from a ``{name: value}`` mapping (names without ``~``)."""
-    hints = typing.get_type_hints(cls)
     values: dict[str, Any] = {}
     for spec in dataclasses.fields(cls):  # type: ignore[arg-type]
         if spec.name in given:
-            values[spec.name] = _convert(spec.name, given[spec.name], hints[spec.name], spec)
+            values[spec.name] = _convert(spec.name, given[spec.name], spec.type, spec)
         elif spec.default is _REQUIRED:
             raise ParamError(f"~{spec.name} is required: {spec.metadata['doc']}")
     return cls(**values)

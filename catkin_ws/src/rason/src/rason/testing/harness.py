@@ -29,6 +29,7 @@ import sys
 import tempfile
 import threading
 import time
+import urllib.parse
 import xmlrpc.client
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
@@ -312,6 +313,27 @@ class RosHarness:
         except BaseException:
             self.stop()
             raise
+        return self
+
+    def attach(self, master_uri: str, timeout: float = 10.0) -> RosHarness:
+        """Use a master that already runs (real robots' ``ROS_MASTER_URI``) instead of starting
+        one: nodes started here join it, :meth:`stop` stops them and leaves the master and
+        every other node alone. This machine's ``ROS_IP`` is kept from the environment (its
+        address on the robot network; a loopback master needs none)."""
+        url = urllib.parse.urlparse(master_uri)
+        self.master_uri, self.port = master_uri, url.port or 11311
+        ros_home = self.log_dir / "ros_home"
+        ros_home.mkdir(exist_ok=True)
+        self.env = dict(os.environ)
+        if not self.env.get("ROS_IP"):
+            if not (url.hostname or "").startswith(("127.", "localhost")):
+                raise HarnessError(f"master {master_uri} is on another machine: set ROS_IP to "
+                                   "this machine's address on the robot network")
+            self.env["ROS_IP"] = "127.0.0.1"
+        self.env.update(ROS_MASTER_URI=master_uri, ROS_HOME=str(ros_home),
+                        ROS_LOG_DIR=str(ros_home / "log"), PYTHONUNBUFFERED="1",
+                        RASON_HARNESS_PARENT=str(os.getpid()))
+        self._wait(f"the master at {master_uri}", self._master_up, timeout)
         return self
 
     def _launch_roscore(self, log_name: str, what: str, timeout: float) -> float:
