@@ -603,16 +603,16 @@ class RasonNode:
         if msg.performative == PRESENCE:
             if msg.content == GOODBYE:
                 self.directory.forget(msg.sender)
-                rospy.loginfo("agent %s said goodbye: forgotten", msg.sender)
+                rospy.loginfo("agent %s said goodbye: forgotten", shorten(msg.sender, 80))
                 return
             if self.directory.heard(msg.sender, now):   # new, or back after a lapse
-                rospy.loginfo("agent %s present", msg.sender)
+                rospy.loginfo("agent %s present", shorten(msg.sender, 80))
             if msg.content == HELLO:           # a newcomer: let it know us at once
                 for name in list(self.agents):
                     self._announce(name)
             return
         if self.directory.heard(msg.sender, now):   # known from its message before its presence
-            rospy.loginfo("agent %s present", msg.sender)
+            rospy.loginfo("agent %s present", shorten(msg.sender, 80))
         receivers = ([msg.receiver] if msg.receiver
                      else [n for n in list(self.agents) if n != msg.sender])
         content = None
@@ -705,7 +705,8 @@ class RasonNode:
             else:   # our decomposers hear only jason/presence: they get the beat every period
                 self._publish(_presence(name), self.presence_pub)
         for gone in self.directory.expire(now):
-            rospy.loginfo("agent %s not heard for %.1f s: forgotten", gone, self.directory.timeout)
+            rospy.loginfo("agent %s not heard for %.1f s: forgotten", shorten(gone, 80),
+                          self.directory.timeout)
         self._release_held()
 
     def on_mind_state(self, _event: rospy.timer.TimerEvent) -> None:
