@@ -424,12 +424,17 @@ class RasonNode:
 
     # -- directory facilitator ----------------------------------------------------------------------
     def _publish_services(self) -> None:
-        """Our agents' registrations changed: publish all of them (latched) for the other nodes."""
+        """Our agents' registrations changed: publish all of them (latched) for the other nodes;
+        with a key, again every half ~auth_window, so the latched copy a newcomer gets is never
+        stale (rason.ros.auth)."""
         regs = self.services.local_registrations()
         content = ListTerm(tuple(Literal("provider", (Literal(r.agent), r.service)) for r in regs))
         self._publish(AgentMessage(sender=rospy.get_name(), receiver="", performative=DF_PERFORMATIVE,
                                    content=term_text(content), reply_with="", in_reply_to=""),
                       self.directory_pub)
+        if self.auth is not None and not hasattr(self, "_services_timer"):
+            self._services_timer = rospy.Timer(rospy.Duration(self.auth.window / 2), guarded(
+                "directory republish")(lambda _event: self._publish_services()))
 
     def _authentic(self, msg: AgentMessage, kind: str, dropped: Callable[[str], str]) -> bool:
         """True when this node has no key or ``msg`` verifies; else False and a rate-limited
