@@ -96,6 +96,7 @@ def test_a_flood_of_names_is_pruned_and_bounded(graph):
                                      content=GOODBYE))
             if k % 100 == 0:
                 time.sleep(0.01)
+        pub.publish(AgentMessage(sender="n" * 1_000_000, performative=PRESENCE))   # not kept
         for k in range(1000):             # new names that go silent (presence timeout)
             pub.publish(AgentMessage(sender=f"silent_{k}", performative=PRESENCE))
             if k % 100 == 0:

@@ -9,7 +9,7 @@ from dataclasses import asdict
 import pytest
 
 from rason.asl import Agent, AgentArch
-from rason.inspector.store import MAX_GONE, BadMindState, InspectorStore, Pose, RobotsView
+from rason.inspector.store import MAX_GONE, MAX_NAME, BadMindState, InspectorStore, Pose, RobotsView
 from rason.ros.mind_state import MindStatePublisher
 
 PROGRAM = """
@@ -190,6 +190,7 @@ def test_agents_that_left_are_pruned_and_newcomers_past_max_agents_ignored():
     assert [a["name"] for a in store.agents()][-1] == "p9"          # sorted: p0..p49
     assert len(store.agents()) == 50 and store.refused == 30
     store.agent_gone("p3")
+    assert not store.agent_heard("n" * (MAX_NAME + 1)) and store.refused == 30   # never kept
     assert store.agent_heard("late") and not store.agent_heard("later")
 
 

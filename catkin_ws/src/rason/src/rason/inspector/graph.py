@@ -19,7 +19,7 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Image
 from std_msgs.msg import String
 
-from rason.inspector.store import BadMindState, CameraFrame, InspectorStore, Pose
+from rason.inspector.store import MAX_NAME, BadMindState, CameraFrame, InspectorStore, Pose
 from rason.ros.badinput import shorten
 from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE, Directory
 from turtlebot_model.geometry import yaw_from_quaternion
@@ -56,7 +56,7 @@ class GraphWatcher:
             self.directory.forget(msg.sender)
             self.store.agent_gone(msg.sender)
             return
-        if not msg.sender:
+        if not msg.sender or len(msg.sender) > MAX_NAME:
             return
         self.directory.heard(msg.sender, rospy.get_time())
         refused = self.store.refused

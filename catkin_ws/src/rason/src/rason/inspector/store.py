@@ -30,6 +30,8 @@ TRAIL_STEP_M = 0.01         # a trail point every centimetre moved...
 TRAIL_STEP_RAD = 0.03       # ...or 1.7 degrees turned
 #: agents that left (goodbye or silence) kept with their history; older ones are pruned
 MAX_GONE = 32
+#: the longest agent name listed (longer ones are ignored: a flood of huge names is not kept)
+MAX_NAME = 100
 #: perception sources kept per robot, and diagnostics kept, before the oldest go
 MAX_SOURCES = 64
 MAX_DIAGNOSTICS = 256
@@ -101,7 +103,9 @@ class InspectorStore:
     # -- agents ---------------------------------------------------------------------------------
     def agent_heard(self, name: str) -> bool:
         """`name` announced itself; True if it is new (or back). A new name is ignored while
-        `max_agents` are listed."""
+        `max_agents` are listed, and a name longer than MAX_NAME always."""
+        if len(name) > MAX_NAME:
+            return False
         with self._lock:
             record = self._agents.get(name)
             if record is not None and record.present:

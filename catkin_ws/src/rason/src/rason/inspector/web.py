@@ -32,13 +32,13 @@ import cv2
 import numpy as np
 from aiohttp import web
 
-from rason.inspector.store import CameraFrame, InspectorStore
+from rason.inspector.store import MAX_NAME, CameraFrame, InspectorStore
 
 ROBOTS_HZ = 5.0
 KEEPALIVE_S = 15.0
 MAX_CLIENTS = 32
 CLIENT_QUEUE = 256
-NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,99}$")
+NAME = re.compile(rf"^[A-Za-z0-9_][A-Za-z0-9_.-]{{0,{MAX_NAME - 1}}}$")
 LOOPBACK_NAMES = frozenset({"127.0.0.1", "localhost", "::1"})
 EVERY_INTERFACE = ("0.0.0.0", "", "::")
 
