@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import http.client
 import json
+import socket
 import threading
 import time
 from collections.abc import Iterator
@@ -17,6 +18,7 @@ import rospy
 from jason_msgs.msg import AgentMessage
 from std_msgs.msg import String
 
+from rason.inspector.web import interface_addresses
 from rason.ros.presence import GOODBYE, PRESENCE
 from rason.testing.agent_nodes import wait_until
 from rason.testing.harness import Process, RosHarness
@@ -156,3 +158,13 @@ def test_only_requests_naming_the_inspectors_address_are_answered(ros):
             status, body = _request(url, path, host)
             assert status == 403, (host, path, status)
         assert "not this inspector's address" in body["error"]
+
+
+def test_on_every_interface_the_machines_own_addresses_are_answered(ros):
+    _inspector, url = _start(ros, "all_interfaces_inspector", host="0.0.0.0")
+    port = url.rstrip("/").rsplit(":", 1)[1]
+    own = [*sorted(a for a in interface_addresses() if ":" not in a), socket.gethostname()]
+    for host in own:
+        status, body = _request(url, "/api/agents", f"{host}:{port}")
+        assert status == 200 and "agents" in body, (host, status, body)
+    assert _request(url, "/api/agents", f"evil.example:{port}")[0] == 403

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import socket
 import threading
 from dataclasses import asdict
 
@@ -10,6 +11,7 @@ import pytest
 
 from rason.asl import Agent, AgentArch
 from rason.inspector.store import MAX_GONE, MAX_NAME, BadMindState, InspectorStore, Pose, RobotsView
+from rason.inspector.web import allowed_hosts, host_name, interface_addresses
 from rason.ros.mind_state import MindStatePublisher
 
 PROGRAM = """
@@ -267,3 +269,14 @@ def test_a_failing_publication_never_reaches_the_reasoning_cycle():
     publisher.at_cycle()                  # reported, not raised
     assert publisher._due is None
     assert warnings == ["[t] mind_state not published: OSError: link down"]
+
+
+def test_host_names_the_inspector_answers():
+    assert [host_name(h) for h in ("127.0.0.1:3272", "[::1]:80", "Example.ORG.:8", "::1", "x")] \
+        == ["127.0.0.1", "::1", "example.org", "::1", "x"]
+    assert allowed_hosts("127.0.0.1") == {"127.0.0.1", "localhost", "::1"}
+    assert allowed_hosts("192.0.2.7", ["Robot.lab "]) == {"192.0.2.7", "robot.lab"}
+    every = allowed_hosts("0.0.0.0")
+    assert {"127.0.0.1", "localhost", socket.gethostname().lower()} <= every
+    assert interface_addresses() <= every and "127.0.0.1" in interface_addresses()
+    assert "evil.example" not in every

@@ -21,9 +21,12 @@ agents' minds by making its own name resolve to this address (DNS rebinding).
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import fcntl
 import json
 import re
 import socket
+import struct
 from collections.abc import Callable, Iterable
 from importlib import resources
 from pathlib import Path
@@ -41,6 +44,7 @@ CLIENT_QUEUE = 256
 NAME = re.compile(rf"^[A-Za-z0-9_][A-Za-z0-9_.-]{{0,{MAX_NAME - 1}}}$")
 LOOPBACK_NAMES = frozenset({"127.0.0.1", "localhost", "::1"})
 EVERY_INTERFACE = ("0.0.0.0", "", "::")
+SIOCGIFADDR = 0x8915            # Linux ioctl: an interface's IPv4 address
 
 
 def allowed_hosts(listen: str, extra: Iterable[str] = ()) -> frozenset[str]:
@@ -52,12 +56,31 @@ def allowed_hosts(listen: str, extra: Iterable[str] = ()) -> frozenset[str]:
         names |= LOOPBACK_NAMES
     if listen in EVERY_INTERFACE:
         machine = socket.gethostname()
-        names |= {machine.lower(), socket.getfqdn().lower()}
+        names |= {machine.lower(), socket.getfqdn().lower()} | interface_addresses()
         try:
             names |= set(socket.gethostbyname_ex(machine)[2])
         except OSError:
             pass
     return frozenset(names - {""})
+
+
+def interface_addresses() -> set[str]:
+    """This machine's IPv4 (one per interface) and IPv6 addresses (Linux)."""
+    found: set[str] = set()
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        for _index, interface in socket.if_nameindex():
+            try:
+                request = struct.pack("256s", interface[:15].encode())
+                found.add(socket.inet_ntoa(fcntl.ioctl(sock.fileno(), SIOCGIFADDR,
+                                                       request)[20:24]))
+            except OSError:          # no IPv4 address on this interface
+                pass
+    with contextlib.suppress(OSError):
+        for line in Path("/proc/net/if_inet6").read_text().split("\n"):
+            if line.strip():
+                packed = bytes.fromhex(line.split()[0])
+                found.add(socket.inet_ntop(socket.AF_INET6, packed))
+    return found
 
 
 def host_name(host: str) -> str:
