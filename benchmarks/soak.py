@@ -9,17 +9,30 @@
    at 50 Hz for ``--minutes`` minutes, each with new values and, every tenth message, a distinct
    malformed string; the agent loops by recursion with ``.wait``. The node's RSS after warm-up
    and at the end (target: within 10%), and how many warnings it logged.
+3. Inspector under load (``--inspector``): ``rosrun rason mind_inspector`` gets a flood of
+   presence beats under new names (``--names`` in ``--flood-s`` seconds, 85,000 in 20 s by
+   default) and the mind_state of an agent holding a 10 MB belief (a new state every half
+   second), with a page's event stream open. Its RSS and the latency of ``GET /api/agents``,
+   sampled every second, beside the same for the inspector of git revision ``--compare``
+   (default ``main``; ``none`` to skip), run from a temporary ``git worktree`` in the same run.
 
     ./run.sh bench soak [--minutes 10] [--iterations 1000000] [--quick]
+    ./run.sh bench soak --inspector [--compare main] [--names 85000] [--flood-s 20]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
+import statistics
+import subprocess
 import sys
 import tempfile
+import threading
 import time
+import urllib.request
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from rason.asl import Agent, AgentArch, AgentOptions
@@ -110,6 +123,164 @@ def perception_stream(minutes: float, warmup_s: float) -> dict[str, float]:
             "warnings": warnings, "minutes": minutes}
 
 
+ROOT = Path(__file__).resolve().parent.parent
+BELIEF_BYTES = 10 * 1024 * 1024
+
+
+@dataclass
+class InspectorRun:
+    """One inspector under the load: its RSS and /api/agents latency, sampled every second."""
+
+    label: str
+    process: object
+    url: str
+    rss: list[float] = field(default_factory=list)
+    latency: list[float | None] = field(default_factory=list)     # None: no answer in 30 s
+    listed: list[int] = field(default_factory=list)
+    events_bytes: int = 0
+
+    def sample(self) -> None:
+        self.rss.append(rss_mb(self.process.pid) if self.process.alive() else float("nan"))
+        start = time.perf_counter()
+        try:
+            with urllib.request.urlopen(self.url + "api/agents", timeout=30) as reply:
+                count = len(json.loads(reply.read())["agents"])
+            self.latency.append(time.perf_counter() - start)
+            self.listed.append(count)
+        except (OSError, ValueError):
+            self.latency.append(None)
+
+    def sample_every_second(self, until: float) -> None:
+        """Sample until time.monotonic() passes `until` (a thread of its own per inspector)."""
+        next_sample = time.monotonic()
+        while next_sample < until:
+            self.sample()
+            next_sample += 1.0
+            time.sleep(max(0.0, next_sample - time.monotonic()))
+
+    def read_events(self) -> None:
+        """A page's event stream, read and dropped (until the inspector closes it)."""
+        try:
+            with urllib.request.urlopen(self.url + "api/events", timeout=60) as stream:
+                while chunk := stream.read(65536):
+                    self.events_bytes += len(chunk)
+        except OSError:
+            pass
+
+
+def _start_inspector(ros: RosHarness, label: str, src: Path | None) -> InspectorRun:
+    """This tree's inspector (``src`` None) or the one of another checkout's rason sources."""
+    name = f"inspector_{label.replace(' ', '_')}"
+    if src is None:
+        proc = ros.rosrun("rason", "mind_inspector", name=name, params={"port": 0}, echo=False)
+    else:
+        env = {"PYTHONPATH": f"{src}:{os.environ.get('PYTHONPATH', '')}"}
+        proc = ros.run([sys.executable, "-c", "import sys; from rason.inspector.main import main; "
+                        "sys.exit(main())", f"__name:={name}", "_port:=0"], label=name,
+                       env=env, echo=False)
+    url = proc.wait_for_line(r"mind inspector: (http://127\.0\.0\.1:\d+/)", 120).group(1)
+    return InspectorRun(label, proc, url)
+
+
+def _worktree(rev: str, where: Path) -> Path:
+    subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(where), rev],
+                   check=True)
+    return where / "catkin_ws" / "src" / "rason" / "src"
+
+
+def inspector_load(names: int, flood_s: float, compare: str) -> list[InspectorRun]:
+    """The flood of names and the 10 MB belief, into this tree's inspector (and `compare`'s)."""
+    import rospy
+    from jason_msgs.msg import AgentMessage
+
+    with tempfile.TemporaryDirectory() as tmp, RosHarness() as ros:
+        tree = Path(tmp) / "compare"
+        runs = [_start_inspector(ros, "this branch", None)]
+        try:
+            if compare != "none":
+                runs.append(_start_inspector(ros, compare, _worktree(compare, tree)))
+            ros.init_rospy("soak_flood")
+            messages = rospy.Publisher("/jason/messages", AgentMessage, queue_size=10000)
+            ros.wait_for_subscriber("/jason/messages")
+            readers = [threading.Thread(target=r.read_events, daemon=True) for r in runs]
+            for reader in readers:
+                reader.start()
+
+            def beat(name: str) -> AgentMessage:
+                return AgentMessage(sender=name, performative="presence")
+
+            big = ros.run([sys.executable, __file__, "--big-mind"], label="big_mind", echo=False)
+            ros.wait_for_topic("/soak/jason/big/mind_state", watch=[big], timeout=60)
+            for _ in range(3):                          # warm-up: the big agent alone
+                for r in runs:
+                    r.sample()
+                time.sleep(1.0)
+            start = time.monotonic()
+            end = start + flood_s + 15.0
+            samplers = [threading.Thread(target=r.sample_every_second, args=(end,), daemon=True)
+                        for r in runs]
+            for sampler in samplers:
+                sampler.start()
+            sent = 0
+            while (now := time.monotonic()) < end:
+                due = min(names, int(names * (now - start) / flood_s))
+                while sent < due:
+                    messages.publish(beat(f"flood_{sent}"))
+                    sent += 1
+                time.sleep(0.005)
+            for sampler in samplers:
+                sampler.join(60)
+            states = sum("published" in line for line in big.lines())
+            print(f"  sent {sent:,} presence beats under new names; {states} big states",
+                  file=sys.stderr, flush=True)
+        finally:
+            ros.stop()
+            if tree.exists():
+                subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force",
+                                str(tree)], check=False)
+        ros.cleanup_logs()
+    return runs
+
+
+def big_mind() -> None:
+    """An agent "big" holding a 10 MB belief: presence beats and a new mind state every 0.5 s
+    (a process of its own, so the flood does not slow it), until it is stopped."""
+    import rospy
+    from jason_msgs.msg import AgentMessage
+    from std_msgs.msg import String
+
+    rospy.init_node("soak_big_mind", anonymous=True)
+    messages = rospy.Publisher("/jason/messages", AgentMessage, queue_size=10)
+    mind = rospy.Publisher("/soak/jason/big/mind_state", String, queue_size=1, latch=True)
+    filler = "x" * BELIEF_BYTES
+    k = 0
+    while not rospy.is_shutdown():
+        messages.publish(AgentMessage(sender="big", performative="presence"))
+        mind.publish(String(json.dumps({
+            "agent": "big", "node": "/soak/jason", "namespace": "/soak/", "stamp": float(k),
+            "mind": {"beliefs": [
+                {"text": f'big("{filler}")', "group": "big/1", "annots": [], "sources": ["self"]},
+                {"text": f"count({k})", "group": "count/1", "annots": [], "sources": ["self"]}]}})))
+        print(f"state {k} published", flush=True)
+        k += 1
+        time.sleep(0.5)
+
+
+def _inspector_table(runs: list[InspectorRun], names: int, flood_s: float) -> None:
+    print(f"\n| mind inspector: {names:,} new names in {flood_s:g} s + a 10 MB belief every 0.5 s"
+          " | RSS before (MB) | RSS peak (MB) | RSS end (MB) | /api/agents median (s) | max (s) |"
+          " unanswered (of samples) | agents listed, most |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in runs:
+        answered = [t for t in r.latency if t is not None]
+        peak = max((x for x in r.rss if x == x), default=float("nan"))
+        print(f"| {r.label} | {r.rss[0]:.0f} | {peak:.0f} | {r.rss[-1]:.0f} | "
+              f"{statistics.median(answered) if answered else float('nan'):.3f} | "
+              f"{max(answered) if answered else float('nan'):.3f} | "
+              f"{len(r.latency) - len(answered)} of {len(r.latency)} | "
+              f"{max(r.listed, default=0):,} |")
+
+
 def _change(start: float, end: float) -> float:
     return 100.0 * (end - start) / start
 
@@ -124,7 +295,23 @@ def main() -> int:
                         help="100,000 iterations and half a minute of perceptions")
     parser.add_argument("--skip-recursion", action="store_true")
     parser.add_argument("--skip-perception", action="store_true")
+    parser.add_argument("--inspector", action="store_true",
+                        help="only the mind inspector under a flood of names and a 10 MB belief")
+    parser.add_argument("--compare", default="main",
+                        help="git revision whose inspector runs beside (default main; none)")
+    parser.add_argument("--names", type=int, default=85_000,
+                        help="presence beats under new names in the flood (default 85,000)")
+    parser.add_argument("--flood-s", type=float, default=20.0,
+                        help="seconds the flood of names lasts (default 20)")
+    parser.add_argument("--big-mind", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.big_mind:
+        big_mind()
+        return 0
+    if args.inspector:
+        runs = inspector_load(args.names, args.flood_s, args.compare)
+        _inspector_table(runs, args.names, args.flood_s)
+        return 0
     iterations = 100_000 if args.quick else args.iterations
     minutes = 0.5 if args.quick else args.minutes
 

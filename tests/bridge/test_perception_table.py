@@ -5,8 +5,16 @@ from __future__ import annotations
 import pytest
 
 from rason.asl import Literal
-from rason.ros.badinput import BadInputLog
+from rason.ros import badinput
+from rason.ros.badinput import BadInputLog, GlobalLimit
 from rason.ros.perceptions import PerceptionFilter, PerceptionTable, parse_percept
+
+
+@pytest.fixture(autouse=True)
+def no_process_limit(monkeypatch: pytest.MonkeyPatch) -> None:
+    """These tests count per-group warnings on a fake clock: the process-wide limit (real time,
+    tests/faults/test_log_flood.py) is lifted for them."""
+    monkeypatch.setattr(badinput, "PROCESS_LIMIT", GlobalLimit(rate=1e9, burst=10**9))
 
 
 def parse(text: str) -> str:

@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import json
+import socket
 import threading
 from dataclasses import asdict
 
 import pytest
 
 from rason.asl import Agent, AgentArch
-from rason.inspector.store import BadMindState, InspectorStore, Pose, RobotsView
+from rason.inspector.store import MAX_GONE, MAX_NAME, BadMindState, InspectorStore, Pose, RobotsView
+from rason.inspector.web import allowed_hosts, host_name, interface_addresses
 from rason.ros.mind_state import MindStatePublisher
 
 PROGRAM = """
@@ -126,23 +128,23 @@ def test_store_keeps_a_bounded_numbered_history():
     store = InspectorStore(history=3, on_change=lambda kind, payload: events.append(kind))
     assert store.agent_heard("a") and not store.agent_heard("a")
     for k in range(5):
-        store.add_state("a", {"agent": "a", "mind": {"k": k}}, float(k))
+        store.add_state("a", json.dumps({"agent": "a", "mind": {"k": k}}), float(k))
     latest = store.mind("a")
     assert (latest["index"], latest["first"], latest["last"]) == (4, 2, 4)
     assert store.mind("a", 2)["state"]["mind"] == {"k": 2}
     assert store.mind("a", 1) is None and store.mind("a", 5) is None
     assert store.mind("nobody") is None
-    assert events.count("mind") == 5 and events[0] == "agents"
+    assert events.count("mind") == 5 and events[0] == "agent"
 
 
 def test_store_rejects_malformed_states_and_unknown_agents():
     store = InspectorStore()
     store.agent_heard("a")
-    for bad in (None, [], {"agent": "a"}, {"agent": "a", "mind": "text"}):
+    for bad in ("null", "[]", '{"agent": "a"}', '{"agent": "a", "mind": "text"}', "{not json"):
         with pytest.raises(BadMindState):
             store.add_state("a", bad, 0.0)
     with pytest.raises(KeyError):
-        store.add_state("b", {"agent": "b", "mind": {}}, 0.0)
+        store.add_state("b", '{"agent": "b", "mind": {}}', 0.0)
     assert store.mind("a") is None
 
 
@@ -154,6 +156,67 @@ def test_agents_leave_and_come_back():
     assert store.agents() == [] and store.without_topic() == []
     assert store.agent_heard("a")
     assert [a["name"] for a in store.agents()] == ["a"]
+
+
+def _state(name: str, size: int = 0, k: int = 0) -> str:
+    return json.dumps({"agent": name, "namespace": "/", "mind": {"k": k, "pad": "x" * size}})
+
+
+def test_store_pushes_one_agent_at_a_time_never_the_whole_list():
+    events: list[tuple[str, dict]] = []
+    store = InspectorStore(on_change=lambda kind, payload: events.append((kind, payload)))
+    for k in range(100):
+        store.agent_heard(f"a{k}")
+    store.set_topic("a5", "/jason/a5/mind_state")
+    store.agent_gone("a7")
+    assert [kind for kind, _ in events] == ["agent"] * 101 + ["gone"]
+    assert events[0][1] == {"name": "a0", "present": True, "topic": None, "namespace": None,
+                            "first": None, "last": None}
+    assert events[100][1]["topic"] == "/jason/a5/mind_state" and events[101][1] == {"name": "a7"}
+
+
+def test_agents_that_left_are_pruned_and_newcomers_past_max_agents_ignored():
+    store = InspectorStore(max_agents=50)
+    for k in range(5000):                     # a flood of names, each gone again
+        store.agent_heard(f"f{k}")
+        store.agent_gone(f"f{k}")
+    assert store.memory()["present"] == 0 and len(store._agents) == 0    # none kept a state
+    for k in range(100):                      # agents with a mind, then gone: the last 32 kept
+        store.agent_heard(f"m{k}")
+        store.add_state(f"m{k}", _state(f"m{k}"), 0.0)
+        store.agent_gone(f"m{k}")
+    assert len(store._agents) == MAX_GONE and store.known("m99") and not store.known("m0")
+    assert store.mind("m99")["present"] is False
+    for k in range(80):
+        store.agent_heard(f"p{k}")
+    assert [a["name"] for a in store.agents()][-1] == "p9"          # sorted: p0..p49
+    assert len(store.agents()) == 50 and store.refused == 30
+    store.agent_gone("p3")
+    assert not store.agent_heard("n" * (MAX_NAME + 1)) and store.refused == 30   # never kept
+    assert store.agent_heard("late") and not store.agent_heard("later")
+
+
+def test_history_is_bounded_in_bytes_keeping_each_agents_newest_state():
+    store = InspectorStore(history=300, history_bytes=100_000)
+    for name in ("quiet", "big"):
+        store.agent_heard(name)
+    store.add_state("quiet", _state("quiet", 1000), 0.0)
+    for k in range(50):
+        store.add_state("big", _state("big", 20_000, k), float(k))
+    memory = store.memory()
+    assert memory["bytes"] <= 100_000
+    big = store.mind("big")
+    assert big["state"]["mind"]["k"] == 49 and big["last"] - big["first"] + 1 == 4
+    assert store.mind("quiet") is not None          # a quiet agent's only state stays
+    assert store.mind("big", big["first"] - 1) is None
+    with pytest.raises(BadMindState, match="more than half"):
+        store.add_state("big", _state("big", 60_000), 0.0)
+    for k in range(10):                       # many agents, each one large state: the oldest go
+        store.agent_heard(f"n{k}")
+        store.add_state(f"n{k}", _state(f"n{k}", 30_000), 0.0)
+    assert store.memory()["bytes"] <= 100_000 and store.mind("n9") is not None
+    assert store.mind("n0") is None
+    assert len(store._arrivals) <= 2 * store._states + 1024
 
 
 def test_robots_trail_thins_out_small_moves():
@@ -206,3 +269,14 @@ def test_a_failing_publication_never_reaches_the_reasoning_cycle():
     publisher.at_cycle()                  # reported, not raised
     assert publisher._due is None
     assert warnings == ["[t] mind_state not published: OSError: link down"]
+
+
+def test_host_names_the_inspector_answers():
+    assert [host_name(h) for h in ("127.0.0.1:3272", "[::1]:80", "Example.ORG.:8", "::1", "x")] \
+        == ["127.0.0.1", "::1", "example.org", "::1", "x"]
+    assert allowed_hosts("127.0.0.1") == {"127.0.0.1", "localhost", "::1"}
+    assert allowed_hosts("192.0.2.7", ["Robot.lab "]) == {"192.0.2.7", "robot.lab"}
+    every = allowed_hosts("0.0.0.0")
+    assert {"127.0.0.1", "localhost", socket.gethostname().lower()} <= every
+    assert interface_addresses() <= every and "127.0.0.1" in interface_addresses()
+    assert "evil.example" not in every

@@ -51,6 +51,9 @@ FAULTS: tuple[str, ...] = (LEFT_ACTUATOR, RIGHT_ACTUATOR, BOTH_ACTUATORS, ODOMET
 VALID_REQUESTS: tuple[str, ...] = (*FAULTS, CANCEL)
 #: What the status topic says when no fault is active.
 NO_FAULT = "none"
+#: The longest fault name a request may carry (the valid ones are far shorter): a longer one
+#: is refused without being echoed in the reply or the log.
+MAX_REQUEST_NAME = 64
 
 #: Fraction of its commanded speed the faulty wheel delivers during a pure rotation.
 ROTATION_WHEEL_GAIN = 0.5
@@ -169,9 +172,14 @@ class FaultState:
     def request(self, name: str) -> str:
         """Handle a service request `name`; return the service's ``return_message``.
 
-        An unknown name changes nothing and lists the valid ones.
+        An unknown name changes nothing and lists the valid ones; one longer than
+        MAX_REQUEST_NAME is not echoed back.
         """
         name = name.strip()
+        if len(name) > MAX_REQUEST_NAME:
+            return (f"error: fault name too long ({len(name):,} characters, at most "
+                    f"{MAX_REQUEST_NAME}); valid faults: {', '.join(VALID_REQUESTS)} "
+                    f"(active fault unchanged: {self.status})")
         if name not in VALID_REQUESTS:
             return (f"error: unknown fault '{name}'; valid faults: {', '.join(VALID_REQUESTS)} "
                     f"(active fault unchanged: {self.status})")

@@ -40,12 +40,18 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from std_msgs.msg import String
 
-from kobuki_fault_injector.faults import VALID_REQUESTS, FaultState, Velocity
+from kobuki_fault_injector.faults import (
+    MAX_REQUEST_NAME,
+    VALID_REQUESTS,
+    FaultState,
+    Velocity,
+)
 from kobuki_fault_injector.srv import (
     FaultInjector,
     FaultInjectorRequest,
     FaultInjectorResponse,
 )
+from rason.ros.badinput import shorten
 from rason.ros.guard import guarded
 from rason.ros.input_watch import watch_input
 from rason.ros.master_watch import watch_master
@@ -144,7 +150,8 @@ class FaultInjectorNode:
             before = self.state.active
             message = self.state.request(req.fault)
             changed = self.state.active != before
-        rospy.loginfo("fault_injector: request %r: %s", req.fault, message)
+        rospy.loginfo("fault_injector: request %s: %s", shorten(repr(req.fault), MAX_REQUEST_NAME),
+                      message)
         if changed:
             self.publish_status()
         return FaultInjectorResponse(return_message=message)

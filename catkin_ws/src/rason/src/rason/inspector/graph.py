@@ -10,7 +10,6 @@ subscribed only while a page is open) and ``/diagnostics``.
 
 from __future__ import annotations
 
-import json
 import threading
 
 import rospy
@@ -20,7 +19,8 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Image
 from std_msgs.msg import String
 
-from rason.inspector.store import BadMindState, CameraFrame, InspectorStore, Pose
+from rason.inspector.store import MAX_NAME, BadMindState, CameraFrame, InspectorStore, Pose
+from rason.ros.badinput import shorten
 from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE, Directory
 from turtlebot_model.geometry import yaw_from_quaternion
 
@@ -56,16 +56,20 @@ class GraphWatcher:
             self.directory.forget(msg.sender)
             self.store.agent_gone(msg.sender)
             return
-        if not msg.sender:
+        if not msg.sender or len(msg.sender) > MAX_NAME:
             return
         self.directory.heard(msg.sender, rospy.get_time())
-        self.store.agent_heard(msg.sender)
+        refused = self.store.refused
+        if not self.store.agent_heard(msg.sender) and self.store.refused > refused:
+            rospy.logwarn_throttle(10.0, "mind inspector: %d agents listed (~max_agents): %d "
+                                   "newcomers ignored so far", self.store.max_agents, refused + 1)
 
     def on_mind_state(self, msg: String, name: str) -> None:
         try:
-            self.store.add_state(name, json.loads(msg.data), rospy.get_time())
-        except (ValueError, BadMindState, KeyError) as err:
-            rospy.logwarn_throttle(10.0, "mind_state of %s ignored: %s", name, err)
+            self.store.add_state(name, msg.data, rospy.get_time())
+        except (BadMindState, KeyError) as err:
+            rospy.logwarn_throttle(10.0, "mind_state of %s ignored: %s", name,
+                                   shorten(str(err)))
 
     # -- the graph ---------------------------------------------------------------------------------
     def on_scan(self, _event: rospy.timer.TimerEvent) -> None:

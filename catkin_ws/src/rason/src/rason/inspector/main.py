@@ -21,7 +21,7 @@ from aiohttp import web
 
 from rason.inspector.graph import GraphWatcher
 from rason.inspector.store import InspectorStore
-from rason.inspector.web import make_app
+from rason.inspector.web import allowed_hosts, make_app
 from rason.ros.params import exit_on_help, load_or_exit, param
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
@@ -35,6 +35,13 @@ class InspectorParams:
     port: int = param(3272, "TCP port; 0 picks a free one (the address is logged either way)",
                       minimum=0, maximum=65535)
     history: int = param(300, "mind states kept per agent for the page's history", minimum=1)
+    history_bytes: int = param(64 * 1024 * 1024, "bytes of mind-state JSON kept for all agents "
+                               "together (oldest states go first; a larger state than half of "
+                               "it is refused)", minimum=1024)
+    max_agents: int = param(1000, "agents listed at most (names heard beyond it are ignored "
+                            "until one leaves)", minimum=1)
+    allowed_hosts: list = param([], "Host names the page may be reached by besides the address "
+                                "listened on (requests naming another host get 403)")
     presence_timeout: float = param(3.5, "s (ROS time) after which a silent agent leaves the page",
                                     minimum=0.01)
 
@@ -77,10 +84,12 @@ def main() -> int:
                  "A web page for every agent on the ROS graph and for the robots.")
     rospy.init_node("mind_inspector", disable_signals=True)
     params = load_or_exit(InspectorParams, "mind_inspector")
-    store = InspectorStore(params.history)
+    store = InspectorStore(params.history, history_bytes=params.history_bytes,
+                           max_agents=params.max_agents)
     watcher = GraphWatcher(store, params.presence_timeout)
     watcher.start()
-    app = make_app(store, rospy.get_time, lambda pages: watcher.want_camera(pages > 0))
+    app = make_app(store, rospy.get_time, lambda pages: watcher.want_camera(pages > 0),
+                   allowed_hosts(params.host, params.allowed_hosts))
     try:
         return asyncio.run(serve(app, params.host, params.port))
     finally:

@@ -8,16 +8,26 @@ Routes (anything else is 404; a wrong method 405; a malformed query 400):
   GET /api/agents/{name}/mind        the latest mind state; ?index=N for state N of the history
   GET /api/robots                    poses, trails, perceptions, diagnostics, camera frame info
   GET /api/camera/{robot}.jpg        the robot's last camera frame as JPEG
-  GET /api/events                    server-sent events: ``agents``, ``mind`` (agent, index),
-                                     ``robots`` (at most ROBOTS_HZ a second), ``clock``
+  GET /api/events                    server-sent events: ``hello`` (every agent, the robots),
+                                     then ``agent`` (one agent's summary: new or changed),
+                                     ``gone`` (its name), ``mind`` (agent, index), ``robots``
+                                     (at most ROBOTS_HZ a second), ``clock``
+
+Every request whose ``Host`` header does not name the address the inspector listens on (or one
+of ``~allowed_hosts``) gets 403: a web page the browser loaded from elsewhere cannot read the
+agents' minds by making its own name resolve to this address (DNS rebinding).
 """
 
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import fcntl
 import json
 import re
-from collections.abc import Callable
+import socket
+import struct
+from collections.abc import Callable, Iterable
 from importlib import resources
 from pathlib import Path
 
@@ -25,13 +35,63 @@ import cv2
 import numpy as np
 from aiohttp import web
 
-from rason.inspector.store import CameraFrame, InspectorStore
+from rason.inspector.store import MAX_NAME, CameraFrame, InspectorStore
 
 ROBOTS_HZ = 5.0
 KEEPALIVE_S = 15.0
 MAX_CLIENTS = 32
 CLIENT_QUEUE = 256
-NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,99}$")
+NAME = re.compile(rf"^[A-Za-z0-9_][A-Za-z0-9_.-]{{0,{MAX_NAME - 1}}}$")
+LOOPBACK_NAMES = frozenset({"127.0.0.1", "localhost", "::1"})
+EVERY_INTERFACE = ("0.0.0.0", "", "::")
+SIOCGIFADDR = 0x8915            # Linux ioctl: an interface's IPv4 address
+
+
+def allowed_hosts(listen: str, extra: Iterable[str] = ()) -> frozenset[str]:
+    """Host names a request may carry: the address listened on (with the loopback names when
+    that is a loopback or every interface, and then also this machine's name and addresses),
+    plus `extra`."""
+    names = {host_name(listen)} | {host_name(h) for h in extra if h.strip()}
+    if listen in LOOPBACK_NAMES or listen in EVERY_INTERFACE:
+        names |= LOOPBACK_NAMES
+    if listen in EVERY_INTERFACE:
+        machine = socket.gethostname()
+        names |= {machine.lower(), socket.getfqdn().lower()} | interface_addresses()
+        try:
+            names |= set(socket.gethostbyname_ex(machine)[2])
+        except OSError:
+            pass
+    return frozenset(names - {""})
+
+
+def interface_addresses() -> set[str]:
+    """This machine's IPv4 (one per interface) and IPv6 addresses (Linux)."""
+    found: set[str] = set()
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        for _index, interface in socket.if_nameindex():
+            try:
+                request = struct.pack("256s", interface[:15].encode())
+                found.add(socket.inet_ntoa(fcntl.ioctl(sock.fileno(), SIOCGIFADDR,
+                                                       request)[20:24]))
+            except OSError:          # no IPv4 address on this interface
+                pass
+    with contextlib.suppress(OSError):
+        for line in Path("/proc/net/if_inet6").read_text().split("\n"):
+            if line.strip():
+                packed = bytes.fromhex(line.split()[0])
+                found.add(socket.inet_ntop(socket.AF_INET6, packed))
+    return found
+
+
+def host_name(host: str) -> str:
+    """The name part of a Host header (``[::1]:80`` -> ``::1``, ``Example.org.:80`` ->
+    ``example.org``)."""
+    host = host.strip().lower()
+    if host.startswith("["):
+        return host[1:host.find("]")] if "]" in host else host
+    if host.count(":") == 1:
+        host = host.rsplit(":", 1)[0]
+    return host.rstrip(".")
 
 
 def static_dir() -> Path:
@@ -75,10 +135,24 @@ def _close(queue: asyncio.Queue) -> None:
     queue.put_nowait(None)
 
 
+def host_check(hosts: frozenset[str]):
+    """Middleware refusing (403) the requests whose Host header is not one of `hosts`."""
+    @web.middleware
+    async def check(request: web.Request, handler):
+        given = request.headers.get("Host", "")
+        if host_name(given) not in hosts:
+            raise _error(web.HTTPForbidden, f"Host {given[:100]!r} is not this inspector's "
+                         "address (see ~allowed_hosts)")
+        return await handler(request)
+    return check
+
+
 def make_app(store: InspectorStore, clock: Callable[[], float],
-             on_clients: Callable[[int], None] | None = None) -> web.Application:
-    """The application; `clock` gives ROS time (for action ages), `on_clients` the page count."""
-    app = web.Application()
+             on_clients: Callable[[int], None] | None = None,
+             hosts: frozenset[str] = LOOPBACK_NAMES) -> web.Application:
+    """The application; `clock` gives ROS time (for action ages), `on_clients` the page count,
+    `hosts` the Host names it answers (:func:`allowed_hosts`)."""
+    app = web.Application(middlewares=[host_check(hosts)])
     hub = EventHub(on_clients)
     app["store"], app["hub"], app["clock"] = store, hub, clock
 
@@ -137,11 +211,13 @@ async def mind(request: web.Request) -> web.Response:
         index = int(text)
     if not store.known(name):
         raise _error(web.HTTPNotFound, f"no agent named {name!r} has been seen")
-    entry = store.mind(name, index)
-    if entry is None:
+    found = store.mind_text(name, index)
+    if found is None:
         what = "no mind state yet" if index is None else f"state {index} is not in the history"
         raise _error(web.HTTPNotFound, f"agent {name!r}: {what}")
-    return web.json_response({**entry, "now": request.app["clock"]()})
+    bounds, state = found            # the state as it came, spliced in (never parsed again)
+    head = json.dumps({**bounds, "now": request.app["clock"]()})
+    return web.Response(text=f'{head[:-1]}, "state": {state}}}', content_type="application/json")
 
 
 async def robots(request: web.Request) -> web.Response:

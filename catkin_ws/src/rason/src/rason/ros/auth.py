@@ -6,8 +6,16 @@ defences, both off by default (today's open behaviour):
 * **Authentication** (:class:`MessageAuth`): agents sharing a secret key sign every message they
   publish with an HMAC-SHA256 over all its fields, its send time and a random nonce. A keyed
   agent drops messages that are unsigned, forged (the signature does not match: wrong key or
-  altered fields), stale (sent longer ago than the replay window, or from the future beyond it)
-  or replayed (a nonce already seen within the window).
+  altered fields), stale (sent longer ago than the replay window, or from the future beyond it,
+  or before this node started listening) or replayed (a nonce already seen within the window).
+  Seen nonces live in memory only, so a restarted node could not tell a replay of a message
+  its previous run accepted: it refuses every message stamped more than ``START_GRACE`` before
+  the first one it checks (a message is in flight for milliseconds; one sent before the node
+  started was never meant for it). Directory registrations (performative ``df``) are the
+  exception: a node publishes them latched, so a newcomer gets one sent before it started. They
+  are judged by the window and the nonce only, and their publisher signs them again every half
+  window (:meth:`rason.ros.node.AgentNode._publish_services`), so the latched copy stays fresh
+  for as long as the node lives.
 * **Acceptance** (:class:`TrustPolicy`, the model is Jason's message acceptance hook): an agent
   may name the senders it trusts; the others may only tell, untell and ask (``tell``,
   ``untell``, ``askOne``, ``askAll``): every other performative (goals, plans, signals, any
@@ -31,6 +39,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from rason.ros.presence import DF_PERFORMATIVE
+
 #: The only performatives a sender outside a TrustPolicy may use: they give information or ask
 #: for it; every other one (achieve, unachieve, tellHow, untellHow, askHow, signal...) gives the
 #: agent goals or plans.
@@ -41,6 +51,11 @@ SCHEME = "hmac-sha256"
 MIN_KEY_BYTES = 16
 #: At most this many nonces are remembered (a flood cannot eat memory; the oldest go first).
 MAX_NONCES = 100_000
+#: s: messages stamped this long before the first one a node checks are refused as stale (they
+#: predate the node: replays of what its previous run accepted); at most the window.
+START_GRACE = 1.0
+#: Performatives of latched state, exempt from the start rule (see the module's doc).
+LATCHED_PERFORMATIVES = frozenset({DF_PERFORMATIVE})
 
 
 class AuthKeyError(ValueError):
@@ -132,6 +147,8 @@ class MessageAuth:
         self._key = key
         self.window = window
         self._seen: OrderedDict[tuple[str, str], int] = OrderedDict()   # (sender, nonce) -> stamp
+        #: ROS time (ns) before which messages are refused: START_GRACE before the first check
+        self.started_ns: int | None = None
         self._lock = threading.Lock()
 
     def sign(self, fields: SignedFields) -> str:
@@ -150,6 +167,12 @@ class MessageAuth:
             return Verdict.STALE
         key = (fields.sender, fields.nonce)
         with self._lock:
+            # the first check sets the start; so does a clock that went back (sim restarted)
+            if self.started_ns is None or now_ns < self.started_ns:
+                self.started_ns = now_ns - int(min(START_GRACE, self.window) * 1e9)
+            if fields.stamp_ns < self.started_ns and \
+                    fields.performative not in LATCHED_PERFORMATIVES:
+                return Verdict.STALE
             self._forget_older_than(now_ns - window_ns)
             if key in self._seen:
                 return Verdict.REPLAYED

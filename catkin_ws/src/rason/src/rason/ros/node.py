@@ -507,12 +507,17 @@ class RasonNode:
 
     # -- directory facilitator ----------------------------------------------------------------------
     def _publish_services(self) -> None:
-        """Our agents' registrations changed: publish all of them (latched) for the other nodes."""
+        """Our agents' registrations changed: publish all of them (latched) for the other nodes;
+        with a key, again every half ~auth_window, so the latched copy a newcomer gets is never
+        stale (rason.ros.auth)."""
         regs = self.services.local_registrations()
         content = ListTerm(tuple(Literal("provider", (Literal(r.agent), r.service)) for r in regs))
         self._publish(AgentMessage(sender=rospy.get_name(), receiver="", performative=DF_PERFORMATIVE,
                                    content=term_text(content), reply_with="", in_reply_to=""),
                       self.directory_pub)
+        if self.auth is not None and not hasattr(self, "_services_timer"):
+            self._services_timer = rospy.Timer(rospy.Duration(self.auth.window / 2), guarded(
+                "directory republish")(lambda _event: self._publish_services()))
 
     def _authentic(self, msg: AgentMessage, kind: str, dropped: Callable[[str], str]) -> bool:
         """True when this node has no key or ``msg`` verifies; else False and a rate-limited
@@ -713,16 +718,16 @@ class RasonNode:
         if msg.performative == PRESENCE:
             if msg.content == GOODBYE:
                 self.directory.forget(msg.sender)
-                rospy.loginfo("agent %s said goodbye: forgotten", msg.sender)
+                rospy.loginfo("agent %s said goodbye: forgotten", shorten(msg.sender, 80))
                 return
             if self.directory.heard(msg.sender, now):   # new, or back after a lapse
-                rospy.loginfo("agent %s present", msg.sender)
+                rospy.loginfo("agent %s present", shorten(msg.sender, 80))
             if msg.content == HELLO and not self.stop.is_set():   # a newcomer: know us now
                 for name in list(self.agents):
                     self._announce(name)
             return
         if self.directory.heard(msg.sender, now):   # known from its message before its presence
-            rospy.loginfo("agent %s present", msg.sender)
+            rospy.loginfo("agent %s present", shorten(msg.sender, 80))
         receivers = ([msg.receiver] if msg.receiver
                      else [n for n in list(self.agents) if n != msg.sender])
         content = None
@@ -818,7 +823,8 @@ class RasonNode:
             else:   # our decomposers hear only jason/presence: they get the beat every period
                 self._publish(_presence(name), self.presence_pub)
         for gone in self.directory.expire(now):
-            rospy.loginfo("agent %s not heard for %.1f s: forgotten", gone, self.directory.timeout)
+            rospy.loginfo("agent %s not heard for %.1f s: forgotten", shorten(gone, 80),
+                          self.directory.timeout)
         self._release_held()
 
     def on_mind_state(self, _event: rospy.timer.TimerEvent) -> None:

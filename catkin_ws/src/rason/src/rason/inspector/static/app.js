@@ -3,7 +3,8 @@
 "use strict";
 
 const ui = {
-  agents: [],              // [{name, present, topic, namespace, first, last}]
+  agents: new Map(),       // name -> {name, present, topic, namespace, first, last}
+  drawPending: false,      // the agent list is redrawn once per frame, however many changes
   selected: null,          // agent name
   live: true,              // follow the newest state; false = stepping through the history
   step: 0,                 // counts history steps and returns to live: the newest one wins
@@ -46,7 +47,12 @@ function connect() {
     setAgents(data.agents);
     drawRobots(data.robots);
   });
-  source.addEventListener("agents", (e) => setAgents(JSON.parse(e.data).agents));
+  // one agent at a time: a new or changed agent, or one that left
+  source.addEventListener("agent", (e) => updateAgent(JSON.parse(e.data)));
+  source.addEventListener("gone", (e) => {
+    ui.agents.delete(JSON.parse(e.data).name);
+    drawAgentsSoon();
+  });
   source.addEventListener("mind", (e) => {
     const data = JSON.parse(e.data);
     noteLatest(data.agent, data.index, data.first);
@@ -85,10 +91,25 @@ function noteLatest(agent, index, first) {
 
 // ---------------------------------------------------------------- agents
 function setAgents(agents) {
-  ui.agents = agents;
-  for (const a of agents) {
-    if (a.last !== null && a.last !== undefined) noteLatest(a.name, a.last, a.first);
-  }
+  ui.agents = new Map();
+  for (const a of agents) updateAgent(a);
+  drawAgentsSoon();
+}
+
+function updateAgent(a) {
+  if (a.last !== null && a.last !== undefined) noteLatest(a.name, a.last, a.first);
+  if (a.present) ui.agents.set(a.name, a); else ui.agents.delete(a.name);
+  drawAgentsSoon();
+}
+
+function drawAgentsSoon() {
+  if (ui.drawPending) return;
+  ui.drawPending = true;
+  requestAnimationFrame(() => { ui.drawPending = false; drawAgents(); });
+}
+
+function drawAgents() {
+  const agents = [...ui.agents.values()].sort((a, b) => (a.name < b.name ? -1 : a.name > b.name ? 1 : 0));
   const list = $("agent-list");
   list.replaceChildren(...agents.map((a) => {
     const item = el("li", {"data-agent": a.name, class: a.name === ui.selected ? "selected" : ""},

@@ -1,0 +1,101 @@
+"""Log floods (#37 item 2): warnings are limited per process as well as per sender, no log
+line carries unbounded input, and the fault injector neither logs nor echoes a huge name.
+
+The issue's probe: messages with unreadable content under ever new sender names wrote 28,413
+warning lines in 30 s (each name its own rate-limit group).
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pytest
+import rospy
+from jason_msgs.msg import AgentMessage
+
+from kobuki_fault_injector.srv import FaultInjector
+from rason.ros.badinput import GLOBAL_BURST, GLOBAL_RATE, MAX_LINE, BadInputLog, GlobalLimit
+from rason.testing.harness import RosHarness
+
+LONGEST_LINE = MAX_LINE + 400      # a shortened text, its marker, the node's prefix, counts
+
+
+def test_new_group_names_cannot_pass_the_process_limit():
+    clock = [0.0]
+    limit = GlobalLimit(rate=2.0, burst=20, now=lambda: clock[0])
+    logged: list[str] = []
+    a = BadInputLog(logged.append, lambda: clock[0], limit=limit)
+    b = BadInputLog(logged.append, lambda: clock[0], limit=limit)     # another of the process
+    for k in range(10_000):                     # 10,000 new senders in 10 s
+        clock[0] = k / 1000
+        (a if k % 2 else b).warn(f"sender_{k}", None, f"bad message from sender_{k}")
+    assert len(logged) == 20 + 2 * 10 - 1        # the burst, then 2 a second
+    assert "other warnings held back: too many at once" in logged[20]
+    clock[0] = 100.0
+    assert a.warn("late", None, "x" * 100_000)
+    assert logged[-1].endswith("held back: too many at once)") and len(logged[-1]) < 700
+    assert len(a._groups) <= a.remember and all(len(g) <= 65 for g in a._groups)
+
+
+@pytest.mark.ros
+def test_a_flood_under_new_sender_names_writes_few_short_warnings(ros: RosHarness,
+                                                                   tmp_path: Path):
+    asl = tmp_path / "calm.asl"
+    asl.write_text("+hello[source(A)] <- .print(hi).\n")
+    agent = ros.rosrun("rason", "agent", "calm", str(asl), ns="/flood")
+    ros.wait_for_node("/flood/jason/calm", watch=[agent], timeout=60)
+    ros.init_rospy()
+    pub = rospy.Publisher("/jason/messages", AgentMessage, queue_size=10_000)
+    ros.wait_for_subscriber("/jason/messages")
+    time.sleep(1.0)
+    start = time.monotonic()
+    sent = 0
+    while time.monotonic() - start < 6.0:        # unreadable content from new names
+        for _ in range(50):
+            pub.publish(AgentMessage(sender=f"flood_{sent}", receiver="calm",
+                                     performative="tell", content=f"broken({sent}"))
+            sent += 1
+        time.sleep(0.01)
+    huge = "h" * 1_000_000                       # and one huge name with huge content
+    pub.publish(AgentMessage(sender=huge, receiver="calm", performative="tell", content=huge))
+    time.sleep(3.0)
+    pub.publish(AgentMessage(sender="last", receiver="calm", performative="tell",
+                             content="broken("))
+    elapsed = time.monotonic() - start
+
+    def dropped() -> list[str]:
+        return [line for line in agent.lines() if "dropped message from" in line]
+
+    deadline = time.monotonic() + 30
+    while not any("from last" in line for line in dropped()) and time.monotonic() < deadline:
+        time.sleep(0.3)
+    lines = dropped()
+    assert any("from last" in line and "other warnings held back" in line for line in lines), \
+        lines[-3:]
+    assert len(lines) <= GLOBAL_BURST + GLOBAL_RATE * (elapsed + 35), (sent, len(lines))
+    assert sent >= 1000 and len(lines) < sent / 10
+    assert max(len(line) for line in agent.lines()) < LONGEST_LINE
+    assert agent.alive()
+    pub.unregister()
+
+
+@pytest.mark.ros
+def test_the_fault_injector_refuses_a_huge_fault_name_briefly(ros: RosHarness):
+    ns = "/floodfi"
+    node = ros.rosrun("kobuki_fault_injector", "fault_injector", ns=ns)
+    ros.wait_for_service(f"{ns}/fault_injector", watch=[node])
+    ros.init_rospy()
+    call = rospy.ServiceProxy(f"{ns}/fault_injector", FaultInjector)
+    reply = call("left_" * 200_000).return_message        # 1 MB
+    assert reply.startswith("error: fault name too long (1,000,000 characters, at most 64)")
+    assert len(reply) < 300 and "left_left_" not in reply
+    assert "fault 'odometry' injected" in call("odometry").return_message
+    unknown = call("x" * 64).return_message
+    assert unknown.startswith("error: unknown fault 'xxx")
+    assert "(active fault unchanged: odometry)" in unknown
+    node.wait_for_line(r"fault_injector: request .*too long", 20)
+    logged = [line for line in node.lines() if "fault_injector: request" in line]
+    assert len(logged) == 3 and max(len(line) for line in node.lines()) < 400, logged
+    assert "characters)" in logged[0]            # the name shown shortened, with its length
+    assert node.alive()
