@@ -1,14 +1,55 @@
 #!/usr/bin/env bash
 # The one entry point of rason. Sets the machine up on first use (./setup.sh), then:
-#   ./run.sh test [PYTEST_ARGS...]   run the whole test suite (what CI runs)
-#   ./run.sh demo [--fault NAME] [--seed N] [--drivers sim|stock] [--record]
-#                                    the cooperative fault diagnosis in simulation
-#   ./run.sh campaign [--runs N] [--out DIR]   all scenarios, N runs each, report + plots
-#   ./run.sh bench NAME [ARGS...]    a benchmark from benchmarks/ (e.g. reasoning_cycle)
-#   ./run.sh env                     a shell with ROS and the workspace ready (or: source env.sh)
+#
+#   ./run.sh demo [OPTIONS]         the cooperative fault diagnosis in simulation, once
+#       --fault NAME                the fault to inject: both_actuators, odometry, left_actuator,
+#                                   right_actuator or none
+#       --seed N                    the seed of the run's variation
+#       --world FILE.yaml           your own world file (robot poses, room, lighting)
+#       --json                      print the result as JSON at the end
+#       --record                    also record a bag of the run
+#       --drivers sim|stock         the simulator's topics: its own (sim time) or the real
+#                                   Kobuki and Kinect drivers' (wall time; docs/drivers.md)
+#       --real                      only the workstation side, against robots already up
+#                                   (docs/real-robot.md)
+#       --out DIR                   the folder for the picture and logs
+#       --hosts                     the workstation and each robot on a host of its own (root)
+#       --cut HOST@Ts+Ds            cut HOST's link T s after the agents start, for D s (--hosts)
+#       --quiet                     do not stream the agents' console
+#       --timeout S                 simulated seconds allowed
+#       --inspector-port N          the mind inspector's port (0: any free port)
+#       --inspector, --no-inspector with or without the mind inspector (default: with)
+#   ./run.sh campaign [OPTIONS]     every fault and none, N runs each: report.md, runs.csv, plots
+#       --runs N                    runs per fault (default 10)
+#       --layouts fixed|random      the thesis' layout, or a seeded random layout per run index
+#       --out DIR                   the folder for the report
+#       --faults NAME...            only these faults
+#       --first-seed N              the seed of the first run
+#       --hosts                     every run across hosts of its own (root)
+#       --drivers sim|stock         as for demo
+#       --report-only               rewrite report.md and the plots from --out's runs.csv
+#   ./run.sh bench NAME [ARGS...]   a benchmark of benchmarks/ (./run.sh bench lists them)
+#   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs), or a part: a file, -k NAME
+#   ./run.sh env                    a shell with ROS and the workspace ready (or: source env.sh)
+#   ./run.sh help                   this text (also -h, --help)
+# Each command's own --help gives its options with their defaults (./run.sh demo --help).
 set -eo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 cd "$ROOT"
+
+usage() {
+  # the comment block at the top of this file, without its '#'
+  awk 'NR == 1 { next } !/^#/ { exit } { sub(/^# ?/, ""); print }' "$0"
+}
+
+list_benchmarks() {
+  local file name
+  for file in "$ROOT"/benchmarks/*.py; do
+    name="$(basename "$file" .py)"
+    # the first line of its docstring
+    printf '  %-20s %s\n' "$name" "$(grep -m1 -o '"""[^"]*' "$file" | cut -c4-)"
+  done
+}
 
 ensure_setup() {
   if [ "$(id -u)" = 0 ]; then
@@ -35,8 +76,18 @@ case "$cmd" in
     exec python3 -m rason_diagnosis.campaign "$@"
     ;;
   bench)
+    if [ $# -eq 0 ] || [ ! -f "$ROOT/benchmarks/$1.py" ]; then
+      if [ $# -eq 0 ]; then
+        echo "./run.sh bench: which benchmark? usage: ./run.sh bench NAME [ARGS...]" >&2
+      else
+        echo "./run.sh bench: no benchmark named '$1' (no benchmarks/$1.py)" >&2
+      fi
+      echo "NAME is one of (./run.sh bench NAME --help for its options):" >&2
+      list_benchmarks >&2
+      exit 2
+    fi
     ensure_setup
-    name="${1:?usage: ./run.sh bench NAME [ARGS...]; NAME is one of: $(ls benchmarks | sed -n 's/\.py$//p' | tr '\n' ' ')}"; shift
+    name="$1"; shift
     exec python3 "$ROOT/benchmarks/$name.py" "$@"
     ;;
   env)
@@ -45,9 +96,9 @@ case "$cmd" in
     exec bash --rcfile <(printf 'source ~/.bashrc 2>/dev/null; source %q\nPS1="(rason) $PS1"\n' "$ROOT/env.sh") -i
     ;;
   help|-h|--help)
-    sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'
+    usage
     ;;
   *)
-    echo "unknown command: $cmd" >&2; sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2
+    echo "unknown command: $cmd" >&2; usage >&2; exit 2
     ;;
 esac

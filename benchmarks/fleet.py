@@ -2,7 +2,7 @@
 """Fleet scale: N robot hosts on one LAN, every agent broadcasting (needs root: ip netns).
 
 For each N (default 1, 5, 10, 20) a fresh LAN of network namespaces (``rason.testing.netns``,
-the README's firewall on every host): a ``master`` host with ``roscore``, and N robot hosts
+the firewall of docs/deployment.md on every host): a ``master`` host with ``roscore``, and N robot hosts
 ``r1..rN``, each with ``rosrun rason agent rK``, ``rosrun rason echo_decomposer`` and a 20 Hz
 perception stream (``rostopic pub -r 20``), all in the robot's namespace ``/rK``. Every agent
 broadcasts ``ping(Seq, T)`` twice a second (``T``: ``.nano_time``, and all namespaces share one

@@ -1,4 +1,4 @@
-"""The case study's two agents (rason_diagnosis/agents/faulty.asl and helper.asl) against a scripted world.
+"""The case study's two agents (agents/diagnosis/faulty.asl and helper.asl) against a scripted world.
 
 A fake environment plays both robots and Helper's camera: Faulty's move/turn actions succeed
 or fail per scenario, Helper's ``robot(faulty,Deg,Depth,Yaw)`` percepts follow the scripted
@@ -17,7 +17,7 @@ from rason.asl import LocalArch, LocalMas, VirtualClock, load_mas2j, parse_liter
 from rason.asl.terms import Literal
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-AGENTS = os.path.join(ROOT, "catkin_ws", "src", "rason_diagnosis", "agents")
+AGENTS = os.path.join(ROOT, "agents", "diagnosis")
 FOV_HALF = 28.5  # Kinect: 57 degrees horizontal
 TURN_STEP = 2.0   # degrees Helper turns per reasoning cycle while a turn action runs
 OCCLUDED = 5.0    # relative headings within this of +90: the orange cylinder hides the green

@@ -31,8 +31,8 @@ SEEDS = {"none": 15}
 COVERED_ELSEWHERE = {
     "both_actuators": ("tests/inspector/test_inspector_browser.py", '"--fault", "both_actuators"'),
     "odometry": ("tests/workspace/test_install_space.py", "--fault odometry"),
-    # tests/demo/test_manual.py runs README's rosrun commands, which inject this one
-    "left_actuator": ("README.md", "fault: 'left_actuator'"),
+    # tests/demo/test_manual.py runs the case study's rosrun commands, which inject this one
+    "left_actuator": ("docs/case-study.md", "fault: 'left_actuator'"),
     "right_actuator": ("tests/demo/test_demo.py", '("facing", "right_actuator", 21)'),
 }
 

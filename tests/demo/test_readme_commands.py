@@ -1,7 +1,8 @@
-"""Every ``rosrun`` and ``./run.sh`` line in README's fenced blocks works as written.
+"""Every ``rosrun`` and ``./run.sh`` line in the fenced blocks of README and docs/*.md works as written.
 
-The lines of the block under "The same scenario by hand" run in order in test_manual.py. Every
-other line runs here exactly as typed, through bash from the repository root:
+The blocks that are one scenario each (doc_commands.SEQUENCES: README's first agent, the case
+study by hand) run line after line in test_first_agent.py and test_manual.py. Every other line
+runs here exactly as typed, through bash from the repository root:
 
 * ``./run.sh demo ...`` to the end: exit status 0 (the diagnosis was right);
 * ``./run.sh campaign|bench ...``: too long for the suite, so their arguments are checked by
@@ -18,67 +19,43 @@ from __future__ import annotations
 
 import re
 import time
-from pathlib import Path
 
 import pytest
+from doc_commands import NODE_START_S, PAGES, README, REPO, blocks, in_sequence, without_comment
 
 from rason.testing.harness import RosHarness
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
-
-REPO = Path(__file__).resolve().parents[2]
-MANUAL_SECTION = "### The same scenario by hand"
-#: How long a node may take to register before it counts as not coming up.
-NODE_START_S = 30.0
-
-
-def _blocks() -> list[tuple[str, list[str]]]:
-    """(heading above, lines) of every fenced block of README."""
-    heading, out, block = "", [], None
-    for line in (REPO / "README.md").read_text().splitlines():
-        if block is None and line.startswith("#"):
-            heading = line
-        if line.startswith("```"):
-            if block is None:
-                block = []
-            else:
-                out.append((heading, block))
-                block = None
-        elif block is not None:
-            block.append(line)
-    return out
-
-
-def _command(line: str) -> str:
-    """The line without a trailing ``# comment``."""
-    return re.sub(r"\s+#\s.*$", "", line).strip()
 
 
 def _is_template(command: str) -> bool:
     return bool(re.search(r"\[|\||\b[A-Z]{2,}[A-Z_]*\b(?!=)", command.replace("$(rospack", "")))
 
 
-def readme_commands() -> list[str]:
+def page_commands() -> list[tuple[str, str]]:
+    """(page, command) of every command line to run here."""
     commands = []
-    for heading, lines in _blocks():
-        if heading.startswith(MANUAL_SECTION):
-            continue
-        for line in lines:
-            command = _command(line)
-            if command.startswith(("rosrun ", "./run.sh ")) and not _is_template(command):
-                commands.append(command)
+    for page in PAGES:
+        for block in blocks(page):
+            if in_sequence(block):
+                continue
+            for line in block.lines:
+                command = without_comment(line)
+                if command.startswith(("rosrun ", "./run.sh ")) and not _is_template(command):
+                    commands.append((page.relative_to(REPO).as_posix(), command))
     return commands
 
 
-COMMANDS = readme_commands()
+COMMANDS = page_commands()
 
 
 def test_readme_shows_the_two_commands():
-    assert "./run.sh demo" in COMMANDS and "./run.sh test" in COMMANDS
+    readme = README.relative_to(REPO).as_posix()
+    assert (readme, "./run.sh demo") in COMMANDS and (readme, "./run.sh test") in COMMANDS
 
 
-@pytest.mark.parametrize("command", COMMANDS)
-def test_readme_command_works_as_written(command, tmp_path):
+@pytest.mark.parametrize(("page", "command"), COMMANDS)
+def test_page_command_works_as_written(page, command, tmp_path):
     verb = command.split()[1] if command.startswith("./run.sh") else "rosrun"
     if verb == "test":
         return                              # the suite running this test

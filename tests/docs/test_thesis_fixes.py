@@ -6,7 +6,7 @@ import re
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
-AGENTS = REPO / "catkin_ws" / "src" / "rason_diagnosis" / "agents"
+AGENTS = REPO / "agents" / "diagnosis"
 FIXES = REPO / "docs" / "thesis-fixes.md"
 
 

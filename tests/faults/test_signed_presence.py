@@ -5,7 +5,7 @@ decomposer; a forger on the graph keeps publishing presence beats in the agent's
 unsigned, with a made-up signature, and replays of the agent's own signed beats. After the
 agent is killed (SIGKILL: no cancel, no goodbye) the decomposer must stop the robot when the
 agent's signed beats lapse, as if the forger were not there. Without a key the same forged
-beats do keep the action running: the open behaviour README documents, and the proof that the
+beats do keep the action running: the open behaviour docs/faults.md documents, and the proof that the
 forger is heard.
 """
 

@@ -39,7 +39,8 @@ def test_demo_runs_from_the_install_space(tmp_path):
         cwd=tmp_path, env={**_clean_env(), "PATH": f"{venv_bin}:{_clean_env()['PATH']}"},
         capture_output=True, text=True, timeout=600)
     assert make.returncode == 0, make.stdout[-3000:] + make.stderr[-3000:]
-    assert (install / "share" / "rason_diagnosis" / "agents" / "faulty.asl").is_file()
+    assert (install / "share" / "rason_diagnosis" / "agents" / "diagnosis" / "faulty.asl").is_file()
+    assert (install / "share" / "rason_diagnosis" / "agents" / "examples" / "square.asl").is_file()
 
     out = tmp_path / "run"
     script = " && ".join([

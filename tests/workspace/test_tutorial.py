@@ -1,9 +1,9 @@
-"""README's tutorial "Write your own decomposer and synthesizer" works as written.
+"""The tutorial "Write your own decomposer and synthesizer" (docs/tutorial.md) works as written.
 
-The section's files (code blocks whose first line names them: ``# beep.py``, ``// pilot.asl``)
+The page's files (code blocks whose first line names them: ``# beep.py``, ``// pilot.asl``)
 are written to a fresh directory outside the project and its commands run there in order,
 against a private roscore (the harness's, standing in for the ``roscore`` line); then what the
-section promises is checked: the agent's lines, the buzzer going on and off, and the NaN message
+page promises is checked: the agent's lines, the buzzer going on and off, and the NaN message
 refused with a warning.
 """
 
@@ -20,16 +20,15 @@ from rason.testing.harness import Process, RosHarness
 pytestmark = pytest.mark.ros
 
 REPO = Path(__file__).resolve().parents[2]
-SECTION = "## Write your own decomposer and synthesizer"
+PAGE = REPO / "docs" / "tutorial.md"
+TITLE = "# Write your own decomposer and synthesizer"
 NAMED = re.compile(r"^(?:#|//)\s*(\w+\.(?:py|asl))\s*$")
 
 
 def tutorial() -> tuple[str, dict[str, str], list[str]]:
-    """The section's text, its files and its command lines."""
-    text = (REPO / "README.md").read_text()
-    start = text.index(SECTION)
-    end = text.find("\n## ", start + len(SECTION))
-    section = text[start:end if end >= 0 else len(text)]
+    """The page's text, its files and its command lines."""
+    section = PAGE.read_text()
+    assert section.startswith(TITLE)
     files: dict[str, str] = {}
     commands: list[str] = []
     for block in re.findall(r"^```[a-z]*\n(.*?)^```", section, flags=re.M | re.S):

@@ -1,6 +1,6 @@
 """The case study across machines: a host per robot on a private LAN, and link cuts.
 
-``./run.sh demo --hosts`` puts, as on two real TurtleBots and a workstation (README, "Two real
+``./run.sh demo --hosts`` puts, as on two real TurtleBots and a workstation (docs/deployment.md, "Two real
 TurtleBots and a workstation"):
 
 * ``world`` (the workstation): ``roscore`` on port 11311 and the simulator (on real robots:
@@ -9,7 +9,7 @@ TurtleBots and a workstation"):
 * ``faulty``: Faulty's fault injector, motion decomposer and agent.
 
 Each is a network namespace with its own address (:data:`ADDRESSES`), ``ROS_IP`` set to it,
-``ROS_MASTER_URI`` pointing at the world host, and the README's firewall (TCP in only from the
+``ROS_MASTER_URI`` pointing at the world host, and docs/deployment.md's firewall (TCP in only from the
 LAN, to 11311 on the world host and to the pinned ROS port range 40000-40999). A robot's nodes
 are those of its ROS namespace (``/helper``, ``/faulty``), so ``RosHarness(placement=...)``
 starts them on its host.
@@ -32,7 +32,7 @@ from rason.testing import netns
 
 #: The hosts of the case study, in address order: world = .1, helper = .2, faulty = .3.
 HOSTS = ("world", "helper", "faulty")
-#: The case study's private /24 (also the README's example of a robot LAN).
+#: The case study's private /24 (also docs/deployment.md's example of a robot LAN).
 SUBNET = "10.211.0"
 #: The simulation's second network: the simulator plays each robot's Kobuki and Kinect, which
 #: on a real robot hang on its own USB ports; their traffic goes over this /24, which a link cut

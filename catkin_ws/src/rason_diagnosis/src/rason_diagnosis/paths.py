@@ -1,7 +1,9 @@
-"""Where the case study's files are: found through the ROS package path, never the source tree.
+"""Where the case study's files are: found through the ROS package path, never an absolute path.
 
-In a devel space ``rospack find rason_diagnosis`` is the package's source folder; in an install
-space it is ``share/rason_diagnosis``, where CMakeLists.txt installs ``agents/`` and ``worlds/``.
+In an install space ``rospack find rason_diagnosis`` is ``share/rason_diagnosis``, where
+CMakeLists.txt installs ``worlds/`` and the repository's top-level ``agents/``. In a devel space
+it is the package's source folder, which holds ``worlds/``; the agents are then the
+repository's ``agents/``, three levels above the package (``catkin_ws/src/rason_diagnosis``).
 """
 
 from __future__ import annotations
@@ -11,6 +13,8 @@ from pathlib import Path
 import rospkg
 
 PACKAGE = "rason_diagnosis"
+#: The case study's agents, a folder of ``agents/``.
+CASE_STUDY = "diagnosis"
 
 
 def package_dir() -> Path:
@@ -18,9 +22,16 @@ def package_dir() -> Path:
     return Path(rospkg.RosPack().get_path(PACKAGE))
 
 
+def agents_dir() -> Path:
+    """The agents users run (``agents/`` of the repository, installed with the package)."""
+    package = package_dir()
+    installed = package / "agents"
+    return installed if installed.is_dir() else package.parents[2] / "agents"
+
+
 def agent_file(robot: str) -> Path:
     """The case study's agent program for ``robot`` (``faulty`` or ``helper``)."""
-    return package_dir() / "agents" / f"{robot}.asl"
+    return agents_dir() / CASE_STUDY / f"{robot}.asl"
 
 
 def world_file(name: str = "case_study") -> Path:

@@ -6,7 +6,7 @@ the Python version. ``rason.asl`` puts that folder first on its ``__path__`` onl
 the sources on disk, so an edited module runs as Python (never as a stale compiled copy) until
 the next build, which ``./run.sh`` makes on its way. ``RASON_NATIVE=0`` runs everything as Python.
 
-What compiled code asks of these modules (README: "The compiled reasoning cycle"): annotations
+What compiled code asks of these modules (docs/benchmarks.md: "The compiled reasoning cycle"): annotations
 that hold at run time (mypyc checks them), no subclass of a builtin container, no class
 attribute read as a default value, no method alias in a class body, ``__reduce__`` for every
 class that is pickled, and no interpreted subclass of a compiled class.

@@ -130,7 +130,7 @@ def clean_stale(keep_pid: int | None = None) -> list[str]:
 
 
 def ros_firewall(host: Host, subnets: Sequence[str], master: bool) -> None:
-    """A robot's firewall for ROS 1 (README, "Firewall"): the ephemeral port range pinned to
+    """A robot's firewall for ROS 1 (docs/deployment.md, "Firewall"): the ephemeral port range pinned to
     :data:`ROS_PORTS`; TCP in only from the robot LAN (``subnets``: first three octets of each
     /24), only to those ports (and to :data:`MASTER_PORT` on the master's host); everything
     else in is dropped."""

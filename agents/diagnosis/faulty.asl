@@ -4,7 +4,7 @@
 // D in both_actuators, odometry, left_actuator, right_actuator, false_positive, unknown,
 // no_fault. Those lines are marked "ADDED:".
 // Added for robots on their own machines (not a thesis fix): handling of a .send to an
-// unreachable Helper and of an answer that never comes (README, "Link faults"). Marked "HOSTS:".
+// unreachable Helper and of an answer that never comes (docs/deployment.md, "Link faults"). Marked "HOSTS:".
 
 /* Initial beliefs and rules */
 

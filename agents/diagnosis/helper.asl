@@ -1,7 +1,7 @@
 // Agent helper: thesis (Morais 2015) Appendix A.2, with ONLY the fixes documented in
 // docs/thesis-fixes.md of the rason repository. Every change is marked "FIX(Fn):", Fn its entry.
 // Added for robots on their own machines (not a thesis fix): handling of a .send to an
-// unreachable requester (README, "Link faults"). Marked "HOSTS:".
+// unreachable requester (docs/deployment.md, "Link faults"). Marked "HOSTS:".
 //
 // Percepts (rason_vision's robot synthesizer, conventions in its README):
 //   robot(Name, Angle, Depth, Yaw)            both cylinders seen: bearing, depth, yaw

@@ -1,0 +1,59 @@
+"""``./run.sh --help`` lists every command and every option users have; ``./run.sh bench`` with
+no name (or an unknown one) lists the benchmarks and exits 2.
+
+The options are those of the demo's and the campaign's own parsers (``--help`` of
+``python -m rason_diagnosis`` and ``python -m rason_diagnosis.campaign``), so an option added
+there and not to run.sh's help fails here.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+RUN = str(REPO / "run.sh")
+COMMANDS = ("demo", "campaign", "bench", "test", "env")
+BENCHMARKS = sorted(p.stem for p in (REPO / "benchmarks").glob("*.py"))
+
+
+def _run(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([RUN, *args], capture_output=True, text=True, timeout=60, cwd=REPO)
+
+
+def _options(module: str) -> set[str]:
+    """The long options of a module's argparse parser, from its --help."""
+    out = subprocess.run([sys.executable, "-m", module, "--help"], capture_output=True, text=True,
+                         timeout=60, check=True).stdout
+    return set(re.findall(r"(?<![\w-])--[a-z][a-z-]*", out)) - {"--help"}
+
+
+@pytest.mark.parametrize("flag", ["--help", "-h", "help"])
+def test_help_lists_every_command_and_nothing_of_the_script(flag):
+    done = _run(flag)
+    assert done.returncode == 0, done.stderr
+    assert "set -eo pipefail" not in done.stdout and "#" not in done.stdout
+    for command in COMMANDS:
+        assert f"./run.sh {command}" in done.stdout, command
+
+
+@pytest.mark.parametrize("module", ["rason_diagnosis", "rason_diagnosis.campaign"])
+def test_help_lists_every_option_of_the_demo_and_the_campaign(module):
+    options = _options(module)
+    assert {"--out", "--hosts"} <= options          # the parser's help was read
+    shown = set(re.findall(r"(?<![\w-])--[a-z][a-z-]*", _run("--help").stdout))
+    assert not options - shown, f"./run.sh --help misses {sorted(options - shown)} of {module}"
+
+
+@pytest.mark.parametrize("args", [(), ("no_such_benchmark",)])
+def test_bench_without_a_known_name_lists_the_benchmarks_and_exits_2(args):
+    done = _run("bench", *args)
+    assert done.returncode == 2
+    assert "usage: ./run.sh bench NAME" in done.stderr or "no benchmark named" in done.stderr
+    listed = re.findall(r"^  (\w+) ", done.stderr, flags=re.M)
+    assert listed == BENCHMARKS, done.stderr
+    assert "unbound variable" not in done.stderr and "parameter null" not in done.stderr
