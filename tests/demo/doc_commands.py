@@ -23,16 +23,21 @@ PAGES = (README, *sorted((REPO / "docs").glob("*.md")))
 FIRST_AGENT = (README, "## Ten lines of `.asl` that move a robot")
 BY_HAND = (REPO / "docs" / "case-study.md", "## The same scenario by hand")
 SEQUENCES = (FIRST_AGENT, BY_HAND)
+#: Pages whose every block is one scenario, run in order by a test of their own
+#: (test_real_robot_doc.py runs the bring-up of two real TurtleBots against the stock profile).
+WHOLE_PAGES = (REPO / "docs" / "real-robot.md",)
 #: How long a node may take to register before it counts as not coming up.
 NODE_START_S = 30.0
 
 
 @dataclass(frozen=True)
 class Block:
-    """A fenced block: the page, the heading above it and its lines."""
+    """A fenced block: the page, the heading above it, its label (the text after the opening
+    fence, e.g. ``robot:faulty``) and its lines, each ``\\``-continued line joined into one."""
 
     page: Path
     heading: str
+    label: str
     lines: tuple[str, ...]
 
     def commands(self) -> list[str]:
@@ -41,16 +46,17 @@ class Block:
 
 
 def blocks(page: Path) -> list[Block]:
-    """Every fenced block of `page`, with the heading it stands under."""
-    heading, out, block = "", [], None
+    """Every fenced block of `page`, in order, with the heading it stands under."""
+    heading, label, out, block = "", "", [], None
     for line in page.read_text().splitlines():
         if block is None and line.startswith("#"):
             heading = line
         if line.startswith("```"):
             if block is None:
-                block = []
+                label, block = line[3:].strip(), []
             else:
-                out.append(Block(page, heading, tuple(block)))
+                joined = "\n".join(block).replace("\\\n", " ").splitlines()
+                out.append(Block(page, heading, label, tuple(joined)))
                 block = None
         elif block is not None:
             block.append(line)
@@ -58,8 +64,9 @@ def blocks(page: Path) -> list[Block]:
 
 
 def in_sequence(block: Block) -> bool:
-    """Whether the block is one of :data:`SEQUENCES` (its lines run in order elsewhere)."""
-    return any(block.page == page and block.heading.startswith(heading)
+    """Whether the block is one of :data:`SEQUENCES` or :data:`WHOLE_PAGES` (its lines run in
+    order elsewhere)."""
+    return block.page in WHOLE_PAGES or any(block.page == page and block.heading.startswith(heading)
                for page, heading in SEQUENCES)
 
 

@@ -32,6 +32,8 @@ from pathlib import Path
 
 import pytest
 import rospy
+from doc_commands import blocks as doc_blocks
+from doc_commands import without_comment
 from geometry_msgs.msg import Twist
 
 from rason.testing.harness import RosHarness
@@ -47,22 +49,10 @@ COMMAND = re.compile(r"^(rosrun|rosservice|\./run\.sh|roslaunch|roscore)\b")
 
 
 def blocks() -> list[tuple[str, list[str]]]:
-    """(label, command lines) of every fenced block, in order; ``\\`` continuations joined and
-    ``# comments`` dropped."""
-    out: list[tuple[str, list[str]]] = []
-    label, lines = None, []
-    for line in DOC.read_text().splitlines():
-        if line.startswith("```"):
-            if label is None:
-                label, lines = line[3:].strip(), []
-            else:
-                text = "\n".join(lines).replace("\\\n", " ")
-                commands = [re.sub(r"\s+#\s.*$", "", c).strip() for c in text.splitlines()]
-                out.append((label, [c for c in commands if c and not c.startswith("#")]))
-                label = None
-        elif label is not None:
-            lines.append(line)
-    return out
+    """(label, command lines) of every fenced block, in order, ``# comments`` dropped."""
+    return [(block.label, [c for c in map(without_comment, block.lines)
+                           if c and not c.startswith("#")])
+            for block in doc_blocks(DOC)]
 
 
 def test_every_command_is_run_or_marked_robot_only():
