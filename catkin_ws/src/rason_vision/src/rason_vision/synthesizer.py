@@ -52,6 +52,7 @@ from sensor_msgs.msg import CameraInfo, CompressedImage, Image, PointCloud2
 
 from rason.execution.synthesizer import BadFrame, Synthesizer, SynthesizerParams, run
 from rason.ros.params import param
+from rason_vision.colours import load_colours
 from rason_vision.compressed import compressed_depth_to_z, compressed_to_rgb
 from rason_vision.convert import (
     MAX_PIXELS,
@@ -62,7 +63,7 @@ from rason_vision.convert import (
     intrinsics_from_cloud,
     z_to_xyz,
 )
-from rason_vision.detector import DetectorConfig, HsvRange, detect
+from rason_vision.detector import GREEN, ORANGE, DetectorConfig, HsvRange, detect
 from rason_vision.geometry import format_literal, format_partial_literal
 from turtlebot_model.geometry import angle_diff_deg, wrap_deg, yaw_from_quaternion
 
@@ -131,6 +132,9 @@ class RobotParams(SynthesizerParams):
                              "PointCloud2); image: camera/depth_registered/image_raw (16UC1 mm "
                              "or 32FC1 m) + camera/depth_registered/camera_info; compressed: "
                              ".../image_raw/compressedDepth (PNG) + the camera_info")
+    colours: str = param("", "YAML file of the cylinders' colour ranges (rosrun rason_vision "
+                         "calibrate writes it); when set, it replaces the *_lower/*_upper "
+                         "parameters")
     slop: float = param(0.075, "s by which paired colour and depth stamps may differ: a "
                         "Kinect's depth is stamped 0.055 s before its colour", minimum=0.0)
     green_lower: list[str] = param(list(_BASE.green.lower), "HSV lower bound of green")
@@ -263,10 +267,15 @@ def _hsv(name: str, value: list[str]) -> tuple[int, int, int]:
 
 def config_from_params(p: RobotParams) -> DetectorConfig:
     """The detector's configuration from the node's parameters (ValueError if inconsistent)."""
+    if p.colours:
+        ranges = load_colours(p.colours)
+        green, orange = ranges[GREEN], ranges[ORANGE]
+    else:
+        green = HsvRange(_hsv("green_lower", p.green_lower), _hsv("green_upper", p.green_upper))
+        orange = HsvRange(_hsv("orange_lower", p.orange_lower),
+                          _hsv("orange_upper", p.orange_upper))
     return DetectorConfig(
-        green=HsvRange(_hsv("green_lower", p.green_lower), _hsv("green_upper", p.green_upper)),
-        orange=HsvRange(_hsv("orange_lower", p.orange_lower),
-                        _hsv("orange_upper", p.orange_upper)),
+        green=green, orange=orange,
         spacing=p.spacing, min_spacing=p.spacing - p.tolerance_low,
         max_spacing=p.spacing + p.tolerance_high, radius=p.radius)
 
