@@ -96,6 +96,11 @@ def test_calibrate_on_a_recorded_bag_makes_the_detector_see_the_cylinders(record
     default = DetectorConfig(intrinsics=KINECT_VGA)
     assert all(detect(f.rgb, f.xyz, default).detection is None for f in frames)
 
+    snapshot = folder / "frame.png"
+    done = subprocess.run(["rosrun", "rason_vision", "calibrate", f"_bag:={bag}",
+                           f"_snapshot:={snapshot}"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert cv2.imread(str(snapshot)).shape == (480, 640, 3)     # the frame to read pixels from
     out = folder / "from_labels.yaml"
     done = subprocess.run(["rosrun", "rason_vision", "calibrate", f"_bag:={bag}",
                            f"_labels:={labels}", f"_out:={out}"],

@@ -160,3 +160,16 @@ def test_intrinsics_from_camera_info_and_from_the_cloud(frame):
         intrinsics_from_camera_info(msg(width=640, height=480, K=[0.0] * 9))
     with pytest.raises(ValueError, match="camera_info is for 640x480"):
         z_to_xyz(np.ones((240, 320), np.float32), KINECT_VGA)
+
+
+def test_a_depth_image_proc_cloud_reads_like_the_simulators(frame):
+    """depth_image_proc's point_cloud_xyzrgb layout (32-byte points, rgb at 16, NaN holes)."""
+    from rason_vision.convert import cloud_to_xyz
+    from rason_vision_tools.messages import DRIVER_POINT_STEP, driver_cloud_message
+
+    rgb, xyz = frame
+    cloud = driver_cloud_message(rgb, xyz)
+    assert cloud.point_step == DRIVER_POINT_STEP == 32
+    read = cloud_to_xyz(cloud)
+    assert np.array_equal(read, xyz, equal_nan=True)
+    assert intrinsics_from_cloud(read).fx == pytest.approx(525.0, rel=1e-4)

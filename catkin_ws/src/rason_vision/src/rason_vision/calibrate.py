@@ -27,7 +27,7 @@ import cv2
 import numpy as np
 import yaml
 
-from rason.ros.params import ParamError, exit_on_help, param, parse, required
+from rason.ros.params import ParamError, exit_on_help, param, parse
 from rason_vision.colours import (
     CYLINDERS,
     LABELS,
@@ -42,15 +42,20 @@ from rason_vision.compressed import compressed_to_rgb
 from rason_vision.convert import image_to_rgb
 from rason_vision.detector import HsvRange
 
-USAGE = ("rosrun rason_vision calibrate _out:=colours.yaml (_green:=x,y,w,h _orange:=x,y,w,h | "
-         "_labels:=labels.png) [_bag:=file.bag] [_topic:=camera/rgb/image_raw] [__ns:=/helper]")
+USAGE = ("rosrun rason_vision calibrate [_snapshot:=frame.png] _out:=colours.yaml "
+         "(_green:=x,y,w,h _orange:=x,y,w,h | _labels:=labels.png) [_bag:=file.bag] "
+         "[_topic:=camera/rgb/image_raw] [__ns:=/helper]")
 
 
 @dataclass(frozen=True)
 class CalibrateParams:
     """The calibration's private parameters."""
 
-    out: str = required("the colours file (YAML) to write")
+    out: str = param("", "the colours file (YAML) to write (required unless only taking a "
+                     "~snapshot)")
+    snapshot: str = param("", "also write the first frame used here (PNG): open it in an "
+                          "image viewer to read the cylinders' pixels, or paint a labels image "
+                          "on it")
     green: str = param("", "where the green cylinder is: x,y,w,h (a region) or x,y (a pixel)")
     orange: str = param("", "where the orange cylinder is: x,y,w,h or x,y")
     labels: str = param("", "a labels image (PNG, the frame's size): 1 = green, 2 = orange; "
@@ -160,8 +165,9 @@ def calibrate(frames: list[np.ndarray], masks: dict[str, np.ndarray],
     return Report(ranges, inside, elsewhere)
 
 
-def run(p: CalibrateParams, argv: list[str]) -> Report:
-    """Read the frames, fit, write the file; the report."""
+def run(p: CalibrateParams, argv: list[str]) -> Report | None:
+    """Read the frames, fit, write the file; the report (None when only a snapshot was
+    asked for)."""
     if p.bag:
         source: Iterator[np.ndarray] = bag_frames(p.bag, p.topic)
     else:
@@ -177,6 +183,13 @@ def run(p: CalibrateParams, argv: list[str]) -> Report:
             break
     if not frames:
         raise ValueError(f"no frame after skipping {p.skip}")
+    if p.snapshot:
+        if not cv2.imwrite(p.snapshot, cv2.cvtColor(frames[0], cv2.COLOR_RGB2BGR)):
+            raise ValueError(f"cannot write the snapshot {p.snapshot}")
+        if not (p.out or p.labels or p.green or p.orange):
+            return None
+    if not p.out:
+        raise ValueError("~out is required: the colours file to write")
     masks = masks_of(p, frames[0].shape[:2])
     report = calibrate(frames, masks, Margins(p.hue_margin, p.saturation_factor,
                                               p.value_factor))
@@ -208,6 +221,10 @@ def main(argv: list[str] | None = None) -> int:
     except (ParamError, ValueError, OSError) as err:
         print(f"calibrate: {err}", file=sys.stderr)
         return 2
-    print(report.text())
-    print(f"wrote {params.out}: rosrun rason_vision robot_synthesizer _colours:={params.out}")
+    if params.snapshot:
+        print(f"wrote the frame {params.snapshot}")
+    if report is not None:
+        print(report.text())
+        print(f"wrote {params.out}: rosrun rason_vision robot_synthesizer "
+              f"_colours:={params.out}")
     return 0

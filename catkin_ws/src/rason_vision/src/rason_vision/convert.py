@@ -155,7 +155,7 @@ def depth_millimetres(z: np.ndarray) -> np.ndarray:
 def depth_fields(z: np.ndarray, encoding: str = "16UC1") -> dict[str, Any]:
     """Field values of a registered depth sensor_msgs/Image of `z` (metres, NaN = none):
     ``16UC1`` millimetres (0 = unknown) or ``32FC1`` metres (NaN)."""
-    data = depth_millimetres(z) if encoding == "16UC1" else np.asarray(z, dtype=np.float32)
+    data = depth_millimetres(z) if encoding == "16UC1" else np.ascontiguousarray(z, np.float32)
     height, width = data.shape
     return {"height": height, "width": width, "encoding": encoding, "is_bigendian": 0,
             "step": width * data.itemsize, "data": data.reshape(-1).view(np.uint8)}
