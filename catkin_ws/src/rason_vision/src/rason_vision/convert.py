@@ -208,20 +208,30 @@ def z_to_xyz(z: np.ndarray, intr: Intrinsics) -> np.ndarray:
     return xyz
 
 
+def _line(t: np.ndarray, y: np.ndarray) -> tuple[float, float]:
+    """Least-squares slope and intercept of ``y`` against ``t``."""
+    t_mean, y_mean = float(t.mean()), float(y.mean())
+    dt = t - t_mean
+    slope = float((dt * (y - y_mean)).sum() / max(float((dt * dt).sum()), 1e-12))
+    return slope, y_mean - slope * t_mean
+
+
 def intrinsics_from_cloud(xyz: np.ndarray) -> Intrinsics:
     """The pinhole intrinsics an organized registered cloud was made with (x/z and y/z are
     linear in the pixel's column and row), fitted by least squares on a grid of its valid
     points. Raises ValueError when fewer than two columns or rows have a valid point."""
     height, width = xyz.shape[:2]
+    grid = xyz[::4, ::4]
     with np.errstate(invalid="ignore", divide="ignore"):
-        slope_x = xyz[::4, ::4, 0] / xyz[::4, ::4, 2]
-        slope_y = xyz[::4, ::4, 1] / xyz[::4, ::4, 2]
-    rows, cols = np.nonzero(np.isfinite(slope_x) & np.isfinite(slope_y))
-    if len(np.unique(rows)) < 2 or len(np.unique(cols)) < 2:
+        slope_x = grid[..., 0] / grid[..., 2]
+        slope_y = grid[..., 1] / grid[..., 2]
+    valid = np.isfinite(slope_x) & np.isfinite(slope_y)
+    if valid.any(axis=1).sum() < 2 or valid.any(axis=0).sum() < 2:
         raise ValueError("too few valid cloud points to find the camera's intrinsics")
+    rows, cols = np.nonzero(valid)
     # x/z = (u - cx) / fx: a line in u of slope 1/fx and intercept -cx/fx (y/z likewise in v)
-    ax, bx = np.polyfit(cols * 4.0, slope_x[rows, cols], 1)
-    ay, by = np.polyfit(rows * 4.0, slope_y[rows, cols], 1)
+    ax, bx = _line(cols * 4.0, slope_x[valid])
+    ay, by = _line(rows * 4.0, slope_y[valid])
     if ax <= 0 or ay <= 0:
         raise ValueError("the cloud's x/z does not grow to the right: not an organized "
                          "optical-frame cloud")

@@ -7,7 +7,7 @@ Subscribes (relative names, so ``__ns:=/helper`` puts them under the robot), as
   publishes: Bayer, rgb8, bgr8, mono8, ...; :data:`rason_vision.convert.COLOUR_ENCODINGS`),
   or its ``compressed`` transport ``camera/rgb/image_raw/compressed`` (JPEG/PNG);
 * depth: ``camera/depth_registered/points`` (organized PointCloud2, float32 x y z at any
-  offsets, NaN holes; the intrinsics are fitted from the cloud itself), or the registered
+  offsets, NaN holes; the intrinsics are fitted from the first cloud), or the registered
   depth image ``camera/depth_registered/image_raw`` (16UC1 mm or 32FC1 m) or its
   ``compressedDepth`` transport ``.../image_raw/compressedDepth``, each with
   ``camera/depth_registered/camera_info`` (the intrinsics: K);
@@ -290,6 +290,7 @@ class RobotSynthesizer(Synthesizer):
     def setup(self) -> None:
         self.config = config_from_params(self.params)
         self.choice = Inputs.from_params(self.params.colour_transport, self.params.depth_input)
+        self.cloud_intrinsics: dict[tuple[int, ...], Any] = {}
         self.inputs = self.choice.topics()
         self.robot_name: str = self.params.robot_name
         self.max_pixels: int = self.params.max_pixels
@@ -332,7 +333,9 @@ class RobotSynthesizer(Synthesizer):
             xyz = cloud_to_xyz(depth_msg, self.max_pixels)
             if not np.isfinite(xyz[..., 2]).any():
                 raise BadFrame("the cloud has no valid depth point")
-            intrinsics = intrinsics_from_cloud(xyz)
+            intrinsics = self.cloud_intrinsics.get(xyz.shape[:2])
+            if intrinsics is None:     # one camera's clouds keep their intrinsics: fit once
+                intrinsics = self.cloud_intrinsics[xyz.shape[:2]] = intrinsics_from_cloud(xyz)
         else:
             intrinsics = intrinsics_from_camera_info(info_msg)
             z = (depth_image_to_z(depth_msg, self.max_pixels)
