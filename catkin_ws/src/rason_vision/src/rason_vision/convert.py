@@ -123,8 +123,9 @@ def bayer_mosaic(rgb: np.ndarray, pattern: str = "grbg") -> np.ndarray:
 
 
 #: Depth encodings :func:`depth_image_to_z` reads: scale to metres, and "no reading" values.
-DEPTH_ENCODINGS = {"16uc1": (np.dtype(np.uint16), 0.001), "mono16": (np.dtype(np.uint16), 0.001),
-                   "32fc1": (np.dtype(np.float32), 1.0)}
+DEPTH_ENCODINGS: dict[str, tuple[np.dtype, float]] = {
+    "16uc1": (np.dtype(np.uint16), 0.001), "mono16": (np.dtype(np.uint16), 0.001),
+    "32fc1": (np.dtype(np.float32), 1.0)}
 
 
 def depth_image_to_z(msg: Any, max_pixels: int = MAX_PIXELS) -> np.ndarray:

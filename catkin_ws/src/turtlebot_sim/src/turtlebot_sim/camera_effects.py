@@ -1,5 +1,5 @@
 """What a real Kinect's colour camera adds to the ideal picture: motion blur over the exposure
-and auto exposure (numpy + OpenCV, no pybullet, no ROS).
+and auto exposure (numpy only, no pybullet, no ROS).
 
 Set by optional keys of the world's ``camera`` section (defaults: off, today's pictures)::
 
@@ -20,8 +20,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-import cv2
 import numpy as np
+
+#: ITU-R BT.601 luma weights of R, G, B (what OpenCV's RGB2GRAY uses).
+LUMA = np.array([0.299, 0.587, 0.114], dtype=np.float32)
 
 
 @dataclass(frozen=True)
@@ -53,7 +55,7 @@ class CameraEffects:
         out = rgb
         length = self.blur_pixels(yaw_rate, fx)
         if length > 1:
-            out = cv2.blur(out, (length, 1), borderType=cv2.BORDER_REPLICATE)
+            out = box_blur_rows(out, length)
         if self.auto_exposure:
             out = expose(out, self.auto_exposure_target, self.auto_exposure_max_gain)
         return out
@@ -62,6 +64,18 @@ class CameraEffects:
 def expose(rgb: np.ndarray, target: float, max_gain: float) -> np.ndarray:
     """`rgb` times the gain that brings its mean luma to `target` (gain within 1/max_gain ..
     max_gain), saturating at 255."""
-    luma = float(cv2.cvtColor(rgb, cv2.COLOR_RGB2GRAY).mean())
+    luma = float((rgb.reshape(-1, 3).astype(np.float32) @ LUMA).mean())
     gain = float(np.clip(target / max(luma, 1.0), 1.0 / max_gain, max_gain))
     return np.clip(rgb.astype(np.float32) * gain, 0, 255).astype(np.uint8)
+
+
+def box_blur_rows(rgb: np.ndarray, length: int) -> np.ndarray:
+    """Each pixel the mean of the `length` pixels of its row centred on it (the border pixels
+    repeated beyond the image's edges)."""
+    before = length // 2
+    padded = np.pad(rgb.astype(np.float32), ((0, 0), (before, length - 1 - before), (0, 0)),
+                    mode="edge")
+    sums = np.cumsum(padded, axis=1, dtype=np.float64)
+    sums = np.concatenate([np.zeros_like(sums[:, :1]), sums], axis=1)
+    window = (sums[:, length:] - sums[:, :-length]) / length
+    return np.clip(np.round(window), 0, 255).astype(np.uint8)
