@@ -19,7 +19,7 @@ import pytest
 from vision_truth import ANGLE_TOL, DEPTH_TOL, LITERAL, YAW_TOL
 
 from rason_vision.convert import camera_info_fields
-from rason_vision.geometry import KINECT_VGA, relative_from_axes
+from rason_vision.geometry import KINECT_VGA, Intrinsics, relative_from_axes
 from rason_vision_tools.synthetic import faulty_scene
 from turtlebot_model.geometry import wrap_deg
 
@@ -143,3 +143,62 @@ def test_kinect_and_compressed_streams_match_the_cloud_stream(ros):
                      abs(wrap_deg(found[2] - base[2])))
             assert all(d <= t for d, t in zip(diffs, tols, strict=True)), \
                 f"{ns} scene {index}: {percepts[0]} vs {reference[0]}"
+
+
+def test_bad_kinect_frames_are_rejected_and_the_next_good_one_detected(ros):
+    """Depth-image and compressed inputs refuse what does not fit (camera_info for another
+    size, a JPEG that is not one, a compressedDepth without its PNG)
+    with a warning, and keep detecting."""
+    import rospy
+    from jason_msgs.msg import Perception
+    from sensor_msgs.msg import CameraInfo, CompressedImage
+
+    from rason_vision_tools.messages import compressed_messages, kinect_messages
+
+    ros.init_rospy()
+    got: list[list[str]] = []
+    node = ros.rosrun("rason_vision", "robot_synthesizer", ns="/bad",
+                      params={"colour_transport": "compressed", "depth_input": "compressed"})
+    pubs = [rospy.Publisher("/bad/camera/rgb/image_raw/compressed", CompressedImage,
+                            queue_size=5),
+            rospy.Publisher("/bad/camera/depth_registered/image_raw/compressedDepth",
+                            CompressedImage, queue_size=5),
+            rospy.Publisher("/bad/camera/depth_registered/camera_info", CameraInfo,
+                            queue_size=5)]
+    sub = rospy.Subscriber("/bad/jason/perception", Perception,
+                           lambda m: got.append(list(m.perception)))
+    rgb, xyz = faulty_scene(2.0, 3.0, -90.0, intrinsics=KINECT_VGA).render(
+        np.random.default_rng(9))
+    good = compressed_messages(rgb, xyz, KINECT_VGA)
+    small_info = kinect_messages(rgb, xyz, Intrinsics(320, 240, 262.5, 262.5, 159.5, 119.5))[2]
+    bad_sets = {
+        "camera_info for 320x240": (good[0], good[1], small_info),
+        "not a JPEG": (CompressedImage(format="jpeg", data=b"GIF89a" + bytes(64)), good[1],
+                       good[2]),
+        "compressedDepth without its PNG": (good[0], CompressedImage(
+            format="16UC1; compressedDepth png", data=bytes(12)), good[2]),
+    }
+    try:
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline and not (
+                all(p.get_num_connections() >= 1 for p in pubs)
+                and sub.get_num_connections() >= 1):
+            time.sleep(0.05)
+        stamp = 200.0
+        for msgs in [*bad_sets.values(), good]:
+            stamp += 1.0
+            for pub, msg in zip(pubs, msgs, strict=True):
+                msg.header.stamp = rospy.Time(stamp)
+                pub.publish(msg)
+            time.sleep(0.3)
+        wait_until = time.monotonic() + 20
+        while time.monotonic() < wait_until and not got:
+            time.sleep(0.05)
+    finally:
+        sub.unregister()
+        for pub in pubs:
+            pub.unregister()
+    assert node.alive(), node.output()
+    assert len(got) == 1 and got[0][0].startswith("robot(faulty,3.0,"), (got, node.output())
+    out = node.output()
+    assert "frame rejected" in out and "camera_info is for 320x240" in out, out
