@@ -169,7 +169,10 @@ def test_live_calibration_then_the_synthesizer_with_the_file(ros, recorded):
 
     sub = rospy.Subscriber("/helper/jason/perception", Perception, on_perception)
     try:
+        # a node name of its own: its private ~colours stays on the parameter server after
+        # the test, and must not reach other tests' /helper/robot_synthesizer
         node = ros.rosrun("rason_vision", "robot_synthesizer", ns="/helper",
+                          name="calibrated_synthesizer",
                           params={"colours": str(out), "depth_input": "image",
                                   "colour_transport": "raw"})
         ros.wait_for_subscriber("/helper/camera/depth_registered/image_raw", watch=[node])
