@@ -1,6 +1,12 @@
 """Accuracy of the robot-observer detector on a seeded set of simulated Kinect frames.
 
     ./run.sh bench vision_accuracy [--seed 1] [--frames 300] [--jobs 2] [--keep DIR]
+                                   [--world WORLD.yaml] [--colours COLOURS.yaml]
+
+``--world`` renders in a world file's lighting, camera, floor and room (e.g.
+``rason_diagnosis/worlds/harsh.yaml``: low light with shadows, motion blur, auto exposure,
+depth dropout at edges); ``--colours`` runs the detector with a colours file written by
+``rosrun rason_vision calibrate`` instead of the default ranges.
 
 Records ``--frames`` seeded scenarios from the simulator into bags in a temporary folder
 (``rosrun rason_vision_tools record_bags`` logic, LZ4 so it is quick), reads them back with rosbags
@@ -28,21 +34,23 @@ from typing import Any
 
 import numpy as np
 
-from rason_vision.detector import detect
+from rason_vision.colours import load_colours
+from rason_vision.detector import DetectorConfig, detect
 from rason_vision.geometry import CYLINDER_SPACING
 from rason_vision_tools.bagio import read_bag
 from rason_vision_tools.record_bags import record
 from turtlebot_model.geometry import wrap_deg
+from turtlebot_sim.config import load as load_world
 
 ANGLE_TOL, DEPTH_TOL, YAW_TOL = 1.0, 0.03, 8.0
 
 
-def evaluate(bags: list[Path]) -> list[dict[str, Any]]:
+def evaluate(bags: list[Path], config: DetectorConfig | None = None) -> list[dict[str, Any]]:
     """One record per frame: truth plus our and the thesis' estimates."""
     rows = []
     for bag in bags:
         for frame in read_bag(bag):
-            det = detect(frame.rgb, frame.xyz).detection
+            det = detect(frame.rgb, frame.xyz, config).detection
             row: dict[str, Any] = {"truth": frame.truth, "detected": det is not None}
             if det is not None:
                 c1, c2 = det.green.centroid_depth, det.orange.centroid_depth
@@ -149,15 +157,24 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--keep", type=Path, help="record into this folder and keep the bags")
     parser.add_argument("--json", type=Path, help="write the summary here")
+    parser.add_argument("--world", type=Path, help="render in this world file's light and camera")
+    parser.add_argument("--colours", type=Path, help="detect with this colours file")
     args = parser.parse_args(argv)
+    config = None
+    if args.colours:
+        ranges = load_colours(args.colours)
+        config = DetectorConfig(green=ranges["green"], orange=ranges["orange"])
     start = time.monotonic()
     with tempfile.TemporaryDirectory(prefix="vision-accuracy-") as tmp:
         out = args.keep or Path(tmp)
-        bags = record(out, args.seed, args.frames, jobs=args.jobs, compression="lz4")
+        bags = record(out, args.seed, args.frames, jobs=args.jobs, compression="lz4",
+                      world=load_world(args.world) if args.world else None)
         recorded = time.monotonic()
-        rows = evaluate(bags)
+        rows = evaluate(bags, config)
     lines, summary = report(rows)
-    print(f"vision accuracy: seed {args.seed}, {args.frames} frames "
+    print(f"vision accuracy: seed {args.seed}, {args.frames} frames"
+          f"{f', world {args.world.name}' if args.world else ''}"
+          f"{f', colours {args.colours.name}' if args.colours else ''} "
           f"(recorded in {recorded - start:.0f} s, evaluated in {time.monotonic() - recorded:.0f} s)")
     print("\n".join(lines))
     print("PASS" if summary["passed"] else "FAIL")

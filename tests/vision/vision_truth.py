@@ -13,6 +13,9 @@ BAGS = Path(__file__).resolve().parents[2] / "bags"
 #: The committed bags: the heading sweep and the special cases (the ROS test plays the latter).
 SWEEP_BAG = BAGS / "vision_sweep.bag"
 CASES_BAG = BAGS / "vision_cases.bag"
+#: The cases as a Kinect driver gives them (Bayer + 16UC1 depth + camera_info) and compressed.
+KINECT_BAG = BAGS / "vision_cases_kinect.bag"
+COMPRESSED_BAG = BAGS / "vision_cases_compressed.bag"
 ANGLE_TOL, DEPTH_TOL, YAW_TOL = 1.0, 0.03, 8.0
 LITERAL = re.compile(r"^robot\((\w+),(-?\d+\.\d),(-?\d+\.\d\d),(-?\d+\.\d)\)$")
 PARTIAL = re.compile(r"^robot_partial\((\w+),(-?\d+\.\d),(-?\d+\.\d\d),(green|orange)\)$")

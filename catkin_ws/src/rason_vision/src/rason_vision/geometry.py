@@ -77,7 +77,8 @@ def thesis_angle_deg(u: float, width: int) -> float:
 
 @dataclass(frozen=True)
 class Intrinsics:
-    """Pinhole intrinsics of the Kinect RGB camera (pixel-index coordinates)."""
+    """Pinhole intrinsics of a camera (pixel-index coordinates). The defaults are the
+    simulator's Kinect (57 deg wide); the node takes the real ones from camera_info."""
 
     width: int = 640
     height: int = 480
@@ -96,6 +97,10 @@ class Intrinsics:
     def pinhole_angle_deg(self, u: float) -> float:
         """Exact horizontal angle of image column ``u``: ``atan((u - cx) / fx)``."""
         return math.degrees(math.atan((u - self.cx) / self.fx))
+
+
+#: A real Kinect v1 at VGA as openni / freenect describe it by default (their camera_info).
+KINECT_VGA = Intrinsics(640, 480, 525.0, 525.0, 319.5, 239.5)
 
 
 @dataclass(frozen=True)

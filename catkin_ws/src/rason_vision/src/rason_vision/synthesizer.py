@@ -1,11 +1,19 @@
 """``rosrun rason_vision robot_synthesizer``: Kinect frames in, ``robot(...)`` perceptions out.
 
-Subscribes (relative names, so ``__ns:=/helper`` puts them under the robot):
+Subscribes (relative names, so ``__ns:=/helper`` puts them under the robot), as
+``~colour_transport`` and ``~depth_input`` choose (:class:`Inputs`):
 
-* ``camera/rgb/image_raw`` (sensor_msgs/Image, rgb8 or bgr8)
-* ``camera/depth_registered/points`` (sensor_msgs/PointCloud2, organized, float32 x y z)
+* colour: ``camera/rgb/image_raw`` (sensor_msgs/Image in any encoding a Kinect driver
+  publishes: Bayer, rgb8, bgr8, mono8, ...; :data:`rason_vision.convert.COLOUR_ENCODINGS`),
+  or its ``compressed`` transport ``camera/rgb/image_raw/compressed`` (JPEG/PNG);
+* depth: ``camera/depth_registered/points`` (organized PointCloud2, float32 x y z at any
+  offsets, NaN holes; the intrinsics are fitted from the first cloud), or the registered
+  depth image ``camera/depth_registered/image_raw`` (16UC1 mm or 32FC1 m) or its
+  ``compressedDepth`` transport ``.../image_raw/compressedDepth``, each with
+  ``camera/depth_registered/camera_info`` (the intrinsics: K);
 
-paired by timestamp with ``message_filters.ApproximateTimeSynchronizer``. For every pair it
+paired by timestamp with ``message_filters.ApproximateTimeSynchronizer`` (``~slop`` fits a
+Kinect's depth stamps, 0.055 s before the colour's on a TurtleBot). For every pair it
 publishes a ``jason_msgs/Perception`` on ``jason/perception`` with source
 ``<node_name>_robot`` and the complete current list: ``["robot(faulty,Angle,Depth,Yaw)"]`` or
 ``[]`` (thesis 5.4); when only one cylinder is seen (the other hidden behind it),
@@ -28,26 +36,88 @@ depth at all) are rejected with a rate-limited warning and publish nothing; the 
 from __future__ import annotations
 
 import bisect
+import dataclasses
 import math
 import sys
 import threading
 from collections import deque
 from dataclasses import dataclass
+from enum import Enum
 from typing import Any, NamedTuple
 
 import numpy as np
 import rospy
 from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Image, PointCloud2
+from sensor_msgs.msg import CameraInfo, CompressedImage, Image, PointCloud2
 
 from rason.execution.synthesizer import BadFrame, Synthesizer, SynthesizerParams, run
 from rason.ros.params import param
-from rason_vision.convert import MAX_PIXELS, cloud_to_xyz, image_to_rgb
-from rason_vision.detector import DetectorConfig, HsvRange, detect
+from rason_vision.colours import load_colours
+from rason_vision.compressed import compressed_depth_to_z, compressed_to_rgb
+from rason_vision.convert import (
+    MAX_PIXELS,
+    cloud_to_xyz,
+    depth_image_to_z,
+    image_to_rgb,
+    intrinsics_from_camera_info,
+    intrinsics_from_cloud,
+    z_to_xyz,
+)
+from rason_vision.detector import GREEN, ORANGE, DetectorConfig, HsvRange, detect
 from rason_vision.geometry import format_literal, format_partial_literal
 from turtlebot_model.geometry import angle_diff_deg, wrap_deg, yaw_from_quaternion
 
 _BASE = DetectorConfig()
+
+
+class ColourTransport(Enum):
+    """How the colour image arrives (``~colour_transport``)."""
+
+    RAW = "raw"                    # camera/rgb/image_raw, sensor_msgs/Image
+    COMPRESSED = "compressed"      # camera/rgb/image_raw/compressed, JPEG or PNG
+
+
+class DepthInput(Enum):
+    """What carries the depth (``~depth_input``)."""
+
+    CLOUD = "cloud"                # camera/depth_registered/points
+    IMAGE = "image"                # camera/depth_registered/image_raw + camera_info
+    COMPRESSED = "compressed"      # .../image_raw/compressedDepth + camera_info
+
+
+COLOUR_TOPIC = "camera/rgb/image_raw"
+CLOUD_TOPIC = "camera/depth_registered/points"
+DEPTH_TOPIC = "camera/depth_registered/image_raw"
+INFO_TOPIC = "camera/depth_registered/camera_info"
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """The topics and message types the node synchronizes for a choice of inputs."""
+
+    colour: ColourTransport
+    depth: DepthInput
+
+    def topics(self) -> tuple[tuple[str, type], ...]:
+        """``(topic, type)`` of the colour, the depth and (for a depth image) its camera_info."""
+        colour = ((COLOUR_TOPIC, Image) if self.colour is ColourTransport.RAW
+                  else (COLOUR_TOPIC + "/compressed", CompressedImage))
+        if self.depth is DepthInput.CLOUD:
+            return (colour, (CLOUD_TOPIC, PointCloud2))
+        depth = ((DEPTH_TOPIC, Image) if self.depth is DepthInput.IMAGE
+                 else (DEPTH_TOPIC + "/compressedDepth", CompressedImage))
+        return (colour, depth, (INFO_TOPIC, CameraInfo))
+
+    @classmethod
+    def from_params(cls, colour: str, depth: str) -> Inputs:
+        """The inputs named by ``~colour_transport`` and ``~depth_input`` (ValueError if not)."""
+        try:
+            return cls(ColourTransport(colour), DepthInput(depth))
+        except ValueError:
+            raise ValueError(f"~colour_transport must be one of "
+                             f"{[c.value for c in ColourTransport]} and ~depth_input one of "
+                             f"{[d.value for d in DepthInput]}; got {colour!r}, {depth!r}"
+                             ) from None
 
 
 @dataclass(frozen=True)
@@ -55,6 +125,18 @@ class RobotParams(SynthesizerParams):
     """The robot synthesizer's private parameters (HSV as OpenCV's: H 0-179, S and V 0-255)."""
 
     robot_name: str = param("faulty", "the observed robot's name in robot(Name, ...)")
+    colour_transport: str = param("raw", "raw: camera/rgb/image_raw (Image: Bayer, rgb8, bgr8, "
+                                  "mono8, ...); compressed: camera/rgb/image_raw/compressed "
+                                  "(JPEG/PNG CompressedImage)")
+    depth_input: str = param("cloud", "cloud: camera/depth_registered/points (organized "
+                             "PointCloud2); image: camera/depth_registered/image_raw (16UC1 mm "
+                             "or 32FC1 m) + camera/depth_registered/camera_info; compressed: "
+                             ".../image_raw/compressedDepth (PNG) + the camera_info")
+    colours: str = param("", "YAML file of the cylinders' colour ranges (rosrun rason_vision "
+                         "calibrate writes it); when set, it replaces the *_lower/*_upper "
+                         "parameters")
+    slop: float = param(0.075, "s by which paired colour and depth stamps may differ: a "
+                        "Kinect's depth is stamped 0.055 s before its colour", minimum=0.0)
     green_lower: list[str] = param(list(_BASE.green.lower), "HSV lower bound of green")
     green_upper: list[str] = param(list(_BASE.green.upper), "HSV upper bound of green")
     orange_lower: list[str] = param(list(_BASE.orange.lower), "HSV lower bound of orange")
@@ -186,23 +268,31 @@ def _hsv(name: str, value: list[str]) -> tuple[int, int, int]:
 
 def config_from_params(p: RobotParams) -> DetectorConfig:
     """The detector's configuration from the node's parameters (ValueError if inconsistent)."""
+    if p.colours:
+        ranges = load_colours(p.colours)
+        green, orange = ranges[GREEN], ranges[ORANGE]
+    else:
+        green = HsvRange(_hsv("green_lower", p.green_lower), _hsv("green_upper", p.green_upper))
+        orange = HsvRange(_hsv("orange_lower", p.orange_lower),
+                          _hsv("orange_upper", p.orange_upper))
     return DetectorConfig(
-        green=HsvRange(_hsv("green_lower", p.green_lower), _hsv("green_upper", p.green_upper)),
-        orange=HsvRange(_hsv("orange_lower", p.orange_lower),
-                        _hsv("orange_upper", p.orange_upper)),
+        green=green, orange=orange,
         spacing=p.spacing, min_spacing=p.spacing - p.tolerance_low,
         max_spacing=p.spacing + p.tolerance_high, radius=p.radius)
 
 
 class RobotSynthesizer(Synthesizer):
-    """Kinect image + organized cloud pairs -> ``robot(Name, Angle, Depth, Yaw)``."""
+    """Kinect colour + depth (cloud or depth image) -> ``robot(Name, Angle, Depth, Yaw)``."""
 
-    inputs = (("camera/rgb/image_raw", Image), ("camera/depth_registered/points", PointCloud2))
+    inputs = Inputs(ColourTransport.RAW, DepthInput.CLOUD).topics()
     source_suffix = "_robot"
     Params = RobotParams
 
     def setup(self) -> None:
         self.config = config_from_params(self.params)
+        self.choice = Inputs.from_params(self.params.colour_transport, self.params.depth_input)
+        self.cloud_intrinsics: dict[tuple[int, ...], Any] = {}
+        self.inputs = self.choice.topics()
         self.robot_name: str = self.params.robot_name
         self.max_pixels: int = self.params.max_pixels
         self.headings: HeadingHistory | None = None
@@ -233,16 +323,39 @@ class RobotSynthesizer(Synthesizer):
         return sighting_annotations(stamp.to_sec(), self.headings, self.params.rest_margin,
                                     self.params.frame_stamps)
 
-    def perceive(self, image_msg: Any, cloud_msg: Any) -> list[str]:
-        """The complete perception list for one frame pair."""
-        rgb = image_to_rgb(image_msg, self.max_pixels)
-        xyz = cloud_to_xyz(cloud_msg, self.max_pixels)
+    def frame_arrays(self, colour_msg: Any, depth_msg: Any,
+                     info_msg: Any = None) -> tuple[np.ndarray, np.ndarray, Any]:
+        """RGB, organized cloud and intrinsics of one synchronized set of messages."""
+        if self.choice.colour is ColourTransport.RAW:
+            rgb = image_to_rgb(colour_msg, self.max_pixels)
+        else:
+            rgb = compressed_to_rgb(colour_msg, self.max_pixels)
+        if self.choice.depth is DepthInput.CLOUD:
+            xyz = cloud_to_xyz(depth_msg, self.max_pixels)
+            if not np.isfinite(xyz[..., 2]).any():
+                raise BadFrame("the cloud has no valid depth point")
+            intrinsics = self.cloud_intrinsics.get(xyz.shape[:2])
+            if intrinsics is None:     # one camera's clouds keep their intrinsics: fit once
+                intrinsics = self.cloud_intrinsics[xyz.shape[:2]] = intrinsics_from_cloud(xyz)
+        else:
+            intrinsics = intrinsics_from_camera_info(info_msg)
+            z = (depth_image_to_z(depth_msg, self.max_pixels)
+                 if self.choice.depth is DepthInput.IMAGE
+                 else compressed_depth_to_z(depth_msg, self.max_pixels))
+            if not np.isfinite(z).any():
+                raise BadFrame("the depth image has no valid depth")
+            xyz = z_to_xyz(z, intrinsics)
         if rgb.shape[:2] != xyz.shape[:2]:
-            raise BadFrame(f"image {rgb.shape[1]}x{rgb.shape[0]} and cloud "
+            raise BadFrame(f"image {rgb.shape[1]}x{rgb.shape[0]} and depth "
                            f"{xyz.shape[1]}x{xyz.shape[0]} differ in size")
-        if not np.isfinite(xyz[..., 2]).any():
-            raise BadFrame("the cloud has no valid depth point")
-        stamp = image_msg.header.stamp
+        return rgb, xyz, intrinsics
+
+    def perceive(self, colour_msg: Any, depth_msg: Any, info_msg: Any = None) -> list[str]:
+        """The complete perception list for one synchronized set of frames."""
+        rgb, xyz, intrinsics = self.frame_arrays(colour_msg, depth_msg, info_msg)
+        if self.config.intrinsics != intrinsics:
+            self.config = dataclasses.replace(self.config, intrinsics=intrinsics)
+        stamp = colour_msg.header.stamp
         percepts = self.sightings(detect(rgb, xyz, self.config), stamp)
         if self.params.frame_stamps:
             percepts.append(frame_literal(stamp.to_sec()))

@@ -27,6 +27,7 @@ import numpy as np
 
 from rason_vision.geometry import CYLINDER_OFFSET, cylinder_axes_in_camera, relative_from_axes
 from rason_vision_tools.synthetic import Cylinder, Scene
+from turtlebot_sim.camera_effects import CameraEffects
 from turtlebot_sim.world import World
 
 #: Kinect optical centre in Helper's base frame (m), as built by turtlebot_sim.
@@ -90,8 +91,13 @@ def _world_xy(helper: tuple[float, float, float], distance: float,
     return cx + distance * math.cos(direction), cy + distance * math.sin(direction), cx, cy
 
 
-def world_config(s: Scenario) -> dict[str, Any]:
-    """The turtlebot_sim world dict of a scenario (poses are set again after building)."""
+#: The sections of a world file that :func:`world_config` takes over (its light and camera).
+WORLD_OVERLAY_KEYS = ("lighting", "camera", "floor", "room")
+
+
+def world_config(s: Scenario, overlay: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The turtlebot_sim world dict of a scenario (poses are set again after building); the
+    :data:`WORLD_OVERLAY_KEYS` sections of `overlay` (a world file's dict) replace its own."""
     robots = [{"name": "helper", "kind": "helper", "x": s.helper[0], "y": s.helper[1],
                "yaw": s.helper[2]}]
     if s.faulty:
@@ -116,6 +122,9 @@ def world_config(s: Scenario) -> dict[str, Any]:
         cfg["cylinders"] = dict(s.cylinder_colors)
     if s.lighting:
         cfg["lighting"] = dict(s.lighting)
+    for key in WORLD_OVERLAY_KEYS:
+        if overlay and key in overlay:
+            cfg[key] = {**cfg.get(key, {}), **overlay[key]}
     return cfg
 
 
@@ -146,9 +155,12 @@ def _expectation(s: Scenario, truth: dict[str, Any]) -> str:
     return "robot" if clear and not s.cylinder_colors else "any"
 
 
-def render(s: Scenario) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
-    """Render a scenario with the simulator: (rgb, xyz, ground truth dict)."""
-    with World.from_yaml(world_config(s)) as world:
+def render(s: Scenario, overlay: dict[str, Any] | None = None
+           ) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
+    """Render a scenario with the simulator, in the light and camera of `overlay` (a world
+    file's dict, see :func:`world_config`): (rgb, xyz, ground truth dict). The camera's
+    effects apply (a still camera: auto exposure, no motion blur)."""
+    with World.from_yaml(world_config(s, overlay)) as world:
         hx, hy, hyaw = s.helper[0], s.helper[1], math.radians(s.helper[2])
         world.set_pose("helper", hx, hy, hyaw)
         faulty_pose = None
@@ -159,6 +171,9 @@ def render(s: Scenario) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
         cam = (float(position[0]), float(position[1]),
                math.atan2(rotation[1, 0], rotation[0, 0]))
         rgb, xyz = world.render_kinect("helper", rng=np.random.default_rng([s.seed, 7]))
+        effects = CameraEffects.from_config(world.config["camera"])
+        if effects.active:
+            rgb = effects.apply(rgb, 0.0, world.intrinsics.fx)
     seen = _label_scene(cam, faulty_pose, s).visibility()
     truth: dict[str, Any] = {"case": s.case, "seed": s.seed, "faulty": s.faulty,
                              "green_px": seen[1][0] if s.faulty else 0,

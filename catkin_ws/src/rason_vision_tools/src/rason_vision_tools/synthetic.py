@@ -83,9 +83,14 @@ class Scene:
             labels[hit] = index
         return dx, dy, depth, shade, colour, labels
 
+    def labels(self) -> np.ndarray:
+        """Per pixel, the index of the cylinder seen there (-1: floor or wall); after
+        :meth:`add_faulty` on an empty scene, 1 is the green cylinder and 2 the orange one."""
+        return self._raycast()[-1]
+
     def visibility(self) -> list[tuple[int, int]]:
         """Per cylinder: visible pixels and image columns they span (occlusion included)."""
-        labels = self._raycast()[-1]
+        labels = self.labels()
         return [(int((labels == i).sum()), int((labels == i).any(axis=0).sum()))
                 for i in range(len(self.cylinders))]
 

@@ -11,7 +11,8 @@ A world file is a mapping; every key is optional except ``robots``::
     cylinders: {green: [0.10, 0.62, 0.18], orange: [1.0, 0.45, 0.05]}
     camera: {rate: 15, width: 640, height: 480, hfov_deg: 57.0, min_range: 0.5, max_range: 4.5,
              depth_noise: [0.0012, 0.0019, 0.4], quantize_depth: true, color_noise: 3.0,
-             edge_dropout: 0.0}
+             edge_dropout: 0.0, exposure_s: 0.0, auto_exposure: false,
+             auto_exposure_target: 110, auto_exposure_max_gain: 4.0}
     odometry: {left_radius_scale: 1.0, right_radius_scale: 1.0, separation_scale: 1.0}
     randomize: {pose_cm: 0.0, yaw_deg: 0.0, light_direction_deg: 0.0, light_intensity: 0.0,
                 color_jitter: 0.0}
@@ -22,9 +23,14 @@ A world file is a mapping; every key is optional except ``robots``::
       - {shape: box, size: [0.4, 0.4, 0.6], color: [0.2, 0.3, 0.8], x: 3.0, y: 1.0, yaw: 30}
       - {shape: cylinder, radius: 0.05, height: 0.3, color: [0.9, 0.4, 0.1], x: 2.0, y: -2.0}
 
-Colours are RGB in [0, 1]. :func:`resolve` applies the defaults and the randomisation and
-returns a plain dict (picklable, YAML-dumpable) that fully determines the scene: the render
-worker process rebuilds the same scene from it.
+Colours are RGB in [0, 1]. ``lighting.shadow`` casts shadows (TinyRenderer's shadow map);
+``camera.edge_dropout`` > 0 drops depth at depth edges; ``camera.exposure_s`` > 0 blurs the
+colour by the camera's turn over the exposure and ``camera.auto_exposure`` scales it to a mean
+luma (:mod:`turtlebot_sim.camera_effects`); all off by default.
+
+:func:`resolve` applies the defaults and the randomisation and returns a plain dict
+(picklable, YAML-dumpable) that fully determines the scene: the render worker process rebuilds
+the same scene from it.
 """
 
 from __future__ import annotations
@@ -47,7 +53,9 @@ DEFAULTS: dict[str, Any] = {
     "cylinders": {"green": [0.10, 0.62, 0.18], "orange": [1.0, 0.45, 0.05]},
     "camera": {"rate": 15.0, "width": 640, "height": 480, "hfov_deg": 57.0,
                "min_range": 0.5, "max_range": 4.5, "depth_noise": [0.0012, 0.0019, 0.4],
-               "quantize_depth": True, "color_noise": 3.0, "edge_dropout": 0.0},
+               "quantize_depth": True, "color_noise": 3.0, "edge_dropout": 0.0,
+               "exposure_s": 0.0, "auto_exposure": False, "auto_exposure_target": 110.0,
+               "auto_exposure_max_gain": 4.0},
     "odometry": {"left_radius_scale": 1.0, "right_radius_scale": 1.0, "separation_scale": 1.0},
     "randomize": {"pose_cm": 0.0, "yaw_deg": 0.0, "light_direction_deg": 0.0,
                   "light_intensity": 0.0, "color_jitter": 0.0},

@@ -3,7 +3,10 @@
 Each worker owns a render-only copy of the scene (built from the same resolved config, so
 colours and lighting match), receives the robots' base poses of one instant, renders one
 robot's Kinect and sends back the RGB image and the packed XYZRGB cloud. Results come back in
-submission order. With ``workers`` > 1 frames render in parallel (pipelined).
+submission order. With ``workers`` > 1 frames render in parallel (pipelined). The world's
+camera effects (:mod:`turtlebot_sim.camera_effects`: motion blur over the exposure, auto
+exposure; off by default) are applied to the colour, the blur from the camera's turn rate
+between the robot's successive submitted frames.
 
 Workers are plain subprocesses (``python -m turtlebot_sim.render FD``) talking pickled messages
 over a socket pair, not ``multiprocessing`` children: nothing re-imports the caller's main
@@ -35,6 +38,8 @@ from typing import Any
 import numpy as np
 
 from turtlebot_model.cloud import pack_cloud
+from turtlebot_model.geometry import angle_diff_deg, yaw_from_quaternion
+from turtlebot_sim.camera_effects import CameraEffects
 from turtlebot_sim.world import World
 
 
@@ -55,6 +60,7 @@ def _worker(conn: Connection) -> None:
     world = World(cfg, render_only=True)
     seed = cfg["seed"] if cfg["seed"] is not None else 0
     rng = np.random.default_rng([int(seed), 2, index])
+    effects = CameraEffects.from_config(cfg["camera"])
     conn.send("ready")
     while True:
         try:
@@ -63,10 +69,12 @@ def _worker(conn: Connection) -> None:
             break                                   # the parent went away
         if job is None:
             break
-        robot, states = job
+        robot, states, yaw_rate = job
         start = time.perf_counter()
         world.apply_base_states(states)
         rgb, xyz = world.render_kinect(robot, rng)
+        if effects.active:
+            rgb = effects.apply(rgb, yaw_rate, world.intrinsics.fx)
         cloud = pack_cloud(xyz, rgb)
         try:
             conn.send((rgb, cloud, (time.perf_counter() - start) * 1000.0))
@@ -91,6 +99,7 @@ class RenderPool:
             self._procs.append(proc)
         self._pending: deque[tuple[int, float, str]] = deque()   # (worker, stamp, robot)
         self._next = 0
+        self._last_yaw: dict[str, tuple[float, float]] = {}     # robot -> (stamp, yaw deg)
         for conn in self._conns:
             if not conn.poll(timeout) or conn.recv() != "ready":
                 self.close()
@@ -144,14 +153,28 @@ class RenderPool:
             self._next = (self._next + 1) % len(self._conns)
         worker = self._next
         self._next = (self._next + 1) % len(self._conns)
+        job = (robot, states, self._yaw_rate(stamp, robot, states))
         try:
-            self._conns[worker].send((robot, states))
+            self._conns[worker].send(job)
         except OSError:
             # A worker that crashed (it should not: see _spawn) is replaced, and the frame resent.
             print(f"turtlebot_sim: render worker {worker} died; restarting it", file=sys.stderr)
             self._respawn(worker)
-            self._conns[worker].send((robot, states))
+            self._conns[worker].send(job)
         self._pending.append((worker, stamp, robot))
+
+    def _yaw_rate(self, stamp: float, robot: str, states: dict[str, Any]) -> float:
+        """The camera's turn rate (rad/s) since the robot's previous submitted frame (0 for the
+        first, or when time did not advance)."""
+        if robot not in states:
+            return 0.0
+        quat = states[robot][1]
+        yaw = float(np.degrees(yaw_from_quaternion(*quat)))
+        last = self._last_yaw.get(robot)
+        self._last_yaw[robot] = (stamp, yaw)
+        if last is None or stamp <= last[0]:
+            return 0.0
+        return float(np.radians(angle_diff_deg(yaw, last[1])) / (stamp - last[0]))
 
     def collect(self, block: bool = False) -> list[Frame]:
         """Finished frames in submission order; with ``block``, wait for at least one."""
