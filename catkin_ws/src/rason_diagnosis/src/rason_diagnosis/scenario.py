@@ -21,7 +21,11 @@ from rason.testing.harness import HarnessError, RosHarness
 from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
 from rason_diagnosis.paths import agent_file, world_file
 
-FAULTS = ("both_actuators", "odometry", "left_actuator", "right_actuator", "none")
+#: The injected run without a fault (Faulty should conclude ``no_fault``).
+NO_FAULT = "none"
+#: The faults the injector can break Faulty with.
+INJECTED_FAULTS = ("both_actuators", "odometry", "left_actuator", "right_actuator")
+FAULTS = (*INJECTED_FAULTS, NO_FAULT)
 ROBOTS = ("faulty", "helper")
 RECORDED_TOPICS = [
     "/clock", "/jason/messages", "/faulty/jason/action", "/faulty/jason/event",
@@ -33,7 +37,7 @@ RECORDED_TOPICS = [
 
 def expected_diagnosis(fault: str) -> str:
     """What Faulty should conclude for an injected fault."""
-    return "no_fault" if fault == "none" else fault
+    return "no_fault" if fault == NO_FAULT else fault
 
 
 class Outcome(StrEnum):
@@ -174,7 +178,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         ros.run(["rosbag", "record", "-O", str(out_dir / "run.bag"), *RECORDED_TOPICS],
                 label="rosbag_record", echo=False)
 
-    if result.fault != "none":
+    if result.fault != NO_FAULT:
         reply = ros.check_output(["rosservice", "call", "/faulty/fault_injector",
                                   f"fault: '{result.fault}'"])
         _say(echo, f"[demo] injected {result.fault}: {reply.strip()}")
@@ -293,5 +297,6 @@ def _say(echo: bool, text: str) -> None:
 
 
 def default_fault(seed: int) -> str:
-    """The fault a seed picks when none is given."""
-    return random.Random(seed).choice(FAULTS)
+    """The fault a seed picks when none is given: always a real one (never ``none``), so a
+    first run shows the two robots cooperating; the same seed picks the same fault."""
+    return random.Random(seed).choice(INJECTED_FAULTS)
