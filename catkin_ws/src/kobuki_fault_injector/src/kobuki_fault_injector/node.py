@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 import threading
 
 import rospy
@@ -35,6 +36,18 @@ from kobuki_fault_injector.srv import (
 )
 from rason.ros.guard import guarded
 from rason.ros.master_watch import watch_master
+from rason.ros.params import exit_on_help, load_or_exit
+
+USAGE = "rosrun kobuki_fault_injector fault_injector [__ns:=/robot]"
+SUMMARY = f"""Breaks the robot's wheels or encoder on request, between its consumers and its base:
+  cmd_vel -> [fault] -> mobile_base/commands/velocity;  mobile_base/odom -> [fault] -> odom
+service fault_injector (kobuki_fault_injector/FaultInjector): {", ".join(VALID_REQUESTS)}
+status: fault_injector/status (latched) and /diagnostics"""
+
+
+@dataclasses.dataclass(frozen=True)
+class FaultInjectorParams:
+    """The node's private parameters: none (everything is relative to its namespace)."""
 
 
 def twist_to_velocity(msg: Twist) -> Velocity:
@@ -130,7 +143,9 @@ class FaultInjectorNode:
 
 
 def main() -> int:
+    exit_on_help(sys.argv, FaultInjectorParams, USAGE, SUMMARY)
     rospy.init_node("fault_injector")
+    load_or_exit(FaultInjectorParams, "fault_injector")
     FaultInjectorNode()
     watch_master()              # a restarted roscore gets the topics and the service again
     rospy.loginfo("fault_injector ready in namespace %s", rospy.get_namespace())

@@ -156,6 +156,8 @@ def rows(cls: type) -> list[tuple[str, str, str]]:
 def table_text(cls: type) -> str:
     """The parameter table of ``cls`` as plain text (an argparse epilog, a --help page)."""
     table = rows(cls)
+    if not table:
+        return "private parameters: none"
     width = max(len(name) for name, _, _ in table) + 2
     dwidth = max(len(default) for _, default, _ in table) + 2
     lines = ["private parameters (_name:=value on the rosrun line):"]
