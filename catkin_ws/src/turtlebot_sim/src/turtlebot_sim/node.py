@@ -20,18 +20,24 @@ from __future__ import annotations
 import sys
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
+import rospkg
 import rospy
+import yaml
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image, PointCloud2
 
 from rason.ros.master_watch import watch_master
-from rason.ros.params import exit_on_help, load_or_exit, param, required
+from rason.ros.params import ParamError, exit_on_help, exit_rejected, load_or_exit, param
 from turtlebot_sim import msgs
 from turtlebot_sim.render import Frame, RenderPool
 from turtlebot_sim.world import World
+
+#: The world used without ~world: the case study's, found through the ROS package path
+DEFAULT_WORLD = ("rason_diagnosis", "worlds/case_study.yaml")
 
 #: Wall seconds the loop may lag behind the real-time factor before it stops trying to catch up.
 MAX_LAG = 0.25
@@ -113,8 +119,8 @@ class Stats:
 class SimParams:
     """The simulator node's private parameters."""
 
-    world: str = required("path of the world file (YAML, see turtlebot_sim.config), e.g. "
-                          "$(rospack find rason_diagnosis)/worlds/case_study.yaml")
+    world: str = param("", "path of the world file (YAML, see turtlebot_sim.config); empty: "
+                       f"the case study's, $(rospack find {DEFAULT_WORLD[0]})/{DEFAULT_WORLD[1]}")
     real_time_factor: float = param(1.0, "sim seconds per wall second; 0 = as fast as possible",
                                     minimum=0.0)
     camera_rate: float | None = param(None, "Kinect frames per sim second (default: the world "
@@ -134,8 +140,8 @@ class SimParams:
 class SimNode:
     """The physics loop: step, publish /clock, odometry and Kinect frames, keep the pace."""
 
-    def __init__(self, params: SimParams) -> None:
-        self.world = World.from_yaml(params.world, seed=params.seed)
+    def __init__(self, params: SimParams, world: World, source: Path) -> None:
+        self.world = world
         cfg = self.world.config
         self.rtf = params.real_time_factor
         self.camera_rate = (params.camera_rate if params.camera_rate is not None
@@ -154,8 +160,14 @@ class SimNode:
         self.next_frame = 0.0
         self.stats = Stats(params.stats_period)
         rospy.loginfo("turtlebot_sim: world %s, robots %s, cameras %s at %.1f Hz, "
-                      "real-time factor %s, seed %s", params.world, self.world.names,
+                      "real-time factor %s, seed %s", source, self.world.names,
                       self.world.cameras, self.camera_rate, self.rtf or "max", cfg["seed"])
+        rospy.loginfo("turtlebot_sim: run each robot's nodes in its namespace: %s",
+                      ", ".join(f"__ns:={rospy.get_namespace()}{name}" for name in sorted(self.world.names)))
+        if not rospy.get_param("/use_sim_time", False):
+            rospy.logwarn("turtlebot_sim: /use_sim_time is not true: the other nodes will not "
+                          "follow the simulation's /clock (rosparam set /use_sim_time true "
+                          "before starting them)")
 
     def run(self) -> None:
         """Step until shutdown."""
@@ -214,13 +226,42 @@ class SimNode:
         self.world.close()
 
 
+def world_path(given: str) -> Path:
+    """The world file to load: ``~world``, or :data:`DEFAULT_WORLD` when it is empty."""
+    if given:
+        return Path(given)
+    package, relative = DEFAULT_WORLD
+    try:
+        return Path(rospkg.RosPack().get_path(package)) / relative
+    except rospkg.ResourceNotFound:
+        raise ParamError(f"~world not given, and the default world's package {package} is not "
+                         "on the ROS package path: give _world:=FILE.yaml", "world") from None
+
+
+def open_world(params: SimParams) -> World:
+    """The world of ``params``; a :class:`ParamError` (one line) for a missing or bad file."""
+    path = world_path(params.world)
+    if not path.is_file():
+        raise ParamError(f"~world: no such world file: {path}", "world")
+    try:
+        return World.from_yaml(path, seed=params.seed)
+    except (OSError, ValueError, KeyError, TypeError, yaml.YAMLError) as err:
+        raise ParamError(f"~world: {path} is not a valid world file: "
+                         f"{' '.join(str(err).split())}", "world") from None
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``rosrun turtlebot_sim sim``."""
     argv = argv if argv is not None else sys.argv
-    exit_on_help(argv, SimParams, "rosrun turtlebot_sim sim _world:=FILE.yaml [_name:=value ...]",
+    exit_on_help(argv, SimParams, "rosrun turtlebot_sim sim [_world:=FILE.yaml] [_name:=value ...]",
                  __doc__.split("\n")[0].split(": ", 1)[-1])
     rospy.init_node("turtlebot_sim", argv=argv)
-    node = SimNode(load_or_exit(SimParams, "turtlebot_sim"))
+    params = load_or_exit(SimParams, "turtlebot_sim")
+    try:
+        world = open_world(params)
+    except ParamError as err:
+        exit_rejected(err, "turtlebot_sim")
+    node = SimNode(params, world, world_path(params.world))
     watch_master()              # a restarted roscore gets the topics again
     try:
         node.run()

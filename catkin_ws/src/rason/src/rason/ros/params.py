@@ -231,10 +231,15 @@ def load_or_exit(cls: type[T], node: str) -> T:
     try:
         return load(cls)
     except ParamError as error:
-        message = f"{node}: {error} {forget(error)}".rstrip()
-        rospy.logfatal(message)
-        print(message, file=sys.stderr)
-        raise SystemExit(2) from None
+        exit_rejected(error, node)
+
+
+def exit_rejected(error: ParamError, node: str) -> typing.NoReturn:
+    """Report a rejected parameter on one line (clearing it, see :func:`forget`); exit 2."""
+    message = f"{node}: {error} {forget(error)}".rstrip()
+    rospy.logfatal(message)
+    print(message, file=sys.stderr)
+    raise SystemExit(2) from None
 
 
 def start_node(build: Callable[[], T], params: type, node_name: str, argv: Sequence[str],
