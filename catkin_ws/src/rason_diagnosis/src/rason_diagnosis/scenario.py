@@ -17,7 +17,7 @@ from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 from pathlib import Path
 
-from rason.testing.harness import HarnessError, RosHarness
+from rason.testing.harness import HarnessError, RosHarness, echo_line
 from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
 from rason_diagnosis.paths import agent_file, world_file
 
@@ -237,13 +237,12 @@ def _start_inspector(ros: RosHarness, port: int) -> str:
     try:
         line = inspector.wait_for_line(r"mind inspector: (http://\S+)|cannot listen.*", timeout=30)
     except HarnessError as err:
-        print(f"[demo] mind inspector did not start: {str(err).splitlines()[0]}", flush=True)
+        echo_line(f"[demo] mind inspector did not start: {str(err).splitlines()[0]}")
         return ""
     if line.group(1) is None:
-        print(f"[demo] mind inspector not started: {line.group(0)}", flush=True)
+        echo_line(f"[demo] mind inspector not started: {line.group(0)}")
         return ""
-    print(f"[demo] mind inspector: {line.group(1)}  (open it in a browser to watch the run)",
-          flush=True)
+    echo_line(f"[demo] mind inspector: {line.group(1)}  (open it in a browser to watch the run)")
     return line.group(1)
 
 
@@ -293,7 +292,7 @@ def _diagnosis(mind) -> str | None:
 
 def _say(echo: bool, text: str) -> None:
     if echo:
-        print(text, flush=True)
+        echo_line(text)
 
 
 def default_fault(seed: int) -> str:

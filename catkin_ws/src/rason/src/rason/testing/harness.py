@@ -102,6 +102,20 @@ def free_port() -> int:
         return sock.getsockname()[1]
 
 
+#: held while one whole line goes to stdout (see :func:`echo_line`)
+_STDOUT_LOCK = threading.Lock()
+
+
+def echo_line(text: str) -> None:
+    """Write ``text`` and its newline to stdout in one locked write, then flush. The harness's
+    reader threads relay each process's lines this way, so lines of processes relayed at the
+    same time (and of the caller, if it prints through here too) never splice: ``print`` writes
+    the text and the newline separately, and another thread could write in between."""
+    with _STDOUT_LOCK:
+        sys.stdout.write(text + "\n")
+        sys.stdout.flush()
+
+
 #: how often a followed log file (``Process(piped=False)``) is read for new lines, in seconds
 FOLLOW_PERIOD = 0.2
 
@@ -170,7 +184,7 @@ class Process:
             return
         if self._echo_prefix is not None:
             for line in lines:
-                print(self._echo_prefix + line, flush=True)
+                echo_line(self._echo_prefix + line)
         with self._cond:
             self._lines.extend(lines)
             self._cond.notify_all()
