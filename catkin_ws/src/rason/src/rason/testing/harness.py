@@ -297,7 +297,11 @@ class RosHarness:
         self.placement = dict(placement or {})
         self.echo = echo
         self._own_tmp = log_dir is None
-        self.log_dir = Path(log_dir) if log_dir else Path(tempfile.mkdtemp(prefix="rason-ros-"))
+        # absolute: ROS_HOME and ROS_LOG_DIR below are read by processes in other folders
+        # (rosmaster works in ROS_HOME; a node may get a cwd of its own), and a relative path
+        # there gave logs under ros_home/out/... and a broken `latest` link
+        self.log_dir = (Path(log_dir) if log_dir
+                        else Path(tempfile.mkdtemp(prefix="rason-ros-"))).resolve()
         self.log_dir.mkdir(parents=True, exist_ok=True)
         self.port = 0
         self.master_uri = ""
