@@ -65,6 +65,11 @@ cmd="${1:-help}"; shift || true
 case "$cmd" in
   test)
     ensure_setup
+    if [ "${1:-}" = "--fast" ]; then
+      # the inner loop: no roscore, no node (the `ros` marker, see tests/conftest.py), and not
+      # the few long ones (`slow`); see pytest.ini
+      shift; exec python3 -m pytest -m "not ros and not slow" "$@"
+    fi
     exec python3 -m pytest "$@"
     ;;
   demo)

@@ -31,6 +31,25 @@ APT_PACKAGES=(
 )
 
 step() { printf '\n==> setup: %s\n' "$*"; }
+# progress LOG PID: wait for the background job PID, printing every PROGRESS_PERIOD (5) seconds
+# the time so far and LOG's last line (catkin_make's "[ 40%] Built target ...", mypyc's module
+# lines), so a long build is never silent; returns the job's exit status.
+progress() {
+  local log=$1 pid=$2 start=$SECONDS period=${PROGRESS_PERIOD:-5} last
+  local next=$((start + period))
+  while kill -0 "$pid" 2>/dev/null; do
+    sleep 1
+    if kill -0 "$pid" 2>/dev/null && (( SECONDS >= next )); then
+      next=$((SECONDS + period))
+      last=$(tail -n 1 "$log" 2>/dev/null | tr -d '\r' | cut -c1-100)
+      printf '    %4d s  %s\n' $((SECONDS - start)) "$last"
+    fi
+  done
+  local status=0
+  wait "$pid" || status=$?
+  printf '    %4d s  %s\n' $((SECONDS - start)) "$([ $status = 0 ] && echo done || echo "failed ($status)")"
+  return $status
+}
 fail() { printf '\n!!! setup failed at step: %s\n' "$CURRENT_STEP" >&2; exit 1; }
 trap fail ERR
 
@@ -74,11 +93,13 @@ CURRENT_STEP="catkin_make"
 step "catkin_make (Python: $VENV/bin/python3)"
 cd "$ROOT/catkin_ws"
 PATH="$VENV/bin:$PATH" catkin_make -DPYTHON_EXECUTABLE="$VENV/bin/python3" -DCATKIN_ENABLE_TESTING=OFF \
-  > "$ROOT/catkin_ws/catkin_make.log" 2>&1 || { tail -40 "$ROOT/catkin_ws/catkin_make.log" >&2; false; }
+  > "$ROOT/catkin_ws/catkin_make.log" 2>&1 &
+progress "$ROOT/catkin_ws/catkin_make.log" $! || { tail -40 "$ROOT/catkin_ws/catkin_make.log" >&2; false; }
 
 CURRENT_STEP="compiled modules"
 # rason.asl's hot modules compiled with mypyc; a no-op when the build for these sources exists
 step "rason.asl compiled with mypyc (python -m rason.asl native build)"
 PYTHONPATH="$ROOT/catkin_ws/src/rason/src" RASON_NATIVE=0 "$VENV/bin/python3" -m rason.asl native build \
-  --log "$ROOT/catkin_ws/native.log" > /dev/null
+  --log "$ROOT/catkin_ws/native.log" > /dev/null &
+progress "$ROOT/catkin_ws/native.log" $!
 step "done: source $ROOT/env.sh to use rosrun, rostopic, rosservice"

@@ -34,6 +34,19 @@ def _harness() -> Iterator[RosHarness]:
     harness.cleanup_logs()
 
 
+#: fixtures that start a roscore: a test using one (directly or through another fixture) gets
+#: the ``ros`` marker, which ``./run.sh test --fast`` (``-m "not ros"``) leaves out
+ROS_FIXTURES = frozenset({"ros", "ros_session", "fresh_ros"})
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Mark ``ros`` every test that uses a roscore fixture (files that start ROS processes
+    themselves say ``pytestmark = pytest.mark.ros``)."""
+    for item in items:
+        if ROS_FIXTURES & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.ros)
+
+
 @pytest.fixture(scope="session")
 def ros_session() -> Iterator[RosHarness]:
     yield from _harness()

@@ -69,6 +69,7 @@ def test_the_stamp_follows_every_compiled_module(tmp_path: Path,
         first = changed
 
 
+@pytest.mark.slow                   # the agent-language suite again: left out of --fast
 def test_the_agent_language_suite_passes_as_plain_python_too() -> None:
     # the fallback when no C compiler is at hand: every other test of tests/asl, RASON_NATIVE=0
     args = ["-q", "-p", "no:cacheprovider", "--ignore", str(Path(__file__).resolve()), str(HERE)]

@@ -6,8 +6,9 @@ import os
 import re
 
 import pytest
+from polling import wait_until
 
-from rason.testing.agent_nodes import start_agent, wait_until, write_agent
+from rason.testing.agent_nodes import start_agent, write_agent
 from rason.testing.procstat import sched_slice
 
 pytestmark = pytest.mark.ros
@@ -49,22 +50,21 @@ def test_events_for_another_agent_are_ignored(ros, tmp_path):
     agent = start_agent(ros, tmp_path, "worker", """
         !go.
         +!go <- .wait(800); lift(2); .print("lifted").
+        -!go[error(R)] <- .print("failed: ", R).
         """, ns="/b3", ack_timeout=0)
     ros.wait_for_subscriber("/b3/jason/event")
-    deadline = rospy.Time.now() + rospy.Duration(20)
-    while not actions and rospy.Time.now() < deadline:
-        rospy.sleep(0.05)
-    assert actions, agent.output()
+    wait_until(lambda: actions, "the lift action", watch=[agent])
     action_id = str(actions[0].action_id)
     assert (actions[0].agent, actions[0].action, list(actions[0].parameters)) == \
         ("worker", "lift", ["2"])
     events.publish(Event(agent="someone_else", event_type="action_feedback",
                          parameters=["OK", action_id]))
-    rospy.sleep(1.0)
-    assert "lifted" not in agent.output()
+    # the sentinel: the worker's own feedback, after the other one on the same topic, fails the
+    # action; had the other agent's OK been taken, the action would have ended "lifted" first
     events.publish(Event(agent="worker", event_type="action_feedback",
-                         parameters=["OK", action_id]))
-    agent.wait_for_line(r"\[worker\] lifted", timeout=60)
+                         parameters=["jammed", action_id]))
+    match = agent.wait_for_line(r"\[worker\] (lifted|failed: \w+)", timeout=60)
+    assert match.group(1) == "failed: jammed", agent.output()
 
 
 def test_malformed_perception_does_not_stop_the_agent(ros, tmp_path):
@@ -211,7 +211,7 @@ def test_a_node_that_subscribes_late_hears_who_is_there_at_once(ros, tmp_path):
         """greeter's first whole message (rostopic echo ends each one with "---")."""
         whole = listener.output().split("\n---")[:-1]
         return next((m for m in whole if re.search(r'sender: "?greeter"?', m)), None)
-    wait_until(lambda: greeters_first() is not None, 10, "greeter's whole first message")
+    wait_until(lambda: greeters_first() is not None, "greeter's whole first message", timeout=10)
     first = greeters_first()
     assert first is not None and re.search(r'performative: "?presence"?', first), first
 
@@ -235,9 +235,7 @@ def test_an_action_waits_until_its_decomposer_can_answer(ros, tmp_path):
     rospy.sleep(1.5)
     assert actions == [], "sent before its decomposer could answer"
     events = rospy.Publisher("/b9/jason/event", Event, queue_size=10)
-    deadline = rospy.Time.now() + rospy.Duration(20)
-    while not actions and rospy.Time.now() < deadline:
-        rospy.sleep(0.05)
+    wait_until(lambda: actions, "the move action", watch=[agent])
     assert len(actions) == 1, agent.output()
     action_id = str(actions[0].action_id)
     events.publish(Event(agent="eager", event_type="action_accepted", parameters=[action_id]))

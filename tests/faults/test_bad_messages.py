@@ -15,6 +15,7 @@ import rospy
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from nav_msgs.msg import Odometry
+from polling import wait_until
 
 from rason.testing.harness import RosHarness
 
@@ -25,9 +26,8 @@ HUGE = "x" * 200_000
 
 
 def connected(*endpoints: rospy.Publisher | rospy.Subscriber, timeout: float = 10.0) -> None:
-    deadline = time.monotonic() + timeout
-    while any(e.get_num_connections() == 0 for e in endpoints) and time.monotonic() < deadline:
-        time.sleep(0.05)
+    wait_until(lambda: all(e.get_num_connections() for e in endpoints),
+               f"connections of {[e.resolved_name for e in endpoints]}", timeout)
 
 
 def test_agent_node_survives_bad_events_perceptions_and_messages(ros: RosHarness,
@@ -95,26 +95,26 @@ def test_decomposer_survives_bad_actions_cancels_odometry(ros: RosHarness):
         actions.publish(Action(agent="fuzz", action_id=i, action="move", parameters=params))
     for action_id in (-1, 0, 2**31 - 1, -2**31):
         cancels.publish(ActionCancel(agent=HUGE, action_id=action_id, reason=HUGE))
-    time.sleep(2.0)
-    assert node.alive(), node.output()[-3000:]
-    with lock:
-        results = [e.parameters[0] for e in got if e.event_type == "action_feedback"]
-    assert results.count("bad_parameters") >= 7, results
+    def feedback_results() -> list[str]:
+        with lock:
+            return [e.parameters[0] for e in got if e.event_type == "action_feedback"]
+
+    wait_until(lambda: feedback_results().count("bad_parameters") >= 7,
+               "bad_parameters for the malformed actions", timeout=30, watch=[node])
     # a good odometry stream and a good action still work: move(0) ends OK at once
     good = Odometry()
     good.pose.pose.orientation.w = 1.0
     odom.publish(good)
     time.sleep(0.2)
     actions.publish(Action(agent="fuzz", action_id=100, action="move", parameters=["0"]))
-    deadline = time.monotonic() + 10
-    while time.monotonic() < deadline:
+
+    def feedback_100() -> list[Event]:
         with lock:
-            done = [e for e in got if e.event_type == "action_feedback"
+            return [e for e in got if e.event_type == "action_feedback"
                     and e.parameters[1] == "100"]
-        if done:
-            break
-        time.sleep(0.05)
-    assert done and done[0].parameters[0] == "OK", done
+
+    done = wait_until(feedback_100, "feedback for action 100", timeout=10, watch=[node])
+    assert done[0].parameters[0] == "OK", done
     assert "rejected (ValueError: odometry pose is not finite" in node.output()
     sub.unregister()
 
@@ -129,7 +129,9 @@ def test_fault_injector_stops_on_non_finite_commands(ros: RosHarness):
                            queue_size=100)
     cmd = rospy.Publisher(f"{ns}/cmd_vel", Twist, queue_size=100)
     odom = rospy.Publisher(f"{ns}/mobile_base/odom", Odometry, queue_size=100)
-    connected(sub, cmd, odom)
+    passed: list[Odometry] = []
+    odom_out = rospy.Subscriber(f"{ns}/odom", Odometry, passed.append, queue_size=100)
+    connected(sub, cmd, odom, odom_out)
     bad = Twist()
     bad.linear.x = NAN
     bad.angular.z = INF
@@ -137,14 +139,13 @@ def test_fault_injector_stops_on_non_finite_commands(ros: RosHarness):
     bad_odom = Odometry()
     bad_odom.pose.pose.position.x = NAN
     odom.publish(bad_odom)
-    time.sleep(1.0)
+    # the sentinel: the non-finite odometry came out the other side, so it was handled
+    wait_until(lambda: passed, f"odometry on {ns}/odom", timeout=10, watch=[node])
     good = Twist()
     good.linear.x = 0.2
     cmd.publish(good)
-    deadline = time.monotonic() + 10
-    while len(out) < 2 and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert node.alive(), node.output()
+    wait_until(lambda: len(out) >= 2, "the stop and the good command", timeout=10, watch=[node])
+    odom_out.unregister()
     assert [(t.linear.x, t.angular.z) for t in out[:2]] == [(0.0, 0.0), (0.2, 0.0)]
     assert "non-finite velocity command" in node.output()
     sub.unregister()

@@ -14,9 +14,10 @@ from pathlib import Path
 import pytest
 import rospy
 from jason_msgs.msg import ActionCancel, Event
+from polling import wait_until
 
 from rason.ros.feedback import CancelReason, accepted_beat_period, parse_accepted, parse_running
-from rason.testing.agent_nodes import start_agent, wait_until
+from rason.testing.agent_nodes import start_agent
 from rason.testing.harness import RosHarness
 
 pytestmark = pytest.mark.ros
@@ -55,10 +56,10 @@ def test_a_killed_decomposer_fails_the_action_with_decomposer_lost(ros: RosHarne
         def accepted() -> list[Event]:
             with lock:
                 return [e for e in events if parse_accepted(e) is not None]
-        wait_until(accepted, 20, "move(30) to be accepted")
+        wait_until(accepted, "move(30) to be accepted", timeout=20)
         assert accepted_beat_period(accepted()[0]) == 1.0
         accepted_at = rospy.get_time()
-        wait_until(lambda: rospy.get_time() - accepted_at >= 3.0, 10, "3 s of the move")
+        wait_until(lambda: rospy.get_time() - accepted_at >= 3.0, "3 s of the move", timeout=10)
         with lock:
             assert any(parse_running(e) for e in events), events     # it beat meanwhile
         decomposer.signal_group(signal.SIGKILL)

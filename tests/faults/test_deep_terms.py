@@ -12,8 +12,9 @@ from pathlib import Path
 import pytest
 import rospy
 from jason_msgs.msg import AgentMessage, Perception
+from polling import wait_until
 
-from rason.testing.agent_nodes import connected_to, mind, start_agent, wait_until
+from rason.testing.agent_nodes import connected_to, mind, start_agent
 from rason.testing.harness import RosHarness
 
 pytestmark = pytest.mark.ros
@@ -33,7 +34,7 @@ def test_a_deep_perception_and_a_deep_tell_leave_the_node_alive_and_answering(
     percepts = rospy.Publisher(f"{NS}/jason/perception", Perception, queue_size=10)
     messages = rospy.Publisher("/jason/messages", AgentMessage, queue_size=10)
     for pub in (percepts, messages):
-        wait_until(lambda p=pub: connected_to(p, f"{NS}/jason/sturdy"), 10, "a connection")
+        wait_until(lambda p=pub: connected_to(p, f"{NS}/jason/sturdy"), "a connection", timeout=10)
     percepts.publish(Perception(source="fuzz", perception=[f"seen({DEEP})"]))
     messages.publish(AgentMessage(sender="fuzzer", receiver="sturdy", performative="tell",
                                   content=f"told({DEEP})", reply_with="d1"))

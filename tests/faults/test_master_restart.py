@@ -8,8 +8,9 @@ import time
 
 import pytest
 import yaml
+from polling import wait_until
 
-from rason.testing.agent_nodes import mind, start_agent, wait_until
+from rason.testing.agent_nodes import mind, start_agent
 from rason.testing.harness import HarnessError, RosHarness
 from rason.testing.procstat import tcp_connections
 
@@ -46,9 +47,9 @@ def test_nodes_register_again_with_a_restarted_master_and_keep_the_mind(fresh_ro
 
     back = ros.restart_master(down=1.0)
     minds = {f"{ns}/jason/keeper/mind", "/restart_crew/jason/mate/mind"}
-    wait_until(lambda: minds <= set(ros.services()), 15, "the minds on the restarted master")
+    wait_until(lambda: minds <= set(ros.services()), "the minds on the restarted master", timeout=15)
     took = time.monotonic() - back
-    wait_until(lambda: before <= ros.nodes(), 15, "every node registered again")
+    wait_until(lambda: before <= ros.nodes(), "every node registered again", timeout=15)
     every = time.monotonic() - back
     print(f"mind services back {took:.2f} s after the new master answered; every node "
           f"({len(before)}) back after {every:.2f} s")
@@ -91,7 +92,7 @@ def test_master_watch_keeps_its_connection_to_the_master(fresh_ros):
     assert kept, "no connection to the master stayed open"
 
     ros.restart_master(down=0.5)
-    wait_until(lambda: before <= ros.nodes(), 15, "the decomposer registered again")
+    wait_until(lambda: before <= ros.nodes(), "the decomposer registered again", timeout=15)
     again = _kept_master_connections(ros, decomposer.pid)
     assert again and again.isdisjoint(kept), (kept, again)
     assert decomposer.alive()
@@ -124,9 +125,9 @@ def test_simulator_and_fault_injector_register_again(fresh_ros, tmp_path):
     assert {"/turtlebot_sim", "/rebot/fault_injector"} <= before, before
 
     back = ros.restart_master(down=1.0)
-    wait_until(lambda: "/rebot/fault_injector" in ros.services(), 15,
-               "the injector's service on the restarted master")
-    wait_until(lambda: before <= ros.nodes(), 15, "the simulator and the injector back")
+    wait_until(lambda: "/rebot/fault_injector" in ros.services(),
+               "the injector's service on the restarted master", timeout=15)
+    wait_until(lambda: before <= ros.nodes(), "the simulator and the injector back", timeout=15)
     print(f"simulator and injector back {time.monotonic() - back:.2f} s after the new master "
           "answered")
     topics = ros.topics()
@@ -148,6 +149,6 @@ def test_simulator_and_fault_injector_register_again(fresh_ros, tmp_path):
             return _odom_speed(ros, topic) > 0.05
         except HarnessError:
             return False
-    wait_until(lambda: driving("/rebot/mobile_base/odom"), 30, "odometry of a driving robot")
-    wait_until(lambda: driving("/rebot/odom"), 15, "that odometry through the injector")
+    wait_until(lambda: driving("/rebot/mobile_base/odom"), "odometry of a driving robot", timeout=30)
+    wait_until(lambda: driving("/rebot/odom"), "that odometry through the injector", timeout=15)
     assert sim.alive() and injector.alive()

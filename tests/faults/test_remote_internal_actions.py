@@ -14,8 +14,9 @@ import secrets
 from pathlib import Path
 
 import pytest
+from polling import wait_until
 
-from rason.testing.agent_nodes import connected_to, key_file, start_agent, wait_until
+from rason.testing.agent_nodes import connected_to, key_file, start_agent
 from rason.testing.harness import RosHarness
 
 pytestmark = pytest.mark.ros
@@ -76,7 +77,7 @@ def test_an_open_node_says_so_and_still_refuses_internal_actions(ros: RosHarness
     robot.wait_for_line(r"no ~auth_key_file: .*accepts any sender on the ROS graph", timeout=15)
     ros.init_rospy()
     pub = rospy.Publisher("/jason/messages", AgentMessage, queue_size=10)
-    wait_until(lambda: connected_to(pub, "/ria8/jason/robot8"), 10, "a connection to the agent")
+    wait_until(lambda: connected_to(pub, "/ria8/jason/robot8"), "a connection to the agent", timeout=10)
 
     def spoof(performative: str, content: str) -> None:
         pub.publish(AgentMessage(sender="mallory8", receiver="robot8", performative=performative,

@@ -17,9 +17,10 @@ from pathlib import Path
 import pytest
 import rospy
 from jason_msgs.msg import AgentMessage
+from polling import wait_until
 
 from rason.ros.auth import MessageAuth, SignedFields, load_key, new_nonce
-from rason.testing.agent_nodes import connected_to, start_agent, wait_until
+from rason.testing.agent_nodes import connected_to, start_agent
 from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
@@ -63,7 +64,7 @@ def test_a_captured_signed_achieve_is_refused_after_the_receiver_restarts(
     def victim() -> Process:
         proc = start_agent(ros, tmp_path, "victim", VICTIM, ns="/replay", auth_key_file=key,
                            auth_window=120.0)
-        wait_until(lambda: connected_to(pub, "/replay/jason/victim"), 30, "victim connected")
+        wait_until(lambda: connected_to(pub, "/replay/jason/victim"), "victim connected", timeout=30)
         return proc
 
     first = victim()

@@ -16,10 +16,11 @@ from pathlib import Path
 import pytest
 import rospy
 from jason_msgs.msg import Action, Event
+from polling import wait_until
 
 from rason.ros.auth import AUTH_PARAMETER
 from rason.ros.feedback import parse_accepted
-from rason.testing.agent_nodes import connected_to, key_file, mind, start_agent, wait_until
+from rason.testing.agent_nodes import connected_to, key_file, mind, start_agent
 from rason.testing.harness import RosHarness
 
 pytestmark = pytest.mark.ros
@@ -53,17 +54,17 @@ def test_forged_feedback_and_forged_actions_are_ignored(ros: RosHarness, tmp_pat
         def accepted() -> list[Event]:
             with lock:
                 return [e for e in events if parse_accepted(e) is not None]
-        wait_until(accepted, 20, "move(60) to be accepted")
+        wait_until(accepted, "move(60) to be accepted", timeout=20)
         action_id = str(parse_accepted(accepted()[0]))
         assert accepted()[0].parameters[-1].startswith(AUTH_PARAMETER)
-        wait_until(lambda: connected_to(forged_events, f"{NS}/jason/mover"), 10, "a connection")
+        wait_until(lambda: connected_to(forged_events, f"{NS}/jason/mover"), "a connection", timeout=10)
         for signature in ([], [f"{AUTH_PARAMETER}1:00:hmac-sha256:{'0' * 64}"]):
             forged_events.publish(Event(agent="mover", event_type="action_feedback",
                                         parameters=["OK", action_id, "forged", *signature]))
         agent.wait_for_line(r"\[mover\] ignored a unsigned action_feedback event", timeout=15)
         agent.wait_for_line(r"\[mover\] ignored a forged action_feedback event", timeout=15)
-        wait_until(lambda: connected_to(forged_actions, decomposer_node(ros)), 10,
-                   "a connection to the decomposer")
+        wait_until(lambda: connected_to(forged_actions, decomposer_node(ros)),
+                   "a connection to the decomposer", timeout=10)
         for action_id_forged, signature in ((901, []), (902, [f"{AUTH_PARAMETER}x:y:z"])):
             forged_actions.publish(Action(agent="mover", action_id=action_id_forged,
                                           action="move", parameters=["1", *signature]))

@@ -8,8 +8,9 @@ import time
 from pathlib import Path
 
 import pytest
+from polling import wait_until
 
-from rason.testing.agent_nodes import mind, start_agent, wait_until
+from rason.testing.agent_nodes import mind, start_agent
 
 pytestmark = pytest.mark.ros
 
@@ -33,7 +34,7 @@ def test_a_silent_source_is_cleared_after_its_ttl_and_a_ttl_of_zero_never_expire
     agent = start_agent(ros, tmp_path, "watcher", WATCHER, ns="/stale1",
                         perception_ttls="{radar: 1.0}")
     ros.wait_for_subscriber("/stale1/jason/perception")
-    wait_until(lambda: pub.get_num_connections() > 0, 10, "connection to the agent")
+    wait_until(lambda: pub.get_num_connections() > 0, "connection to the agent", timeout=10)
     pub.publish(Perception(source="doors", perception=["door(open)"]))
     # radar publishes at 10 Hz for 3 s (3 TTLs): it must never be cleared meanwhile.
     for _ in range(30):
@@ -95,7 +96,7 @@ def test_the_robot_synthesizer_declares_a_ttl_and_a_dead_camera_clears_the_robot
         def last_robot_event() -> str:
             return [line for line in agent.lines() if "] see faulty" in line
                     or "] lost faulty" in line][-1]
-        wait_until(lambda: last_robot_event().endswith("lost faulty"), 5, "the - event")
+        wait_until(lambda: last_robot_event().endswith("lost faulty"), "the - event", timeout=5)
         play.stop()
     finally:
         sub.unregister()

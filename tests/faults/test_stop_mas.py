@@ -18,10 +18,11 @@ from pathlib import Path
 import pytest
 import rospy
 from jason_msgs.msg import ActionCancel, AgentMessage, Event
+from polling import wait_until
 
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.presence import GOODBYE, PRESENCE
-from rason.testing.agent_nodes import start_agent, wait_until
+from rason.testing.agent_nodes import start_agent
 from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
@@ -83,19 +84,19 @@ def drive_then_end(ros: RosHarness, tmp_path: Path, ns: str, ending: str,
     ros.rosrun("rason", "echo_decomposer", ns=ns, params={"delay": 60.0})
     ros.wait_for_subscriber(f"{ns}/jason/cancel")
     agent = start_agent(ros, tmp_path, "mover", MOVER.format(ending=ending), ns=ns)
-    wait_until(lambda: heard.accepted(), 20, "move(60) to be accepted")
+    wait_until(lambda: heard.accepted(), "move(60) to be accepted", timeout=20)
     return agent, heard, heard.accepted()[0]
 
 
 def assert_stopped(heard: Heard, action_id: int, reason: str) -> None:
     """The move was cancelled with `reason`, answered cancelled, and the goodbye was the
     agent's last beat."""
-    wait_until(lambda: (action_id, "cancelled") in heard.results(), 15,
-               "the decomposer to answer cancelled")
+    wait_until(lambda: (action_id, "cancelled") in heard.results(),
+               "the decomposer to answer cancelled", timeout=15)
     with heard.lock:
         cancels = [(c.agent, c.action_id, c.reason) for c in heard.cancels]
     assert ("mover", action_id, reason) in cancels, cancels
-    wait_until(lambda: any(m.content == GOODBYE for _, m in heard.beats), 10, "a goodbye")
+    wait_until(lambda: any(m.content == GOODBYE for _, m in heard.beats), "a goodbye", timeout=10)
     time.sleep(2.5)            # more than two presence periods
     with heard.lock:
         beats = [m.content for _, m in heard.beats if m.sender == "mover"]

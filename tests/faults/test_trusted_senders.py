@@ -9,8 +9,9 @@ import secrets
 import time
 
 import pytest
+from polling import wait_until
 
-from rason.testing.agent_nodes import connected_to, key_file, start_agent, wait_until
+from rason.testing.agent_nodes import connected_to, key_file, start_agent
 from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
@@ -72,8 +73,8 @@ def test_with_a_key_only_signed_messages_get_in(ros, tmp_path):
     try:
         robot = start_agent(ros, tmp_path, "robot2", ROBOT, ns="/trust2", auth_key_file=key)
         pub = rospy.Publisher("/jason/messages", AgentMessage, queue_size=10)
-        wait_until(lambda: connected_to(pub, "/trust2/jason/robot2"), 10,
-                   "a connection to the agent")
+        wait_until(lambda: connected_to(pub, "/trust2/jason/robot2"),
+                   "a connection to the agent", timeout=10)
 
         def forge(performative: str, content: str, signature: str = "") -> None:
             pub.publish(AgentMessage(sender="boss2", receiver="robot2", performative=performative,
@@ -97,8 +98,8 @@ def test_with_a_key_only_signed_messages_get_in(ros, tmp_path):
         start_agent(ros, tmp_path, "boss2", BOSS.format(target="robot2"), ns="/trust2_boss",
                     auth_key_file=key)
         robot.wait_for_line(r"\[robot2\] legit_plan_ran", timeout=30)
-        wait_until(lambda: any(m.sender == "boss2" and m.content == "legit" for m in seen), 15,
-                   "the test to hear the boss's achieve")
+        wait_until(lambda: any(m.sender == "boss2" and m.content == "legit" for m in seen),
+                   "the test to hear the boss's achieve", timeout=15)
         achieve = [m for m in seen if m.sender == "boss2" and m.content == "legit"]
         assert achieve[0].signature.startswith("hmac-sha256:"), achieve
         # Replaying the boss's signed achieve word for word: dropped (nonce seen).

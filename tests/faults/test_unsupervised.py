@@ -25,6 +25,7 @@ import rospy
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event
 from nav_msgs.msg import Odometry
+from polling import wait_until
 
 from rason.ros.feedback import parse_feedback
 from rason.ros.presence import PRESENCE
@@ -67,24 +68,15 @@ class Log:
             self.events.clear()
 
     def first_moving(self, timeout: float = 20.0) -> float:
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            with self.lock:
-                hits = [t for t, m in self.cmd if m]
-            if hits:
-                return hits[0]
-            time.sleep(0.02)
-        raise AssertionError("the robot was never commanded to move")
+        return self.wait_for("command to move", lambda: next(
+            (t for t, m in self.cmd if m), None), timeout)
 
     def wait_for(self, what: str, probe, timeout: float = 20.0):
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
+        """``probe()`` (run with the log's lock held) once it is true."""
+        def locked():
             with self.lock:
-                found = probe()
-            if found:
-                return found
-            time.sleep(0.02)
-        raise AssertionError(f"no {what} within {timeout} s")
+                return probe()
+        return wait_until(locked, what, timeout)
 
     def cancel(self, agent: str, timeout: float = 20.0) -> tuple[float, ActionCancel]:
         return self.wait_for(f"cancel from {agent}",
@@ -183,9 +175,8 @@ def rig(ros_session: RosHarness, tmp_path_factory: pytest.TempPathFactory) -> It
         ros.wait_for_subscriber(f"{NS}/jason/cancel", watch=watch)
         handle = Rig(ros, tmp)
         handle.sim = sim           # type: ignore[attr-defined]
-        deadline = time.monotonic() + 10
-        while handle.actions.get_num_connections() == 0 and time.monotonic() < deadline:
-            time.sleep(0.05)
+        wait_until(handle.actions.get_num_connections, f"subscriber of {NS}/jason/action",
+                   timeout=10, watch=watch)
         yield handle
         handle.close()
     finally:

@@ -16,11 +16,11 @@ from collections.abc import Iterator
 import pytest
 import rospy
 from jason_msgs.msg import AgentMessage
+from polling import wait_until
 from std_msgs.msg import String
 
 from rason.inspector.web import interface_addresses
 from rason.ros.presence import GOODBYE, PRESENCE
-from rason.testing.agent_nodes import wait_until
 from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
@@ -45,9 +45,7 @@ def _request(url: str, path: str, host: str | None = None) -> tuple[int, dict]:
 
 def _until(what: str, check, timeout: float = 60.0):
     """The first true value of `check()`, polled until `timeout`."""
-    values: list = []
-    wait_until(lambda: bool(values.append(check()) or values[-1]), timeout, what, poll=0.3)
-    return values[-1]
+    return wait_until(check, what, timeout=timeout, period=0.3)
 
 
 def _start(ros: RosHarness, name: str, **params: object) -> tuple[Process, str]:

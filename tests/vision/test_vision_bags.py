@@ -10,6 +10,8 @@ from vision_truth import CASES_BAG, COMPRESSED_BAG, KINECT_BAG, SWEEP_BAG, check
 from rason_vision.detector import detect
 from rason_vision_tools.bagio import read_bag
 
+pytestmark = pytest.mark.slow          # reads every frame of the committed bags
+
 
 @pytest.fixture(scope="module")
 def frames():

@@ -39,7 +39,9 @@ def test_rosrun_node_publishes_an_action_the_test_receives(ros):
     sub = rospy.Subscriber("/ws/jason/action", Action, on_action)
     events = rospy.Publisher("/ws/jason/event", Event, queue_size=10, latch=True)
     try:
-        act = ros.rosrun("rason", "act", "tester", "move(1, fast)", "--id", "41", ns="/ws")
+        # the test answers as a decomposer written to the thesis alone would (no action_accepted)
+        act = ros.rosrun("rason", "act", "tester", "move(1, fast)", "--id", "41",
+                         "--ack-timeout", "0", ns="/ws")
         ros.wait_for_topic("/ws/jason/action", watch=[act])
         assert got.wait(15), act.output()
         msg = received[0]
@@ -110,3 +112,21 @@ def test_a_process_output_is_kept_as_lines_and_in_its_log_file(tmp_path, piped):
     assert (tmp_path / "printer.log").read_text(encoding="utf-8").splitlines() == expected
     with pytest.raises(HarnessError, match="exited"):
         proc.wait_for_line("never printed", timeout=5)
+
+
+def test_a_relative_log_dir_keeps_every_log_under_it(tmp_path, monkeypatch):
+    # the demo gives out/demo-FAULT-SEED/logs: rosmaster works in ROS_HOME and a node may run in
+    # another folder, so a relative ROS_HOME once doubled the path and broke the `latest` link
+    monkeypatch.chdir(tmp_path)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    with RosHarness(log_dir="out/run/logs") as harness:
+        node = harness.rosrun("rason", "echo_decomposer", ns="/logs", cwd=elsewhere)
+        harness.wait_for_node("/logs/echo_decomposer", timeout=60, watch=[node])
+    ros_home = tmp_path / "out" / "run" / "logs" / "ros_home"
+    assert harness.log_dir == ros_home.parent
+    assert not (ros_home / "out").exists()
+    latest = ros_home / "log" / "latest"
+    assert latest.resolve().is_dir() and (latest / "master.log").is_file()
+    assert list(ros_home.glob("log/**/*echo_decomposer*.log"))
+    assert not list(elsewhere.iterdir())

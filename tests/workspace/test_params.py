@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import pytest
 
-from rason.ros.params import ParamError, _kinds, help_text, param, parse, required
+from rason.ros.params import ParamError, _kinds, help_text, param, parse, required, unknown_names
 
 
 @dataclass(frozen=True)
@@ -61,7 +61,8 @@ def test_sim_node_help_is_its_parameter_table():
     out = subprocess.run(["rosrun", "turtlebot_sim", "sim", "--help"], capture_output=True,
                          text=True, timeout=60)
     assert out.returncode == 0, out.stderr
-    assert "~world" in out.stdout and "required" in out.stdout and "~real_time_factor" in out.stdout
+    assert "~world" in out.stdout and "case_study.yaml" in out.stdout
+    assert "~real_time_factor" in out.stdout
 
 
 @pytest.mark.parametrize("annotation, kinds", [
@@ -83,3 +84,12 @@ def test_an_unknown_parameter_type_is_a_clear_error():
 
     with pytest.raises(ParamError, match=r"unsupported parameter type 'complex'"):
         parse(Odd, {"where": 1})
+
+
+def test_unknown_names_suggest_the_closest_declared_parameter():
+    warnings = unknown_names(Example, ["path", "sped", "zzz"])
+    assert warnings == [
+        "unknown private parameter ~sped (ignored); did you mean ~speed?",
+        "unknown private parameter ~zzz (ignored); "
+        "this node's are: ~path, ~speed, ~count, ~rate, ~enabled, ~names"]
+    assert unknown_names(Example, ["path", "speed"]) == []

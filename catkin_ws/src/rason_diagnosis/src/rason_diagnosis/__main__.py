@@ -24,7 +24,14 @@ from rason.inspector.main import InspectorParams
 from rason_diagnosis import thesis, workstation
 from rason_diagnosis.drivers import SIM, WIRINGS
 from rason_diagnosis.hosts import LinkCut, interrupt
-from rason_diagnosis.scenario import FAULTS, Outcome, default_fault, run_scenario
+from rason_diagnosis.scenario import (
+    FAULTS,
+    INJECTED_FAULTS,
+    NO_FAULT,
+    Outcome,
+    default_fault,
+    run_scenario,
+)
 from turtlebot_sim.config import resolve
 
 #: What the demo prints for each outcome of the run.
@@ -54,11 +61,25 @@ def world_problem(path: Path) -> str | None:
     return None
 
 
+def start_line(fault: str, seed: int, out: Path, drawn: bool, drivers: str = SIM) -> str:
+    """The demo's first line: the fault, how it was chosen and how to choose another, and the
+    simulator's drivers profile."""
+    if drawn:
+        how = (f"drawn by seed {seed} among the real faults; pick one with --fault NAME "
+               f"({', '.join(INJECTED_FAULTS)}) or --fault {NO_FAULT}, "
+               f"repeat this run with --seed {seed}")
+    else:
+        how = f"given by --fault, seed {seed}"
+    return f"[demo] fault {fault} ({how}), drivers {drivers}; output in {out}"
+
+
 def main(argv: list[str] | None = None) -> int:
     if "--real" in (sys.argv[1:] if argv is None else argv):   # real robots: workstation side
         return workstation.main(argv)
     parser = argparse.ArgumentParser(prog="./run.sh demo", description=__doc__.split("\n")[0])
-    parser.add_argument("--fault", choices=FAULTS, help="fault to inject (default: picked by the seed)")
+    parser.add_argument("--fault", choices=FAULTS,
+                        help=f"fault to inject ({NO_FAULT}: a run without a fault; default: one "
+                             "of the four real faults, drawn by the seed)")
     parser.add_argument("--seed", type=int, default=None,
                         help="seed of the run's variation (default: from the clock)")
     parser.add_argument("--record", action="store_true", help="also record a bag of the run")
@@ -93,8 +114,7 @@ def main(argv: list[str] | None = None) -> int:
     seed = args.seed if args.seed is not None else int(time.time()) % 100000
     fault = args.fault or default_fault(seed)
     out = args.out or Path("out") / f"demo-{fault}-{seed}"
-    print(f"[demo] fault {fault}, seed {seed}, drivers {args.drivers}; output in {out}",
-          flush=True)
+    print(start_line(fault, seed, out, drawn=args.fault is None, drivers=args.drivers), flush=True)
     # SIGTERM (the campaign's timeout, a service manager) ends the run as Ctrl-C does: every
     # node, roscore included, is stopped on the way out, also in the middle of the start
     signal.signal(signal.SIGTERM, interrupt)

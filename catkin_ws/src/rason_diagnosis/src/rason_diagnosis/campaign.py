@@ -85,13 +85,24 @@ def fmt(value: float | None) -> str:
     return "-" if value is None else f"{value:.2f}"
 
 
+def faults_run(results: list[dict]) -> list[str]:
+    """The faults (in :data:`FAULTS` order) that have at least one run in ``results``."""
+    return [f for f in FAULTS if any(r["fault"] == f for r in results)]
+
+
+def image_link(out: Path, relative: str, alt: str) -> list[str]:
+    """A report's lines showing the picture ``out/relative``: none when it was not written."""
+    return [f"![{alt}]({relative})", ""] if (out / relative).is_file() else []
+
+
 def write_report(results: list[dict], out: Path, runs: int) -> str:
+    """report.md of a fixed-layout campaign: the faults that ran, and the plots written."""
     lines = [f"# Cooperative fault diagnosis: campaign of {runs} run(s) per scenario", "",
              "Simulated TurtleBot 2 robots (pybullet), latencies in simulated seconds; the thesis "
              "ran real robots (Morais 2015, ch. 7).", "",
              "| scenario | correct (ours) | correct (thesis) | total mean (ours) | sd | "
              "total mean (thesis) | sd |", "|---|---|---|---|---|---|---|"]
-    for fault in FAULTS:
+    for fault in faults_run(results):
         mine = [r for r in results if r["fault"] == fault]
         ok = sum(1 for r in mine if r.get("correct"))
         totals = [r["total_s"] for r in mine if r.get("total_s") is not None]
@@ -112,7 +123,7 @@ def write_report(results: list[dict], out: Path, runs: int) -> str:
               f"Processes left running after the runs (orphans): {orphans}.",
               f"Wall clock per run: mean {fmt(_mean(walls))} s, max {fmt(max(walls, default=None))} s "
               "(roscore, simulator, nodes and agents started and stopped each run).", ""]
-    for fault in FAULTS:
+    for fault in faults_run(results):
         mine = [r for r in results if r["fault"] == fault]
         name = thesis.TABLES[fault][0] if fault in thesis.TABLES else "no fault"
         lines += [f"## {fault} (form of {name})", "",
@@ -128,7 +139,7 @@ def write_report(results: list[dict], out: Path, runs: int) -> str:
         if fault in thesis.TABLES:
             lines.append("| thesis mean | | " + " | ".join(
                 f"{thesis.mean(fault, s):.2f}" for s in range(4)) + " | |")
-        lines += ["", f"![{fault}](plots/{fault}.png)", ""]
+        lines += ["", *image_link(out, f"plots/{fault}.png", fault)]
     text = "\n".join(lines) + "\n"
     (out / "report.md").write_text(text)
     return text
@@ -138,10 +149,8 @@ def write_plots(results: list[dict], out: Path) -> None:
     """Per scenario: stacked latency by step per run (Figs 7.1/7.3/7.5/7.7 style) and totals."""
     plots = out / "plots"
     plots.mkdir(exist_ok=True)
-    for fault in FAULTS:
+    for fault in faults_run(results):
         mine = [r for r in results if r["fault"] == fault]
-        if not mine:
-            continue
         fig, (steps_ax, total_ax) = plt.subplots(1, 2, figsize=(11, 4))
         xs = list(range(1, len(mine) + 1))
         bottom = [0.0] * len(mine)
@@ -285,7 +294,7 @@ def report_only(args: argparse.Namespace) -> int:
         write_layout_plot(results, args.out)
         print(write_layout_report(results, [random_layout(s, room) for s in seeds], args.out))
     else:
-        runs = max(sum(1 for r in results if r["fault"] == f) for f in FAULTS)
+        runs = max((sum(1 for r in results if r["fault"] == f) for f in FAULTS), default=0)
         write_plots(results, args.out)
         print(write_report(results, args.out, runs))
     return 0
@@ -300,10 +309,8 @@ def write_layout_report(results: list[dict], layouts: list, out: Path) -> str:
              "answer); wrong: a wrong component.", "",
              "| fault | right | unknown | wrong | location mean (max) | total mean (max) |",
              "|---|---|---|---|---|---|"]
-    for fault in FAULTS:
+    for fault in faults_run(results):
         mine = [r for r in results if r["fault"] == fault]
-        if not mine:
-            continue
         count = {k: sum(1 for r in mine if r["outcome"] == k) for k in OUTCOME_COLOURS}
         loc = [r["location_s"] for r in mine if r.get("location_s") is not None]
         tot = [r["total_s"] for r in mine if r.get("total_s") is not None]
@@ -316,7 +323,7 @@ def write_layout_report(results: list[dict], layouts: list, out: Path) -> str:
               f"({100.0 * total[Outcome.RIGHT] / max(1, len(results)):.0f}%), "
               f"{total[Outcome.UNKNOWN]} unknown, "
               f"{total[Outcome.WRONG]} wrong. Processes left running: {orphans}.", "",
-              "![outcome against the layout](plots/layouts.png)", "",
+              *image_link(out, "plots/layouts.png", "outcome against the layout"),
               "## Layouts", "",
               "| seed | distance (m) | bearing (deg) | relative heading (deg) | Helper x, y, yaw | "
               "Faulty x, y, yaw | outcomes |", "|---|---|---|---|---|---|---|"]
@@ -336,7 +343,7 @@ def write_layout_plot(results: list[dict], out: Path) -> None:
     """Outcome (colour) of every run against bearing, distance and relative heading."""
     plots = out / "plots"
     plots.mkdir(exist_ok=True)
-    faults = [f for f in FAULTS if any(r["fault"] == f for r in results)]
+    faults = faults_run(results)
     fig, axes = plt.subplots(1, 3, figsize=(15, 4), sharey=True)
     for ax, key, label, span in zip(
             axes, ("bearing", "distance", "relative_heading"),

@@ -29,6 +29,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 
 from rason.testing import netns
+from rason.testing.harness import echo_line
 
 #: The hosts of the case study, in address order: world = .1, helper = .2, faulty = .3.
 HOSTS = ("world", "helper", "faulty")
@@ -257,8 +258,8 @@ class LinkCutter(threading.Thread):
         try:
             (self.lan.restore if up else self.lan.cut)(host)
             self.events.append(LinkEvent(round(now, 2), host, up))
-            print(f"[hosts] {now:6.2f} s (run +{now - self.start_t:.2f} s): link of {host} "
-                  f"{'up' if up else 'DOWN'}", flush=True)
+            echo_line(f"[hosts] {now:6.2f} s (run +{now - self.start_t:.2f} s): link of {host} "
+                      f"{'up' if up else 'DOWN'}")
         except netns.NetnsError as err:
             self.errors.append(str(err))
 

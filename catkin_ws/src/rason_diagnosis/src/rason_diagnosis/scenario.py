@@ -17,12 +17,16 @@ from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 from pathlib import Path
 
-from rason.testing.harness import HarnessError, RosHarness
+from rason.testing.harness import HarnessError, RosHarness, echo_line
 from rason_diagnosis.drivers import SIM, Wiring
 from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
 from rason_diagnosis.paths import agent_file, world_file
 
-FAULTS = ("both_actuators", "odometry", "left_actuator", "right_actuator", "none")
+#: The injected run without a fault (Faulty should conclude ``no_fault``).
+NO_FAULT = "none"
+#: The faults the injector can break Faulty with.
+INJECTED_FAULTS = ("both_actuators", "odometry", "left_actuator", "right_actuator")
+FAULTS = (*INJECTED_FAULTS, NO_FAULT)
 ROBOTS = ("faulty", "helper")
 RECORDED_TOPICS = [
     "/clock", "/jason/messages", "/faulty/jason/action", "/faulty/jason/event",
@@ -34,7 +38,7 @@ RECORDED_TOPICS = [
 
 def expected_diagnosis(fault: str) -> str:
     """What Faulty should conclude for an injected fault."""
-    return "no_fault" if fault == "none" else fault
+    return "no_fault" if fault == NO_FAULT else fault
 
 
 class Outcome(StrEnum):
@@ -189,7 +193,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         ros.run(["rosbag", "record", "-O", str(out_dir / "run.bag"), *topics],
                 label="rosbag_record", echo=False)
 
-    if result.fault != "none":
+    if result.fault != NO_FAULT:
         reply = ros.check_output(["rosservice", "call", "/faulty/fault_injector",
                                   f"fault: '{result.fault}'"])
         _say(echo, f"[demo] injected {result.fault}: {reply.strip()}")
@@ -248,13 +252,12 @@ def _start_inspector(ros: RosHarness, port: int) -> str:
     try:
         line = inspector.wait_for_line(r"mind inspector: (http://\S+)|cannot listen.*", timeout=30)
     except HarnessError as err:
-        print(f"[demo] mind inspector did not start: {str(err).splitlines()[0]}", flush=True)
+        echo_line(f"[demo] mind inspector did not start: {str(err).splitlines()[0]}")
         return ""
     if line.group(1) is None:
-        print(f"[demo] mind inspector not started: {line.group(0)}", flush=True)
+        echo_line(f"[demo] mind inspector not started: {line.group(0)}")
         return ""
-    print(f"[demo] mind inspector: {line.group(1)}  (open it in a browser to watch the run)",
-          flush=True)
+    echo_line(f"[demo] mind inspector: {line.group(1)}  (open it in a browser to watch the run)")
     return line.group(1)
 
 
@@ -304,9 +307,10 @@ def _diagnosis(mind) -> str | None:
 
 def _say(echo: bool, text: str) -> None:
     if echo:
-        print(text, flush=True)
+        echo_line(text)
 
 
 def default_fault(seed: int) -> str:
-    """The fault a seed picks when none is given."""
-    return random.Random(seed).choice(FAULTS)
+    """The fault a seed picks when none is given: always a real one (never ``none``), so a
+    first run shows the two robots cooperating; the same seed picks the same fault."""
+    return random.Random(seed).choice(INJECTED_FAULTS)

@@ -27,8 +27,11 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from enum import StrEnum
+from pathlib import Path
 
+import rospkg
 import rospy
+import yaml
 from geometry_msgs.msg import Twist
 from kobuki_msgs.msg import BumperEvent, ButtonEvent, CliffEvent, SensorState, WheelDropEvent
 from nav_msgs.msg import Odometry
@@ -37,12 +40,15 @@ from sensor_msgs.msg import CameraInfo, Image, JointState, PointCloud2
 from tf2_msgs.msg import TFMessage
 
 from rason.ros.master_watch import watch_master
-from rason.ros.params import ParamError, exit_on_help, load_or_exit, param, required
+from rason.ros.params import ParamError, exit_on_help, exit_rejected, load_or_exit, param
 from turtlebot_sim import config as worldcfg
 from turtlebot_sim import msgs, stock
 from turtlebot_sim.base_events import BumperSwitches
 from turtlebot_sim.render import Frame, RenderPool
 from turtlebot_sim.world import World
+
+#: The world used without ~world: the case study's, found through the ROS package path
+DEFAULT_WORLD = ("rason_diagnosis", "worlds/case_study.yaml")
 
 #: Wall seconds the loop may lag behind the real-time factor before it stops trying to catch up.
 MAX_LAG = 0.25
@@ -221,8 +227,8 @@ class Stats:
 class SimParams:
     """The simulator node's private parameters."""
 
-    world: str = required("path of the world file (YAML, see turtlebot_sim.config), e.g. "
-                          "$(rospack find rason_diagnosis)/worlds/case_study.yaml")
+    world: str = param("", "path of the world file (YAML, see turtlebot_sim.config); empty: "
+                       f"the case study's, $(rospack find {DEFAULT_WORLD[0]})/{DEFAULT_WORLD[1]}")
     drivers: str = param(Drivers.SIM.value, "'sim': this simulator's topics on sim time with "
                          "/clock; 'stock': kobuki_node + turtlebot_bringup and openni + "
                          "rgbd_launch topics on wall time, no /clock (docs/drivers.md)")
@@ -254,10 +260,10 @@ class SimParams:
             raise ParamError("~drivers stock runs on wall time: ~real_time_factor must be 1")
 
 
-def resolve_world(params: SimParams) -> dict:
+def resolve_world(params: SimParams, path: Path) -> dict:
     """The world config of a run: the file, the seed, the camera size and, under the stock
     profile, the Kinect's own focal length (openni's 525 px at VGA, scaled to the width)."""
-    cfg = worldcfg.resolve(params.world, params.seed)
+    cfg = worldcfg.resolve(path, params.seed)
     if params.camera_width is not None:
         cfg["camera"]["width"] = params.camera_width
         cfg["camera"]["height"] = params.camera_width * 3 // 4
@@ -269,9 +275,9 @@ def resolve_world(params: SimParams) -> dict:
 class SimNode:
     """The physics loop: step, publish /clock, odometry and Kinect frames, keep the pace."""
 
-    def __init__(self, params: SimParams) -> None:
+    def __init__(self, params: SimParams, config: dict, source: Path) -> None:
         self.drivers = Drivers(params.drivers)
-        self.world = World(resolve_world(params))
+        self.world = World(config)
         cfg = self.world.config
         self.rtf = params.real_time_factor
         default_rate = (stock.KINECT_RATE if self.drivers == Drivers.STOCK
@@ -303,9 +309,16 @@ class SimNode:
         self.next_frame = 0.0
         self.stats = Stats(params.stats_period)
         rospy.loginfo("turtlebot_sim: world %s, drivers %s, robots %s, cameras %s at %.1f Hz, "
-                      "real-time factor %s, seed %s", params.world, self.drivers,
+                      "real-time factor %s, seed %s", source, self.drivers,
                       self.world.names, self.world.cameras, self.camera_rate,
                       self.rtf or "max", cfg["seed"])
+        rospy.loginfo("turtlebot_sim: run each robot's nodes in its namespace: %s",
+                      ", ".join(f"__ns:={rospy.get_namespace()}{name}"
+                                for name in sorted(self.world.names)))
+        if self.drivers == Drivers.SIM and not rospy.get_param("/use_sim_time", False):
+            rospy.logwarn("turtlebot_sim: /use_sim_time is not true: the other nodes will not "
+                          "follow the simulation's /clock (rosparam set /use_sim_time true "
+                          "before starting them)")
 
     def stamp_of(self, sim_seconds: float) -> float:
         """The stamp (s) of a sim instant: sim time itself, or wall time under stock drivers."""
@@ -379,13 +392,43 @@ class SimNode:
         self.world.close()
 
 
+def world_path(given: str) -> Path:
+    """The world file to load: ``~world``, or :data:`DEFAULT_WORLD` when it is empty."""
+    if given:
+        return Path(given)
+    package, relative = DEFAULT_WORLD
+    try:
+        return Path(rospkg.RosPack().get_path(package)) / relative
+    except rospkg.ResourceNotFound:
+        raise ParamError(f"~world not given, and the default world's package {package} is not "
+                         "on the ROS package path: give _world:=FILE.yaml", "world") from None
+
+
+def open_world(params: SimParams) -> dict:
+    """The world config of ``params`` (:func:`resolve_world`); a :class:`ParamError` (one line)
+    for a missing or bad file."""
+    path = world_path(params.world)
+    if not path.is_file():
+        raise ParamError(f"~world: no such world file: {path}", "world")
+    try:
+        return resolve_world(params, path)
+    except (OSError, ValueError, KeyError, TypeError, yaml.YAMLError) as err:
+        raise ParamError(f"~world: {path} is not a valid world file: "
+                         f"{' '.join(str(err).split())}", "world") from None
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``rosrun turtlebot_sim sim``."""
     argv = argv if argv is not None else sys.argv
-    exit_on_help(argv, SimParams, "rosrun turtlebot_sim sim _world:=FILE.yaml [_name:=value ...]",
+    exit_on_help(argv, SimParams, "rosrun turtlebot_sim sim [_world:=FILE.yaml] [_name:=value ...]",
                  __doc__.split("\n")[0].split(": ", 1)[-1])
     rospy.init_node("turtlebot_sim", argv=argv)
-    node = SimNode(load_or_exit(SimParams, "turtlebot_sim"))
+    params = load_or_exit(SimParams, "turtlebot_sim")
+    try:
+        config = open_world(params)
+    except ParamError as err:
+        exit_rejected(err, "turtlebot_sim")
+    node = SimNode(params, config, world_path(params.world))
     watch_master()              # a restarted roscore gets the topics again
     try:
         node.run()

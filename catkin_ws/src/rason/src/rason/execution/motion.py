@@ -43,6 +43,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import rosgraph
 import rospy
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action
@@ -142,7 +143,7 @@ class MotionDecomposer(Decomposer):
         self.pose: Pose2D | None = None
         self.odom_at = 0.0                    # ROS time (s) of the last odometry message
         self.cmd_vel = rospy.Publisher("cmd_vel", Twist, queue_size=10)
-        self.subscribe("odom", Odometry, self.on_odom, queue_size=10)
+        self.odom_sub = self.subscribe("odom", Odometry, self.on_odom, queue_size=10)
         self.safety = BaseSafety()
         self.subscribe("mobile_base/events/bumper", BumperEvent, lambda msg: self.on_hazard(
             BUMPER, msg.bumper, msg.state == BumperEvent.PRESSED), queue_size=10)
@@ -174,13 +175,30 @@ class MotionDecomposer(Decomposer):
         if motion.monitor is None:
             waited = now - goal.started
             if waited > self.checks.no_progress_timeout:
-                return Verdict(NO_PROGRESS, f"no odometry on odom for {waited:.2f} s")
+                return Verdict(NO_PROGRESS, f"no odometry on odom for {waited:.2f} s"
+                                            f"{self._odometry_hint()}")
             return None
         silent = now - self.odom_at
         if silent > self.params.odom_timeout:
             return Verdict(NO_PROGRESS, f"no odometry on odom for {silent:.2f} s during "
                                         f"{goal.action}")
         return motion.monitor.check(now)
+
+    def _odometry_hint(self) -> str:
+        """When nobody publishes this node's odom: where odometry is published (the namespace
+        must be a robot's, e.g. one of the simulated world's robots); else nothing."""
+        topic = self.odom_sub.resolved_name
+        try:
+            published = rosgraph.Master(rospy.get_name()).getPublishedTopics("")
+        except (OSError, rosgraph.MasterException):
+            return ""
+        if any(name == topic for name, _ in published):
+            return ""
+        others = sorted(name for name, kind in published if kind == "nav_msgs/Odometry")
+        if not others:
+            return f" (nobody publishes {topic})"
+        return (f" (nobody publishes {topic}; odometry is on {', '.join(others)}: run the "
+                "decomposer in a robot's namespace, with its fault_injector beside it)")
 
     def halt(self, goal: Goal) -> None:
         self.cmd_vel.publish(Twist())

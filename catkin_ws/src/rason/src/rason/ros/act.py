@@ -2,8 +2,12 @@
 
 Publishes a ``jason_msgs/Action`` on ``jason/action`` (latched, so ``rostopic echo`` sees it),
 waits for the decomposer's ``action_feedback`` Event on ``jason/event`` and prints it. Exit
-status 0 when the feedback is ``OK``, 1 for any other result, 2 when none came in time. Giving
-up (the timeout, or Ctrl-C) cancels the action on ``jason/cancel``, as an agent does.
+status 0 when the feedback is ``OK``, 1 for any other result (printed), 2 when none came.
+As an agent does, it gives up early when no node subscribes to ``jason/action`` (within
+:data:`GRAPH_WAIT` s of wall time: a question to the master, not to the simulation) and when no
+decomposer acknowledges the action within ``--ack-timeout`` (the agents' ``~ack_timeout``: no
+decomposer there handles the action); each case is named in the message. Giving up (those,
+the timeout, or Ctrl-C) cancels the action on ``jason/cancel``, as an agent does.
 Handy to drive a decomposer by hand, and used by the tests of the harness.
 """
 
@@ -15,10 +19,31 @@ import sys
 import threading
 import time
 
+import rosgraph
 import rospy
 from jason_msgs.msg import Action, ActionCancel, Event
 
-from rason.ros.feedback import parse_feedback, split_action
+from rason.ros.feedback import parse_accepted, parse_feedback, split_action
+from rason.ros.node import AgentNodeParams
+
+#: wall-clock seconds a decomposer starting at the same time has to subscribe to jason/action
+GRAPH_WAIT = 2.0
+
+
+def subscribers(topic: str) -> list[str]:
+    """The nodes subscribed to ``topic`` (a resolved name), as the master knows them."""
+    _, subscribed, _ = rosgraph.Master(rospy.get_name()).getSystemState()
+    return next((nodes for name, nodes in subscribed if name == topic), [])
+
+
+def wait_for_subscribers(topic: str, wait: float) -> list[str]:
+    """The subscribers of ``topic``, waiting up to ``wait`` wall-clock seconds for the first."""
+    deadline = time.monotonic() + wait
+    while True:
+        nodes = subscribers(topic)
+        if nodes or time.monotonic() >= deadline or rospy.is_shutdown():
+            return nodes
+        time.sleep(0.1)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -28,6 +53,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("action", help="the action as Jason text, e.g. 'move(1)' or turn(90)")
     parser.add_argument("--timeout", type=float, default=30.0,
                         help="seconds (ROS time) to wait for the feedback; 0 = do not wait")
+    parser.add_argument("--ack-timeout", type=float, default=AgentNodeParams().ack_timeout,
+                        help="seconds (ROS time) a decomposer has to acknowledge the action "
+                             "(action_accepted), as the agents' ~ack_timeout; 0 = do not "
+                             "require it (a decomposer written to the thesis alone)")
     parser.add_argument("--id", type=int, default=None, help="action_id (default: random)")
     args = parser.parse_args(args_in)
     try:
@@ -38,12 +67,18 @@ def main(argv: list[str] | None = None) -> int:
     rospy.init_node("act", anonymous=True)
     action_id = args.id if args.id is not None else random.randrange(1, 2**31 - 1)
     done = threading.Event()
+    accepted = threading.Event()
     result: list[str] = []
 
     def on_event(msg: Event) -> None:
+        if msg.agent != args.agent:
+            return
+        if parse_accepted(msg) == action_id:
+            accepted.set()
         feedback = parse_feedback(msg)
-        if msg.agent == args.agent and feedback and feedback.action_id == action_id:
+        if feedback and feedback.action_id == action_id:
             result[:] = [feedback.result, feedback.message]
+            accepted.set()
             done.set()
 
     events = rospy.Subscriber("jason/event", Event, on_event, queue_size=50)
@@ -63,8 +98,24 @@ def main(argv: list[str] | None = None) -> int:
     if args.timeout <= 0:
         rospy.sleep(0.5)
         return 0
-    deadline = rospy.Time.now() + rospy.Duration(args.timeout)
+    topic = publisher.resolved_name
+    if not wait_for_subscribers(topic, GRAPH_WAIT):
+        give_up(f"act: nothing subscribes to {topic}")
+        print(f"no decomposer: nothing subscribes to {topic} (namespace "
+              f"{rospy.get_namespace()}); start one there, e.g. rosrun rason motion_decomposer "
+              f"__ns:={rospy.get_namespace().rstrip('/') or '/'}", file=sys.stderr)
+        return 2
+    start = rospy.Time.now()
+    deadline = start + rospy.Duration(args.timeout)
+    ack_deadline = start + rospy.Duration(args.ack_timeout)
     while not done.is_set() and not rospy.is_shutdown() and rospy.Time.now() < deadline:
+        if args.ack_timeout > 0 and not accepted.is_set() and rospy.Time.now() >= ack_deadline:
+            give_up(f"act: not acknowledged within {args.ack_timeout:g} s")
+            print(f"no decomposer acknowledged {name} within {args.ack_timeout:g} s: the nodes "
+                  f"subscribed to {topic} ({', '.join(subscribers(topic))}) do not handle it "
+                  f"(or do not acknowledge actions: then use --ack-timeout 0); action cancelled",
+                  file=sys.stderr)
+            return 2
         done.wait(0.05)
     events.unregister()
     if not result:

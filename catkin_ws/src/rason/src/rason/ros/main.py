@@ -51,7 +51,7 @@ def _run(node_name: str, argv: list[str],
 
     from rason.ros.master_watch import watch_master
     from rason.ros.node import AgentNodeParams, RasonNode
-    from rason.ros.params import ParamError, load
+    from rason.ros.params import ParamError, forget, load
     from rason.ros.rosout import cache_rosout_setting
 
     rospy.init_node(node_name)
@@ -59,7 +59,7 @@ def _run(node_name: str, argv: list[str],
     try:
         params = load(AgentNodeParams)
     except ParamError as err:
-        print(f"rason: bad parameter: {err}", file=sys.stderr)
+        print(f"rason: bad parameter: {err} {forget(err)}".rstrip(), file=sys.stderr)
         rospy.signal_shutdown("bad parameter")
         return 2
     try:
@@ -73,7 +73,7 @@ def _run(node_name: str, argv: list[str],
     try:
         node = RasonNode(params, base_ns=ns)
     except ParamError as err:
-        print(f"rason: bad parameter: {err}", file=sys.stderr)
+        print(f"rason: bad parameter: {err} {forget(err)}".rstrip(), file=sys.stderr)
         rospy.signal_shutdown("bad parameter")
         return 2
     try:

@@ -21,12 +21,13 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import difflib
 import math
 import re
 import sys
 import types
 import typing
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -41,7 +42,12 @@ _REQUIRED = object()
 
 
 class ParamError(ValueError):
-    """A private parameter is missing, of the wrong type, or out of range."""
+    """A private parameter is missing, of the wrong type, or out of range; ``name`` (without
+    ``~``) is the parameter at fault when one is."""
+
+    def __init__(self, message: str, name: str | None = None) -> None:
+        super().__init__(message)
+        self.name = name
 
 
 def param(default: Any, doc: str, *, minimum: float | None = None,
@@ -97,51 +103,51 @@ def _convert(name: str, value: Any, hint: Any, spec: dataclasses.Field) -> Any:
     if value is None:
         if optional:
             return None
-        raise ParamError(f"~{name}: a value is required")
+        raise ParamError(f"~{name}: a value is required", name)
     if bool in kinds:
         if isinstance(value, bool):
             return value
-        raise ParamError(f"~{name}: expected true or false, got {value!r}")
+        raise ParamError(f"~{name}: expected true or false, got {value!r}", name)
     if float in kinds or int in kinds:
         if isinstance(value, str):      # YAML reads 1e9 or nan as text: take them as numbers
             try:
                 value = float(value)
             except ValueError:
-                raise ParamError(f"~{name}: expected a number, got {value!r}") from None
+                raise ParamError(f"~{name}: expected a number, got {value!r}", name) from None
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ParamError(f"~{name}: expected a number, got {value!r}")
+            raise ParamError(f"~{name}: expected a number, got {value!r}", name)
         if not math.isfinite(value):
-            raise ParamError(f"~{name}: must be finite, got {value!r}")
+            raise ParamError(f"~{name}: must be finite, got {value!r}", name)
         if int in kinds and float not in kinds:
             if value != int(value):
-                raise ParamError(f"~{name}: expected a whole number, got {value!r}")
+                raise ParamError(f"~{name}: expected a whole number, got {value!r}", name)
             value = int(value)
         else:
             value = float(value)
         low, high = spec.metadata["minimum"], spec.metadata["maximum"]
         if low is not None and value < low:
-            raise ParamError(f"~{name}: must be at least {low}, got {value}")
+            raise ParamError(f"~{name}: must be at least {low}, got {value}", name)
         if high is not None and value > high:
-            raise ParamError(f"~{name}: must be at most {high}, got {value}")
+            raise ParamError(f"~{name}: must be at most {high}, got {value}", name)
         return value
     if dict in kinds:
         if isinstance(value, str):
             try:
                 value = yaml.safe_load(value) if value.strip() else {}
             except yaml.YAMLError as err:
-                raise ParamError(f"~{name}: not a map: {value!r} ({err})") from err
+                raise ParamError(f"~{name}: not a map: {value!r} ({err})", name) from err
         if not isinstance(value, dict):
-            raise ParamError(f"~{name}: expected a map, got {value!r}")
+            raise ParamError(f"~{name}: expected a map, got {value!r}", name)
         return {str(k): v for k, v in value.items()}
     if list in kinds:
         if isinstance(value, str):
             value = [v.strip() for v in value.strip("[]").split(",") if v.strip()]
         if not isinstance(value, list):
-            raise ParamError(f"~{name}: expected a list, got {value!r}")
+            raise ParamError(f"~{name}: expected a list, got {value!r}", name)
         return [str(v) for v in value]
     if str in kinds:
         return str(value)
-    raise ParamError(f"~{name}: unsupported parameter type {hint!r}")
+    raise ParamError(f"~{name}: unsupported parameter type {hint!r}", name)
 
 
 def parse(cls: type[T], given: dict[str, Any]) -> T:
@@ -151,16 +157,56 @@ def parse(cls: type[T], given: dict[str, Any]) -> T:
         if spec.name in given:
             values[spec.name] = _convert(spec.name, given[spec.name], spec.type, spec)
         elif spec.default is _REQUIRED:
-            raise ParamError(f"~{spec.name} is required: {spec.metadata['doc']}")
+            raise ParamError(f"~{spec.name} is required: {spec.metadata['doc']}", spec.name)
     return cls(**values)
 
 
+def unknown_names(cls: type, names: Iterable[str]) -> list[str]:
+    """A warning for each of ``names`` (private parameters set for the node) that ``cls`` does
+    not declare, naming the closest declared one: a typo is otherwise silently ignored."""
+    known = [spec.name for spec in dataclasses.fields(cls)]
+    warnings = []
+    for name in sorted(set(names) - set(known)):
+        close = difflib.get_close_matches(name, known, n=1)
+        hint = (f"did you mean ~{close[0]}?" if close
+                else f"this node's are: {', '.join('~' + k for k in known) or 'none'}")
+        warnings.append(f"unknown private parameter ~{name} (ignored); {hint}")
+    return warnings
+
+
+def _private_names() -> set[str]:
+    """The names (without ``~``) of the private parameters set for this node."""
+    prefix = rospy.get_name().rstrip("/") + "/"
+    return {name[len(prefix):].split("/")[0] for name in rospy.get_param_names()
+            if name.startswith(prefix)}
+
+
 def load(cls: type[T]) -> T:
-    """The node's private parameters of ``cls`` from the parameter server."""
+    """The node's private parameters of ``cls`` from the parameter server; a private parameter
+    that ``cls`` does not declare is warned about (see :func:`unknown_names`)."""
+    for warning in unknown_names(cls, _private_names()):
+        rospy.logwarn("%s: %s", rospy.get_name(), warning)
     given = {spec.name: rospy.get_param(f"~{spec.name}")
              for spec in dataclasses.fields(cls)  # type: ignore[arg-type]
              if rospy.has_param(f"~{spec.name}")}
     return parse(cls, given)
+
+
+def forget(error: ParamError) -> str:
+    """Delete the parameter at fault from the parameter server, so that the corrected command
+    (which may leave the parameter out) does not read the same bad value again; what to add to
+    the error message about it."""
+    if error.name is None:
+        return ("(private parameters stay on the parameter server after the node exits: "
+                f"clear one with rosparam delete {rospy.get_name()}/NAME)")
+    key = f"{rospy.get_name()}/{error.name}"
+    try:
+        if not rospy.has_param(key):         # a required parameter left out: nothing to clear
+            return ""
+        rospy.delete_param(key)
+    except (KeyError, OSError) as err:   # already gone, or the master is unreachable
+        return f"(could not clear it: {err}; run rosparam delete {key})"
+    return f"({key} was deleted from the parameter server)"
 
 
 def _default_text(spec: dataclasses.Field) -> str:
@@ -180,6 +226,8 @@ def rows(cls: type) -> list[tuple[str, str, str]]:
 def table_text(cls: type) -> str:
     """The parameter table of ``cls`` as plain text (an argparse epilog, a --help page)."""
     table = rows(cls)
+    if not table:
+        return "private parameters: none"
     width = max(len(name) for name, _, _ in table) + 2
     dwidth = max(len(default) for _, default, _ in table) + 2
     lines = ["private parameters (_name:=value on the rosrun line):"]
@@ -207,9 +255,15 @@ def load_or_exit(cls: type[T], node: str) -> T:
     try:
         return load(cls)
     except ParamError as error:
-        rospy.logfatal("%s: %s", node, error)
-        print(f"{node}: {error}", file=sys.stderr)
-        raise SystemExit(2) from None
+        exit_rejected(error, node)
+
+
+def exit_rejected(error: ParamError, node: str) -> typing.NoReturn:
+    """Report a rejected parameter on one line (clearing it, see :func:`forget`); exit 2."""
+    message = f"{node}: {error} {forget(error)}".rstrip()
+    rospy.logfatal(message)
+    print(message, file=sys.stderr)
+    raise SystemExit(2) from None
 
 
 def start_node(build: Callable[[], T], params: type, node_name: str, argv: Sequence[str],
@@ -224,6 +278,7 @@ def start_node(build: Callable[[], T], params: type, node_name: str, argv: Seque
     try:
         return build()
     except ValueError as err:            # parameters that do not fit together
-        rospy.logfatal(f"{node_name}: {err}")
-        print(f"{node_name}: {err}", file=sys.stderr)
+        message = f"{node_name}: {err} {forget(ParamError(str(err)))}"
+        rospy.logfatal(message)
+        print(message, file=sys.stderr)
         return None

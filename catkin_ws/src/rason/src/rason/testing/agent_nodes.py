@@ -5,12 +5,11 @@ from __future__ import annotations
 import os
 import secrets
 import textwrap
-import time
 from pathlib import Path
 
 import yaml
 
-from rason.testing.harness import HarnessError, Process, RosHarness
+from rason.testing.harness import Process, RosHarness
 
 
 def write_agent(folder: Path, name: str, source: str) -> Path:
@@ -36,16 +35,6 @@ def mind(ros: RosHarness, ns: str, name: str, timeout: float = 10.0) -> dict[str
     answer = yaml.safe_load(out)
     return {key: list(answer.get(key) or []) for key in
             ("beliefs", "desires", "intentions", "pending_actions")}
-
-
-def wait_until(condition, timeout: float, what: str, poll: float = 0.05) -> float:
-    """Poll `condition` until true; return the seconds it took (HarnessError on timeout)."""
-    start = time.monotonic()
-    while not condition():
-        if time.monotonic() - start > timeout:
-            raise HarnessError(f"{what} did not happen within {timeout} s")
-        time.sleep(poll)
-    return time.monotonic() - start
 
 
 def connected_to(publisher, node: str) -> bool:

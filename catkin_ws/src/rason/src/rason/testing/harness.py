@@ -103,6 +103,20 @@ def free_port() -> int:
         return sock.getsockname()[1]
 
 
+#: held while one whole line goes to stdout (see :func:`echo_line`)
+_STDOUT_LOCK = threading.Lock()
+
+
+def echo_line(text: str) -> None:
+    """Write ``text`` and its newline to stdout in one locked write, then flush. The harness's
+    reader threads relay each process's lines this way, so lines of processes relayed at the
+    same time (and of the caller, if it prints through here too) never splice: ``print`` writes
+    the text and the newline separately, and another thread could write in between."""
+    with _STDOUT_LOCK:
+        sys.stdout.write(text + "\n")
+        sys.stdout.flush()
+
+
 #: how often a followed log file (``Process(piped=False)``) is read for new lines, in seconds
 FOLLOW_PERIOD = 0.2
 
@@ -171,7 +185,7 @@ class Process:
             return
         if self._echo_prefix is not None:
             for line in lines:
-                print(self._echo_prefix + line, flush=True)
+                echo_line(self._echo_prefix + line)
         with self._cond:
             self._lines.extend(lines)
             self._cond.notify_all()
@@ -284,7 +298,11 @@ class RosHarness:
         self.placement = dict(placement or {})
         self.echo = echo
         self._own_tmp = log_dir is None
-        self.log_dir = Path(log_dir) if log_dir else Path(tempfile.mkdtemp(prefix="rason-ros-"))
+        # absolute: ROS_HOME and ROS_LOG_DIR below are read by processes in other folders
+        # (rosmaster works in ROS_HOME; a node may get a cwd of its own), and a relative path
+        # there gave logs under ros_home/out/... and a broken `latest` link
+        self.log_dir = (Path(log_dir) if log_dir
+                        else Path(tempfile.mkdtemp(prefix="rason-ros-"))).resolve()
         self.log_dir.mkdir(parents=True, exist_ok=True)
         self.port = 0
         self.master_uri = ""

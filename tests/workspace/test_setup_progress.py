@@ -1,0 +1,40 @@
+"""setup.sh is never silent during a long build step: its ``progress`` function (taken from
+setup.sh itself) prints the time so far and the build log's last line while the job runs."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+from pathlib import Path
+
+SETUP = Path(__file__).resolve().parents[2] / "setup.sh"
+
+
+def _progress_function() -> str:
+    text = SETUP.read_text(encoding="utf-8")
+    match = re.search(r"^progress\(\) \{\n.*?^\}\n", text, flags=re.M | re.S)
+    assert match, "setup.sh has no progress() function"
+    return match.group(0)
+
+
+def _run(job: str, log: Path) -> subprocess.CompletedProcess:
+    script = (f"{_progress_function()}\n({job}) > {log} 2>&1 &\n"
+              f"progress {log} $!\n")
+    return subprocess.run(["bash", "-c", script], capture_output=True, text=True, timeout=60,
+                          env={"PROGRESS_PERIOD": "1", "PATH": "/usr/bin:/bin"})
+
+
+def test_progress_shows_elapsed_time_and_the_log_s_last_line(tmp_path):
+    job = "for k in 1 2 3 4; do echo \"[ ${k}0%] Built target part$k\"; sleep 1; done"
+    done = _run(job, tmp_path / "build.log")
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert any(re.fullmatch(r" +\d+ s  \[ \d0%\] Built target part\d", line) for line in lines), lines
+    assert len(lines) >= 3                       # several lines while it ran
+    assert re.fullmatch(r" +\d+ s  done", lines[-1])
+
+
+def test_progress_returns_the_job_s_failure(tmp_path):
+    done = _run("echo compiling; sleep 1; exit 3", tmp_path / "build.log")
+    assert done.returncode == 3
+    assert done.stdout.splitlines()[-1].endswith("failed (3)")
