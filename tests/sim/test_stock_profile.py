@@ -201,3 +201,30 @@ def test_driving_into_a_wall_presses_the_centre_bumper_then_releases_it(
     drive_until(-0.2, released)
     assert released(), [(e.bumper, e.state) for e in events.msgs]
     assert events.msgs[-1].bumper == BumperEvent.CENTER
+
+
+def test_a_world_base_event_raises_a_cliff_then_clears_it(ros, tmp_path: Path):
+    from kobuki_msgs.msg import CliffEvent, SensorState, WheelDropEvent
+
+    ns = "/cliff"
+    world = tmp_path / "cliff.yaml"
+    world.write_text(WALL_WORLD + "base_events:\n"
+                     "  - {robot: bot, at: 4.0, kind: cliff, side: right, duration: 1.0}\n"
+                     "  - {robot: bot, at: 4.0, kind: wheel_drop, side: left, duration: 1.0}\n")
+    sim = ros.rosrun("turtlebot_sim", "sim", ns=ns,
+                     params={"world": str(world), "drivers": "stock"})
+    ros.wait_for_topic(f"{ns}/bot/mobile_base/events/cliff", timeout=60, watch=[sim])
+    ros.init_rospy()
+    cliffs = Collect(f"{ns}/bot/mobile_base/events/cliff", CliffEvent)
+    drops = Collect(f"{ns}/bot/mobile_base/events/wheel_drop", WheelDropEvent)
+    core = Collect(f"{ns}/bot/mobile_base/sensors/core", SensorState)
+    cliff_on, cliff_off = cliffs.wait(2, timeout=60)
+    assert (cliff_on.sensor, cliff_on.state) == (CliffEvent.RIGHT, CliffEvent.CLIFF)
+    assert (cliff_off.sensor, cliff_off.state) == (CliffEvent.RIGHT, CliffEvent.FLOOR)
+    drop_on, drop_off = drops.wait(2)
+    assert (drop_on.wheel, drop_on.state) == (WheelDropEvent.LEFT, WheelDropEvent.DROPPED)
+    assert drop_off.state == WheelDropEvent.RAISED
+    after = core.wait(len(core.msgs) + 5)[-1]                  # a state sent after the events
+    bits = {(m.cliff, m.wheel_drop) for m in core.msgs}
+    assert (SensorState.CLIFF_RIGHT, SensorState.WHEEL_DROP_LEFT) in bits   # while it lasted
+    assert (after.cliff, after.wheel_drop) == (0, 0)

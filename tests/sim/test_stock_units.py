@@ -9,7 +9,17 @@ import numpy as np
 import pytest
 
 from rason.ros.input_watch import InputWatch, Publication
-from turtlebot_sim.base_events import Bumper, BumperChange, BumperSwitches, SwitchState, bumper_at
+from turtlebot_sim.base_events import (
+    BaseEventScript,
+    Bumper,
+    BumperChange,
+    BumperSwitches,
+    ScriptedEvent,
+    Side,
+    SwitchState,
+    bumper_at,
+)
+from turtlebot_sim.config import resolve
 from turtlebot_sim.kinect import Intrinsics
 from turtlebot_sim.stock import bayer_grbg, depth_mm, kinect_hfov_deg
 
@@ -90,3 +100,27 @@ def test_no_warning_without_evidence_or_when_heard():
     watch.heard(9.0)
     assert watch.check(10.0, [DRIVER_ODOM]) is None
     assert watch.check(12.5, [DRIVER_ODOM]) is not None                  # silent again
+
+
+def test_base_events_of_a_world_file_come_as_edges_in_time():
+    cfg = resolve({"robots": [{"name": "bot"}], "base_events": [
+        {"robot": "bot", "at": 1.0, "kind": "cliff", "side": "left", "duration": 0.5},
+        {"robot": "bot", "at": 1.2, "kind": "wheel_drop", "side": "right", "duration": 2}]})
+    script = BaseEventScript(cfg["base_events"])
+    assert script.due(0.9) == []
+    assert script.due(1.3) == [ScriptedEvent("bot", "cliff", Side.LEFT, True),
+                               ScriptedEvent("bot", "wheel_drop", Side.RIGHT, True)]
+    assert script.due(1.4) == []
+    assert script.due(9.0) == [ScriptedEvent("bot", "cliff", Side.LEFT, False),
+                               ScriptedEvent("bot", "wheel_drop", Side.RIGHT, False)]
+
+
+@pytest.mark.parametrize("event", [
+    {"robot": "nobody", "at": 1, "kind": "cliff"},
+    {"robot": "bot", "at": 1, "kind": "wheel_drop", "side": "center"},
+    {"robot": "bot", "at": 1, "kind": "earthquake"},
+    {"robot": "bot", "at": -1, "kind": "cliff"},
+])
+def test_bad_base_events_are_refused_by_name(event):
+    with pytest.raises(ValueError, match="base event"):
+        resolve({"robots": [{"name": "bot"}], "base_events": [event]})

@@ -91,7 +91,8 @@ def main(argv: list[str] | None = None) -> int:
                              "kobuki_node + Kinect drivers' names, wall time; docs/drivers.md)")
     parser.add_argument("--json", action="store_true", help="print the result as JSON at the end")
     parser.add_argument("--quiet", action="store_true", help="do not stream the agents' console")
-    parser.add_argument("--timeout", type=float, default=300.0, help="simulated seconds allowed")
+    parser.add_argument("--timeout", type=float, default=300.0,
+                        help="seconds allowed (simulated; wall seconds with --drivers stock)")
     parser.add_argument("--inspector", action=argparse.BooleanOptionalAction, default=True,
                         help="watch the run in the mind inspector (web page; default: on)")
     parser.add_argument("--inspector-port", type=int, default=InspectorParams().port,

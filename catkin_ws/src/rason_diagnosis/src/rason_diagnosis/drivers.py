@@ -76,3 +76,28 @@ STOCK = Wiring(
     camera_rate=STOCK_DEMO_RATE)
 
 WIRINGS = {w.drivers.value: w for w in (SIM, STOCK)}
+
+
+def rosrun_line(package: str, executable: str, ns: str, args: tuple[str, ...] = (),
+                params: dict[str, object] | None = None) -> str:
+    """A ``rosrun`` line as docs/drivers.md writes it: arguments, namespace, ``_param:=value``,
+    then the remaps."""
+    positional = [a for a in args if ":=" not in a]
+    remaps = [a for a in args if ":=" in a]
+    private = [f"_{key}:={value}" for key, value in (params or {}).items()]
+    return " ".join(["rosrun", package, executable, *positional, f"__ns:={ns}", *private,
+                     *remaps])
+
+
+def robot_side_lines(wiring: Wiring, robot: str = "faulty") -> list[str]:
+    """The rosrun lines of the robot-side nodes under ``wiring``: ``robot``'s injector and
+    decomposer, and Helper's image pipeline and synthesizer (docs/drivers.md shows STOCK's)."""
+    ns = f"/{robot}"
+    lines = [rosrun_line("kobuki_fault_injector", "fault_injector", ns,
+                         params=wiring.injector_params),
+             rosrun_line("rason", "motion_decomposer", ns, wiring.odom_reader_args)]
+    lines += [rosrun_line(n.package, n.executable, n.ns, n.args) for n in wiring.vision_nodes]
+    lines.append(rosrun_line("rason_vision", "robot_synthesizer", "/helper",
+                             (*wiring.odom_reader_args, *wiring.synthesizer_args),
+                             wiring.synthesizer_params))
+    return lines

@@ -81,3 +81,49 @@ class BumperSwitches:
     def bits(self) -> int:
         """The pressed switches as kobuki_msgs/SensorState's ``bumper`` bits."""
         return sum(SENSOR_BITS[b] for b in self.pressed)
+
+
+class Side(IntEnum):
+    """kobuki_msgs/CliffEvent's ``sensor`` values (WheelDropEvent's ``wheel``: LEFT 0, RIGHT 1)."""
+
+    LEFT = 0
+    CENTER = 1
+    RIGHT = 2
+
+
+#: kobuki_msgs/SensorState's ``cliff`` and ``wheel_drop`` bits of each side.
+CLIFF_BITS = {Side.RIGHT: 1, Side.CENTER: 2, Side.LEFT: 4}
+WHEEL_DROP_BITS = {Side.RIGHT: 1, Side.LEFT: 2}
+WHEELS = {Side.LEFT: 0, Side.RIGHT: 1}
+
+
+@dataclass(frozen=True)
+class ScriptedEvent:
+    """A cliff or wheel drop of the world file's ``base_events``, on (True) or off (False)."""
+
+    robot: str
+    kind: str            # "cliff" or "wheel_drop"
+    side: Side
+    on: bool
+
+
+@dataclass
+class BaseEventScript:
+    """The world file's ``base_events`` (resolved entries), as edges in time."""
+
+    entries: list[dict]
+    _done: set[tuple[int, bool]] = field(default_factory=set)
+
+    def due(self, t: float) -> list[ScriptedEvent]:
+        """The edges reached by time ``t`` (s) and not returned before, in time order."""
+        edges = []
+        for i, e in enumerate(self.entries):
+            for on, when in ((True, e["at"]), (False, e["at"] + e["duration"])):
+                if t >= when and (i, on) not in self._done:
+                    self._done.add((i, on))
+                    edges.append((when, ScriptedEvent(e["robot"], e["kind"],
+                                                      Side[e["side"].upper()], on)))
+        return [event for _, event in sorted(edges, key=lambda edge: edge[0])]
+
+    def robots(self) -> set[str]:
+        return {e["robot"] for e in self.entries}

@@ -22,6 +22,9 @@ A world file is a mapping; every key is optional except ``robots``::
     objects:                         # optional distractors (static)
       - {shape: box, size: [0.4, 0.4, 0.6], color: [0.2, 0.3, 0.8], x: 3.0, y: 1.0, yaw: 30}
       - {shape: cylinder, radius: 0.05, height: 0.3, color: [0.9, 0.4, 0.1], x: 2.0, y: -2.0}
+    base_events:                     # optional: a cliff sensor or a wheel drop raised at a sim
+      - {robot: faulty, at: 5.0, kind: cliff, side: center, duration: 1.0}   # time (seconds)
+      - {robot: faulty, at: 8.0, kind: wheel_drop, side: left, duration: 0.5}
 
 Colours are RGB in [0, 1]. ``lighting.shadow`` casts shadows (TinyRenderer's shadow map);
 ``camera.edge_dropout`` > 0 drops depth at depth edges; ``camera.exposure_s`` > 0 blurs the
@@ -61,6 +64,7 @@ DEFAULTS: dict[str, Any] = {
                   "light_intensity": 0.0, "color_jitter": 0.0},
     "robots": [],
     "objects": [],
+    "base_events": [],
 }
 
 ROBOT_KINDS = ("faulty", "helper", "plain")
@@ -101,6 +105,24 @@ def _robot(entry: dict[str, Any]) -> dict[str, Any]:
             "cylinders": bool(entry.get("cylinders", kind == "faulty"))}
 
 
+#: base_events kinds and the sides each can be raised on.
+BASE_EVENT_SIDES = {"cliff": ("left", "center", "right"), "wheel_drop": ("left", "right")}
+
+
+def _base_event(entry: dict[str, Any], robots: list[str]) -> dict[str, Any]:
+    """A checked ``base_events`` entry (see the module docstring)."""
+    kind, side = str(entry.get("kind")), str(entry.get("side", "center"))
+    if entry.get("robot") not in robots:
+        raise ValueError(f"base event {entry}: robot must be one of {robots}")
+    if kind not in BASE_EVENT_SIDES or side not in BASE_EVENT_SIDES[kind]:
+        raise ValueError(f"base event {entry}: kind must be one of {sorted(BASE_EVENT_SIDES)} "
+                         f"with a side in {BASE_EVENT_SIDES.get(kind, BASE_EVENT_SIDES)}")
+    at, duration = float(entry.get("at", 0.0)), float(entry.get("duration", 1.0))
+    if not (at >= 0.0 and duration > 0.0):
+        raise ValueError(f"base event {entry}: at must be >= 0 and duration > 0 (seconds)")
+    return {"robot": entry["robot"], "kind": kind, "side": side, "at": at, "duration": duration}
+
+
 def _jitter_color(rng: np.random.Generator, color: list[float], amount: float) -> list[float]:
     jittered = np.clip(np.asarray(color, float) + rng.uniform(-amount, amount, 3), 0.0, 1.0)
     return [float(c) for c in jittered]
@@ -122,6 +144,7 @@ def resolve(source: str | Path | dict[str, Any], seed: int | None = None) -> dic
     names = [r["name"] for r in cfg["robots"]]
     if len(set(names)) != len(names):
         raise ValueError(f"robot names must be unique: {names}")
+    cfg["base_events"] = [_base_event(e, names) for e in cfg["base_events"]]
     if cfg["seed"] is None:
         return cfg
     rng = np.random.default_rng(cfg["seed"])

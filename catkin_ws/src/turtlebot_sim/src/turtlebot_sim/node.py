@@ -9,6 +9,8 @@ node's namespace, so ``__ns:=/test1`` gives ``/test1/faulty/...``; all stamps ar
     /<r>/mobile_base/commands/velocity       geometry_msgs/Twist        (subscribed)
     /<r>/mobile_base/odom                    nav_msgs/Odometry odom -> base_footprint, wheels
     /<r>/mobile_base/events/bumper           kobuki_msgs/BumperEvent    (on contact changes)
+    /<r>/mobile_base/events/cliff            kobuki_msgs/CliffEvent     (only with base_events)
+    /<r>/mobile_base/events/wheel_drop       kobuki_msgs/WheelDropEvent (only with base_events)
     /<r>/ground_truth/odom                   nav_msgs/Odometry world -> <r>/base_footprint
     /<r>/camera/rgb/image_raw                sensor_msgs/Image rgb8      (robots with a Kinect)
     /<r>/camera/depth_registered/points      sensor_msgs/PointCloud2 x y z rgb, organised
@@ -43,7 +45,7 @@ from rason.ros.master_watch import watch_master
 from rason.ros.params import ParamError, exit_on_help, exit_rejected, load_or_exit, param
 from turtlebot_sim import config as worldcfg
 from turtlebot_sim import msgs, stock
-from turtlebot_sim.base_events import BumperSwitches
+from turtlebot_sim.base_events import BaseEventScript, BumperSwitches, ScriptedEvent, Side
 from turtlebot_sim.render import Frame, RenderPool
 from turtlebot_sim.world import World
 
@@ -69,7 +71,7 @@ class RobotIO:
     """
 
     def __init__(self, world: World, name: str, has_camera: bool, timeout: float,
-                 stamp_of: Callable[[float], float]):
+                 stamp_of: Callable[[float], float], cliff_and_drop: bool = False):
         self.world = world
         self.name = name
         self.timeout = timeout
@@ -82,6 +84,26 @@ class RobotIO:
                                       queue_size=100)
         self.cmd = rospy.Subscriber(f"{name}/mobile_base/commands/velocity", Twist,
                                     self.on_cmd_vel, queue_size=10)
+        self.cliffs: set[Side] = set()
+        self.drops: set[Side] = set()
+        self.cliff = self.wheel_drop = None
+        if cliff_and_drop:      # stock: always, as kobuki_node; sim: for a world's base_events
+            self.cliff = rospy.Publisher(f"{name}/mobile_base/events/cliff", CliffEvent,
+                                         queue_size=100)
+            self.wheel_drop = rospy.Publisher(f"{name}/mobile_base/events/wheel_drop",
+                                              WheelDropEvent, queue_size=100)
+
+    def raise_event(self, event: ScriptedEvent) -> None:
+        """A scripted cliff or wheel drop (the world file's ``base_events``) begins or ends."""
+        assert self.cliff is not None and self.wheel_drop is not None
+        held = self.cliffs if event.kind == "cliff" else self.drops
+        (held.add if event.on else held.discard)(event.side)
+        if event.kind == "cliff":
+            self.cliff.publish(stock.cliff_event(event.side, event.on))
+        else:
+            self.wheel_drop.publish(stock.wheel_drop_event(event.side, event.on))
+        rospy.loginfo("turtlebot_sim: %s %s %s %s", self.name, event.kind, event.side.name,
+                      "raised" if event.on else "cleared")
 
     def on_cmd_vel(self, msg: Twist) -> None:
         """A velocity command: applied at once, valid for ``timeout`` sim seconds."""
@@ -123,8 +145,8 @@ class SimRobotIO(RobotIO):
     """The default profile: ``mobile_base/odom``, rgb8 image + cloud sharing one stamp."""
 
     def __init__(self, world: World, name: str, has_camera: bool, timeout: float,
-                 stamp_of: Callable[[float], float]):
-        super().__init__(world, name, has_camera, timeout, stamp_of)
+                 stamp_of: Callable[[float], float], cliff_and_drop: bool = False):
+        super().__init__(world, name, has_camera, timeout, stamp_of, cliff_and_drop)
         self.odom = rospy.Publisher(f"{name}/mobile_base/odom", Odometry, queue_size=10)
         self.optical_frame = f"{name}/camera_rgb_optical_frame"
         if has_camera:
@@ -149,17 +171,13 @@ class StockRobotIO(RobotIO):
 
     def __init__(self, world: World, name: str, has_camera: bool, timeout: float,
                  stamp_of: Callable[[float], float], tf: rospy.Publisher):
-        super().__init__(world, name, has_camera, timeout, stamp_of)
+        super().__init__(world, name, has_camera, timeout, stamp_of, cliff_and_drop=True)
         self.tf = tf
         self.odom = rospy.Publisher(f"{name}/odom", Odometry, queue_size=10)
         self.joints = rospy.Publisher(f"{name}/joint_states", JointState, queue_size=10)
         self.core = rospy.Publisher(f"{name}/mobile_base/sensors/core", SensorState,
                                     queue_size=10)
-        # Advertised as kobuki_node does; the simulated floor is level and the buttons untouched.
-        self.cliff = rospy.Publisher(f"{name}/mobile_base/events/cliff", CliffEvent,
-                                     queue_size=100)
-        self.wheel_drop = rospy.Publisher(f"{name}/mobile_base/events/wheel_drop",
-                                          WheelDropEvent, queue_size=100)
+        # Advertised as kobuki_node does; nobody presses the simulated buttons.
         self.button = rospy.Publisher(f"{name}/mobile_base/events/button", ButtonEvent,
                                       queue_size=100)
         if has_camera:
@@ -180,7 +198,8 @@ class StockRobotIO(RobotIO):
         wheels = self.world.wheels(self.name)
         self.joints.publish(stock.joint_states(t, wheels))
         if self.core.get_num_connections() > 0:     # kobuki_node skips it without subscribers
-            self.core.publish(stock.sensor_state(t, wheels, self.bumpers.bits))
+            self.core.publish(stock.sensor_state(t, wheels, self.bumpers.bits, self.cliffs,
+                                                 self.drops))
 
     def publish_frame(self, frame: Frame) -> None:
         """Bayer image and registered depth of one frame, each with its camera_info; the depth
@@ -290,6 +309,7 @@ class SimNode:
         #: Stamp seconds minus sim seconds: 0 on sim time; the wall clock's epoch under the
         #: stock profile (moved forward when the loop gives up catching up, see run()).
         self.stamp_offset = 0.0
+        self.script = BaseEventScript(cfg["base_events"])
         self.robots: dict[str, RobotIO]
         self.clock: rospy.Publisher | None = None
         if self.drivers == Drivers.STOCK:
@@ -301,7 +321,7 @@ class SimNode:
         else:
             self.clock = rospy.Publisher("/clock", Clock, queue_size=10)
             self.robots = {name: SimRobotIO(self.world, name, name in self.world.cameras,
-                                            timeout, self.stamp_of)
+                                            timeout, self.stamp_of, name in self.script.robots())
                            for name in self.world.names}
         self.pool: RenderPool | None = None
         if self.world.cameras and self.camera_rate > 0:
@@ -335,6 +355,8 @@ class SimNode:
             if self.clock is not None:
                 self.clock.publish(msgs.clock(self.world.time))
             if self.world.steps % self.odom_every == 0:
+                for event in self.script.due(self.world.time):
+                    self.robots[event.robot].raise_event(event)
                 for robot in self.robots.values():
                     robot.check_bumpers()
                     robot.publish_odometry()

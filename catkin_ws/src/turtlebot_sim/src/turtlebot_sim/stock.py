@@ -11,12 +11,12 @@ import math
 
 import numpy as np
 from geometry_msgs.msg import TransformStamped
-from kobuki_msgs.msg import BumperEvent, SensorState
+from kobuki_msgs.msg import BumperEvent, CliffEvent, SensorState, WheelDropEvent
 from sensor_msgs.msg import CameraInfo, Image, JointState
 from tf2_msgs.msg import TFMessage
 
 from turtlebot_sim import kobuki, msgs
-from turtlebot_sim.base_events import BumperChange
+from turtlebot_sim.base_events import CLIFF_BITS, WHEEL_DROP_BITS, WHEELS, BumperChange, Side
 from turtlebot_sim.world import WheelState
 
 #: kobuki_node's odometry covariances (odometry.cpp, gyro heading as by default): x, y 0.1,
@@ -39,8 +39,9 @@ KINECT_RATE = 30.0
 DEPTH_TIME_OFFSET = -0.055
 #: The battery kobuki_node reports in 0.1 V (a charged 4S pack: 16.5 V).
 BATTERY_DV = 165
-#: Cliff sensor readings over a floor (ADC counts; a cliff reads below about 100).
+#: Cliff sensor readings over a floor and over a cliff (ADC counts).
 FLOOR_BOTTOM = 1500
+CLIFF_BOTTOM = 20
 #: Ticks the uint16 encoder counters wrap at.
 ENCODER_WRAP = 1 << 16
 
@@ -93,14 +94,19 @@ def pwm(rate: float) -> int:
     return int(max(-100, min(100, round(100.0 * rate / full))))
 
 
-def sensor_state(t: float, wheels: WheelState, bumper_bits: int) -> SensorState:
-    """kobuki_node's ``mobile_base/sensors/core``: encoders, bumper bits; on a level floor, no
-    wheel drop, no cliff; a charged battery, undocked."""
+def sensor_state(t: float, wheels: WheelState, bumper_bits: int, cliffs: set[Side],
+                 drops: set[Side]) -> SensorState:
+    """kobuki_node's ``mobile_base/sensors/core``: encoders, bumper, cliff and wheel drop bits
+    (the cliff sensors over a cliff read ``CLIFF_BOTTOM``); a charged battery, undocked."""
+    bottom = [CLIFF_BOTTOM if side in cliffs else FLOOR_BOTTOM
+              for side in (Side.RIGHT, Side.CENTER, Side.LEFT)]
     msg = SensorState(
-        time_stamp=int(t * 1000.0) % ENCODER_WRAP, bumper=bumper_bits, wheel_drop=0, cliff=0,
+        time_stamp=int(t * 1000.0) % ENCODER_WRAP, bumper=bumper_bits,
+        wheel_drop=sum(WHEEL_DROP_BITS[s] for s in drops),
+        cliff=sum(CLIFF_BITS[s] for s in cliffs),
         left_encoder=encoder(wheels.left_angle), right_encoder=encoder(wheels.right_angle),
         left_pwm=pwm(wheels.left_rate), right_pwm=pwm(wheels.right_rate), buttons=0,
-        charger=SensorState.DISCHARGING, battery=BATTERY_DV, bottom=[FLOOR_BOTTOM] * 3,
+        charger=SensorState.DISCHARGING, battery=BATTERY_DV, bottom=bottom,
         current=[0, 0], over_current=0, digital_input=0, analog_input=[0, 0, 0, 0])
     msg.header.stamp = msgs.stamp(t)
     return msg
@@ -108,6 +114,16 @@ def sensor_state(t: float, wheels: WheelState, bumper_bits: int) -> SensorState:
 
 def bumper_event(change: BumperChange) -> BumperEvent:
     return BumperEvent(bumper=int(change.bumper), state=int(change.state))
+
+
+def cliff_event(side: Side, on: bool) -> CliffEvent:
+    return CliffEvent(sensor=int(side), state=CliffEvent.CLIFF if on else CliffEvent.FLOOR,
+                      bottom=CLIFF_BOTTOM if on else FLOOR_BOTTOM)
+
+
+def wheel_drop_event(side: Side, on: bool) -> WheelDropEvent:
+    return WheelDropEvent(wheel=WHEELS[side],
+                          state=WheelDropEvent.DROPPED if on else WheelDropEvent.RAISED)
 
 
 def bayer_grbg(rgb: np.ndarray) -> np.ndarray:
