@@ -61,7 +61,8 @@ def world_problem(path: Path) -> str | None:
     return None
 
 
-def start_line(fault: str, seed: int, out: Path, drawn: bool, drivers: str = SIM) -> str:
+def start_line(fault: str, seed: int, out: Path, drawn: bool,
+               drivers: str = SIM.drivers.value) -> str:
     """The demo's first line: the fault, how it was chosen and how to choose another, and the
     simulator's drivers profile."""
     if drawn:
