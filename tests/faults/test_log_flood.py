@@ -15,10 +15,17 @@ import rospy
 from jason_msgs.msg import AgentMessage
 
 from kobuki_fault_injector.srv import FaultInjector
+from rason.execution.decomposer import Goal
 from rason.ros.badinput import GLOBAL_BURST, GLOBAL_RATE, MAX_LINE, BadInputLog, GlobalLimit
 from rason.testing.harness import RosHarness
 
 LONGEST_LINE = MAX_LINE + 400      # a shortened text, its marker, the node's prefix, counts
+
+
+def test_a_decomposers_log_of_a_goal_is_short_whatever_its_action_carries():
+    goal = Goal("x" * 1_000_000, 7, "move", ["1" * 1_000_000, "2"], 1.0, 0.0)
+    line = str(goal)
+    assert len(line) < 600 and "(action 7)" in line and "1000000 characters" in line
 
 
 def test_new_group_names_cannot_pass_the_process_limit():

@@ -148,8 +148,10 @@ class Goal:
         return (self.agent, self.action_id)
 
     def __str__(self) -> str:
-        return f"{self.action}({', '.join(self.parameters)}) of {self.agent} " \
-               f"(action {self.action_id})"
+        """The goal for a log line, its parameters and agent name shortened (they come from
+        the network)."""
+        return (f"{self.action}({shorten(', '.join(self.parameters))}) of {shorten(self.agent)} "
+                f"(action {self.action_id})")
 
 
 class Decomposer:
@@ -244,7 +246,8 @@ class Decomposer:
 
     def feedback(self, agent: str, action_id: int, verdict: Verdict) -> None:
         log = rospy.loginfo if verdict.ok or verdict.result == PREEMPTED else rospy.logwarn
-        log(f"{self.name}: action {action_id} of {agent} -> {verdict.result} ({verdict.message})")
+        log(f"{self.name}: action {action_id} of {shorten(agent)} -> {verdict.result} "
+            f"({shorten(verdict.message)})")
         self.publish_event(agent, ACTION_FEEDBACK,
                            [verdict.result, str(action_id), verdict.message])
 
