@@ -15,9 +15,9 @@ __path__[:0] = native_path()
 
 from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, VirtualClock, WallClock
+from .ia import ModuleLoadError, internal_action, load_modules
 from .parser import AslSyntaxError, parse_literal, parse_source, parse_term, parse_term_text
 from .runtime import LocalArch, LocalMas, run_file
-from .stdlib import ModuleLoadError, internal_action, load_modules
 from .terms import ListTerm, Literal, Var, format_number, term_str, term_text
 
 if TYPE_CHECKING:

@@ -9,12 +9,14 @@ import os
 import sys
 import threading
 from collections import deque
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
 from . import reasoning
 from .arch import AgentArch, JavaRandom, Message
 from .beliefs import BeliefBase
+from .ia import IAError, is_registered
 from .inspection import MindState, mind_state
 from .intentions import (
     ActionResult,
@@ -33,10 +35,9 @@ from .intentions import (
     java_map_order,
 )
 from .kqml import KQML_SRC, kqml_plans
-from .logic import solve
+from .logic import query_bb, solve
 from .parser import AgentSource, AslSyntaxError, parse_source, parse_term, path_include_resolver
 from .plans import ACHIEVE, ADD, BELIEF, DEL, GOAL_STATE, K_INTERNAL, PlanLibrary, Trigger, body_deeds
-from .stdlib import IA_REGISTRY, IAError
 from .terms import (
     FALSE,
     SOURCE_PERCEPT,
@@ -192,7 +193,7 @@ class Agent:
     def _warn_unknown_actions(self, parsed: AgentSource) -> None:
         for p in parsed.plans:
             for d in body_deeds(p.body):
-                if d.kind == K_INTERNAL and d.term.functor not in IA_REGISTRY:
+                if d.kind == K_INTERNAL and not is_registered(d.term.functor):
                     # as Jason's parser: a warning at load; running it fails with action_failed
                     self.log(f"{self.filename}:{d.line}: warning: unknown internal action "
                              f"{d.term.functor}/{len(d.term.args)}")
@@ -423,6 +424,15 @@ class Agent:
                 if p.intention is i:
                     return f"action {aid}"
         return i.suspended.value if i.suspended is not None else ""
+
+    def solve(self, f: Any, s: dict, intention: Intention | None = None) -> Iterator[dict]:
+        """Every substitution extending ``s`` under which ``f`` follows from this agent's state
+        (Jason's logical consequence)."""
+        return solve(self, f, s, intention)
+
+    def query_beliefs(self, lit: Literal, s: dict) -> Iterator[dict]:
+        """Every substitution extending ``s`` under which ``lit`` matches a belief or a rule."""
+        return query_bb(self, lit, s)
 
     def count_solutions(self, query: Any) -> int:
         """``.count(Q)``: how many solutions Q has in the current mental state."""

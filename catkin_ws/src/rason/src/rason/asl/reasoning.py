@@ -9,8 +9,9 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from .ia import SUSPEND, FailGoal, IAContext, IAError, call_ia
 from .intentions import Event, IntendedMeans, Intention, Suspension
-from .logic import IAContext, call_ia, compile_context, eval_rel, first_solution, query_bb, solve
+from .logic import compile_context, eval_rel, first_solution, query_bb, solve
 from .plans import (
     ACHIEVE,
     ADD,
@@ -36,7 +37,6 @@ from .plans import (
     Plan,
     Trigger,
 )
-from .stdlib import SUSPEND, FailGoal, IAError
 from .terms import ListTerm, Literal, NsLit, PlanTerm, RelExpr, Rule, is_ground, is_internal_action, term_str
 from .unify import ArithError, rename_vars, resolve, unify
 
