@@ -9,7 +9,7 @@ import os
 import sys
 import threading
 from collections import deque
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -38,6 +38,7 @@ from .kqml import KQML_SRC, kqml_plans
 from .logic import query_bb, solve
 from .parser import AgentSource, AslSyntaxError, parse_source, parse_term, path_include_resolver
 from .plans import ACHIEVE, ADD, BELIEF, DEL, GOAL_STATE, K_INTERNAL, PlanLibrary, Trigger, body_deeds
+from .selection import Selection
 from .terms import (
     FALSE,
     SOURCE_PERCEPT,
@@ -106,8 +107,19 @@ class Agent:
 
     def __init__(self, name: str, source: str, arch: AgentArch, filename: str = "<string>",
                  seed: int | None = None, src_name: str | None = None,
-                 options: AgentOptions | None = None, source_path: list[str] | None = None) -> None:
+                 options: AgentOptions | None = None, source_path: list[str] | None = None,
+                 selection: Selection | None = None,
+                 belief_update: Callable[[Agent, list], bool] | None = None,
+                 accept_message: Callable[[Agent, Message], bool] | None = None) -> None:
         self.name = name
+        #: the event, option and intention selection functions (see :mod:`.selection`)
+        self.selection = selection if selection is not None else Selection()
+        #: Jason's ``buf``: ``fn(agent, percepts) -> changed`` instead of :meth:`update_percepts`
+        #: (which it may call with the percepts it keeps)
+        self.belief_update = belief_update
+        #: Jason's ``socAcc``: ``fn(agent, message) -> bool``; a message it refuses is dropped
+        #: (answers to this agent's asks are always taken, as in Jason)
+        self.accept_message = accept_message
         self.options = options if options is not None else AgentOptions()
         #: folders where included files (and agents created by this one) are looked for
         self.source_path = list(source_path or [])
@@ -474,7 +486,12 @@ class Agent:
     def sense(self) -> bool:
         """Perceive (belief update from the percepts), take mail and feedback, fire timers."""
         percepts = self.arch.perceive()
-        did = percepts is not None and self.update_percepts(percepts)
+        if percepts is None:
+            did = False
+        elif self.belief_update is None:
+            did = self.update_percepts(percepts)
+        else:
+            did = bool(self.belief_update(self, percepts))
         if self._inbox or self._mail:
             # all action feedback and wake-ups, but (like Jason) one message per cycle
             with self._inbox_lock:
@@ -1112,6 +1129,8 @@ class Agent:
             return
         if m.in_reply_to is not None and m.in_reply_to.startswith("samid"):
             return  # an answer after the ask's timeout is ignored
+        if self.accept_message is not None and not self.accept_message(self, m):
+            return  # Jason's socAcc refused it
         perf = m.performative
         if (perf in ("tell", "achieve", "signal") and type(content) is Literal
                 and not self._user_kqml_plans()):
