@@ -17,7 +17,7 @@ from . import reasoning
 from .arch import AgentArch, JavaRandom, Message
 from .beliefs import BeliefBase
 from .ia import IAError, is_registered
-from .inspection import MindState, mind_state
+from .inspection import MindState, mind_state, mind_text
 from .intentions import (
     ActionResult,
     AskWait,
@@ -134,10 +134,9 @@ class Agent:
         parsed = parse_source(source, filename, src="file:" + src_name,
                               include=path_include_resolver(self.source_path))
         self.bb = BeliefBase()
-        #: the mind inspector's views of the beliefs of the last snapshot (a belief is an
-        #: immutable literal: equal beliefs, equal views), so a snapshot only formats the beliefs
-        #: new since the last one; only the last snapshot's are kept (see inspection.mind_state)
-        self.belief_views: dict[Literal, Any] = {}
+        #: what a mind inspector keeps between snapshots (an inspection.MindViews, made by
+        #: the first snapshot; None for an agent never inspected)
+        self.inspector_views: Any = None
         #: ``.namespace_set_prop``'s properties: namespace -> key -> (key term, value term)
         self.namespace_props: dict[str, dict[str, tuple]] = {}
         self.pl = PlanLibrary()
@@ -415,27 +414,9 @@ class Agent:
         return self.timers[0].deadline if self.timers else None
 
     def mind(self) -> dict[str, list[str]]:
-        """Snapshot of the mental state as Jason text."""
+        """Snapshot of the mental state as Jason text (see :func:`inspection.mind_text`)."""
         with self._state_lock:
-            beliefs = [term_str(b) if isinstance(b, Literal) else str(b) for b in self.bb]
-            desires = [str(ev.trigger) for ev in self.events if ev.trigger.is_goal]
-            intentions = []
-            for i in self.all_intentions():
-                tops = " / ".join(str(im.trigger) for im in reversed(i.ims))
-                state = f" (suspended: {self.suspension_text(i)})" if i.suspended else ""
-                intentions.append(f"intention {i.id}: {tops}{state}")
-                desires.extend(str(im.trigger) for im in i.ims if im.trigger.is_goal and im.trigger.op == ADD)
-            pending = [f"{aid}: {term_str(p.action)}" for aid, p in self.pending_actions.items()]
-            return {"beliefs": beliefs, "desires": desires, "intentions": intentions,
-                    "pending_actions": pending}
-
-    def suspension_text(self, i: Intention) -> str:
-        """What ``i`` waits for, as the mind shows it (``action 3``, ``wait``...)."""
-        if i.suspended is Suspension.ACTION:
-            for aid, p in self.pending_actions.items():
-                if p.intention is i:
-                    return f"action {aid}"
-        return i.suspended.value if i.suspended is not None else ""
+            return mind_text(self)
 
     def solve(self, f: Any, s: dict, intention: Intention | None = None) -> Iterator[dict]:
         """Every substitution extending ``s`` under which ``f`` follows from this agent's state
