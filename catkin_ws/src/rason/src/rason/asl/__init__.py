@@ -15,9 +15,10 @@ __path__[:0] = native_path()
 
 from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, VirtualClock, WallClock
+from .ia import ModuleLoadError, internal_action, load_modules
 from .parser import AslSyntaxError, parse_literal, parse_source, parse_term, parse_term_text
 from .runtime import LocalArch, LocalMas, run_file
-from .stdlib import ModuleLoadError, internal_action, load_modules
+from .selection import Option, Selection
 from .terms import ListTerm, Literal, Var, format_number, term_str, term_text
 
 if TYPE_CHECKING:
@@ -36,7 +37,8 @@ def __getattr__(name: str) -> object:
 
 __all__ = [
     "Agent", "AgentArch", "AgentOptions", "AslSyntaxError", "Clock", "ListTerm", "Literal",
-    "LocalArch", "LocalMas", "MasProject", "Message", "ModuleLoadError", "UnknownReceiver", "Var",
+    "LocalArch", "LocalMas", "MasProject", "Message", "ModuleLoadError", "Option", "Selection",
+    "UnknownReceiver", "Var",
     "VirtualClock", "WallClock", "format_number", "internal_action", "load_agent_source",
     "load_mas2j", "load_modules", "parse_literal", "parse_mas2j", "parse_source", "parse_term",
     "parse_term_text", "run_file", "term_str", "term_text",

@@ -9,13 +9,15 @@ import os
 import sys
 import threading
 from collections import deque
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
 from . import reasoning
 from .arch import AgentArch, JavaRandom, Message
 from .beliefs import BeliefBase
-from .inspection import MindState, mind_state
+from .ia import IAError, is_registered
+from .inspection import MindState, mind_state, mind_text
 from .intentions import (
     ActionResult,
     AskWait,
@@ -33,10 +35,10 @@ from .intentions import (
     java_map_order,
 )
 from .kqml import KQML_SRC, kqml_plans
-from .logic import solve
+from .logic import query_bb, solve
 from .parser import AgentSource, AslSyntaxError, parse_source, parse_term, path_include_resolver
 from .plans import ACHIEVE, ADD, BELIEF, DEL, GOAL_STATE, K_INTERNAL, PlanLibrary, Trigger, body_deeds
-from .stdlib import IA_REGISTRY, IAError
+from .selection import Selection
 from .terms import (
     FALSE,
     SOURCE_PERCEPT,
@@ -105,8 +107,19 @@ class Agent:
 
     def __init__(self, name: str, source: str, arch: AgentArch, filename: str = "<string>",
                  seed: int | None = None, src_name: str | None = None,
-                 options: AgentOptions | None = None, source_path: list[str] | None = None) -> None:
+                 options: AgentOptions | None = None, source_path: list[str] | None = None,
+                 selection: Selection | None = None,
+                 belief_update: Callable[[Agent, list], bool] | None = None,
+                 accept_message: Callable[[Agent, Message], bool] | None = None) -> None:
         self.name = name
+        #: the event, option and intention selection functions (see :mod:`.selection`)
+        self.selection = selection if selection is not None else Selection()
+        #: Jason's ``buf``: ``fn(agent, percepts) -> changed`` instead of :meth:`update_percepts`
+        #: (which it may call with the percepts it keeps)
+        self.belief_update = belief_update
+        #: Jason's ``socAcc``: ``fn(agent, message) -> bool``; a message it refuses is dropped
+        #: (answers to this agent's asks are always taken, as in Jason)
+        self.accept_message = accept_message
         self.options = options if options is not None else AgentOptions()
         #: folders where included files (and agents created by this one) are looked for
         self.source_path = list(source_path or [])
@@ -121,10 +134,9 @@ class Agent:
         parsed = parse_source(source, filename, src="file:" + src_name,
                               include=path_include_resolver(self.source_path))
         self.bb = BeliefBase()
-        #: the mind inspector's views of the beliefs of the last snapshot (a belief is an
-        #: immutable literal: equal beliefs, equal views), so a snapshot only formats the beliefs
-        #: new since the last one; only the last snapshot's are kept (see inspection.mind_state)
-        self.belief_views: dict[Literal, Any] = {}
+        #: what a mind inspector keeps between snapshots (an inspection.MindViews, made by
+        #: the first snapshot; None for an agent never inspected)
+        self.inspector_views: Any = None
         #: ``.namespace_set_prop``'s properties: namespace -> key -> (key term, value term)
         self.namespace_props: dict[str, dict[str, tuple]] = {}
         self.pl = PlanLibrary()
@@ -192,7 +204,7 @@ class Agent:
     def _warn_unknown_actions(self, parsed: AgentSource) -> None:
         for p in parsed.plans:
             for d in body_deeds(p.body):
-                if d.kind == K_INTERNAL and d.term.functor not in IA_REGISTRY:
+                if d.kind == K_INTERNAL and not is_registered(d.term.functor):
                     # as Jason's parser: a warning at load; running it fails with action_failed
                     self.log(f"{self.filename}:{d.line}: warning: unknown internal action "
                              f"{d.term.functor}/{len(d.term.args)}")
@@ -402,27 +414,18 @@ class Agent:
         return self.timers[0].deadline if self.timers else None
 
     def mind(self) -> dict[str, list[str]]:
-        """Snapshot of the mental state as Jason text."""
+        """Snapshot of the mental state as Jason text (see :func:`inspection.mind_text`)."""
         with self._state_lock:
-            beliefs = [term_str(b) if isinstance(b, Literal) else str(b) for b in self.bb]
-            desires = [str(ev.trigger) for ev in self.events if ev.trigger.is_goal]
-            intentions = []
-            for i in self.all_intentions():
-                tops = " / ".join(str(im.trigger) for im in reversed(i.ims))
-                state = f" (suspended: {self.suspension_text(i)})" if i.suspended else ""
-                intentions.append(f"intention {i.id}: {tops}{state}")
-                desires.extend(str(im.trigger) for im in i.ims if im.trigger.is_goal and im.trigger.op == ADD)
-            pending = [f"{aid}: {term_str(p.action)}" for aid, p in self.pending_actions.items()]
-            return {"beliefs": beliefs, "desires": desires, "intentions": intentions,
-                    "pending_actions": pending}
+            return mind_text(self)
 
-    def suspension_text(self, i: Intention) -> str:
-        """What ``i`` waits for, as the mind shows it (``action 3``, ``wait``...)."""
-        if i.suspended is Suspension.ACTION:
-            for aid, p in self.pending_actions.items():
-                if p.intention is i:
-                    return f"action {aid}"
-        return i.suspended.value if i.suspended is not None else ""
+    def solve(self, f: Any, s: dict, intention: Intention | None = None) -> Iterator[dict]:
+        """Every substitution extending ``s`` under which ``f`` follows from this agent's state
+        (Jason's logical consequence)."""
+        return solve(self, f, s, intention)
+
+    def query_beliefs(self, lit: Literal, s: dict) -> Iterator[dict]:
+        """Every substitution extending ``s`` under which ``lit`` matches a belief or a rule."""
+        return query_bb(self, lit, s)
 
     def count_solutions(self, query: Any) -> int:
         """``.count(Q)``: how many solutions Q has in the current mental state."""
@@ -464,7 +467,12 @@ class Agent:
     def sense(self) -> bool:
         """Perceive (belief update from the percepts), take mail and feedback, fire timers."""
         percepts = self.arch.perceive()
-        did = percepts is not None and self.update_percepts(percepts)
+        if percepts is None:
+            did = False
+        elif self.belief_update is None:
+            did = self.update_percepts(percepts)
+        else:
+            did = bool(self.belief_update(self, percepts))
         if self._inbox or self._mail:
             # all action feedback and wake-ups, but (like Jason) one message per cycle
             with self._inbox_lock:
@@ -1102,6 +1110,8 @@ class Agent:
             return
         if m.in_reply_to is not None and m.in_reply_to.startswith("samid"):
             return  # an answer after the ask's timeout is ignored
+        if self.accept_message is not None and not self.accept_message(self, m):
+            return  # Jason's socAcc refused it
         perf = m.performative
         if (perf in ("tell", "achieve", "signal") and type(content) is Literal
                 and not self._user_kqml_plans()):

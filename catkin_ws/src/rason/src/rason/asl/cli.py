@@ -9,9 +9,9 @@ import sys
 
 from . import native
 from .agent import AgentOptions
+from .ia import ModuleLoadError, load_modules
 from .parser import AslSyntaxError
 from .runtime import run_file
-from .stdlib import ModuleLoadError, load_modules
 
 
 def main(argv: list[str] | None = None) -> int:

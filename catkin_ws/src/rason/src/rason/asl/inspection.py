@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import TYPE_CHECKING
 
-from .intentions import Event, IntendedMeans
+from .intentions import Event, IntendedMeans, Intention, Suspension
 from .plans import ADD, K_LOOP, Deed, body_deeds, deed_str
 from .terms import Literal, Rule, term_str
 
@@ -86,10 +86,47 @@ class MindState:
     intentions: list[IntentionView] = field(default_factory=list)
 
 
+class MindViews:
+    """What the inspector keeps of one agent between snapshots: the views of the beliefs of
+    the last one (a belief is an immutable literal: equal beliefs, equal views), so a snapshot
+    only formats the beliefs new since the last one; only the last snapshot's are kept."""
+
+    def __init__(self) -> None:
+        self.beliefs: dict[Literal, BeliefView] = {}
+
+
+def suspension_text(agent: Agent, i: Intention) -> str:
+    """What ``i`` waits for, as the mind shows it (``action 3``, ``wait``...)."""
+    if i.suspended is Suspension.ACTION:
+        for aid, p in agent.pending_actions.items():
+            if p.intention is i:
+                return f"action {aid}"
+    return i.suspended.value if i.suspended is not None else ""
+
+
+def mind_text(agent: Agent) -> dict[str, list[str]]:
+    """The mental state as Jason text: beliefs, desires, intentions, pending actions (call
+    with the agent's state lock held: see Agent.mind)."""
+    beliefs = [term_str(b) if isinstance(b, Literal) else str(b) for b in agent.bb]
+    desires = [str(ev.trigger) for ev in agent.events if ev.trigger.is_goal]
+    intentions = []
+    for i in agent.all_intentions():
+        tops = " / ".join(str(im.trigger) for im in reversed(i.ims))
+        state = f" (suspended: {suspension_text(agent, i)})" if i.suspended else ""
+        intentions.append(f"intention {i.id}: {tops}{state}")
+        desires.extend(str(im.trigger) for im in i.ims if im.trigger.is_goal and im.trigger.op == ADD)
+    pending = [f"{aid}: {term_str(p.action)}" for aid, p in agent.pending_actions.items()]
+    return {"beliefs": beliefs, "desires": desires, "intentions": intentions,
+            "pending_actions": pending}
+
+
 def mind_state(agent: Agent) -> MindState:
     """Read `agent`'s mind (call with the agent's state lock held: see Agent.mind_state)."""
     state = MindState()
-    previous = agent.belief_views
+    kept = agent.inspector_views
+    if not isinstance(kept, MindViews):
+        kept = agent.inspector_views = MindViews()
+    previous = kept.beliefs
     views: dict[Literal, BeliefView] = {}
     for b in agent.bb:
         if isinstance(b, Rule):
@@ -98,7 +135,7 @@ def mind_state(agent: Agent) -> MindState:
             view = views.get(b) or previous.get(b) or _new_belief_view(b)
             views[b] = view
             state.beliefs.append(view)
-    agent.belief_views = views
+    kept.beliefs = views
     held = [ev for _, ev in agent.pending_events]
     for ev in [*agent.events, *held]:
         state.events.append(_event(ev))
@@ -106,7 +143,7 @@ def mind_state(agent: Agent) -> MindState:
             state.desires.append(str(ev.trigger))
     for i in agent.all_intentions():
         state.intentions.append(IntentionView(
-            id=i.id, suspended=agent.suspension_text(i) or None,
+            id=i.id, suspended=suspension_text(agent, i) or None,
             means=[_means(im) for im in reversed(i.ims)]))
         state.desires.extend(str(im.trigger) for im in i.ims
                              if im.trigger.is_goal and im.trigger.op == ADD)

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
 from .functions import FunctionHost
-from .stdlib import IA_REGISTRY, IAError
+from .ia import IAContext, call_ia
 from .terms import (
     LOCAL_NS_PREFIX,
     AnnotVar,
@@ -40,57 +40,7 @@ from .unify import (
 
 if TYPE_CHECKING:  # pragma: no cover
     from .agent import Agent
-    from .intentions import IntendedMeans, Intention
-
-
-class IAContext:
-    """What an internal action sees: agent, current substitution and (in a body) intention."""
-
-    __slots__ = ("ag", "deed", "im", "intention", "s")
-
-    def __init__(self, ag: Agent, s: dict, intention: Intention | None = None,
-                 im: IntendedMeans | None = None, deed: Any = None) -> None:
-        self.ag = ag
-        self.s = s
-        self.intention = intention
-        self.im = im
-        self.deed = deed
-
-    def unify(self, a: Any, b: Any) -> bool:
-        """Unify in the context's substitution (undone on failure)."""
-        s2 = dict(self.s)
-        if unify(a, b, s2, self.ag):
-            self.s = s2
-            return True
-        return False
-
-    def solve(self, f: Any, s: dict | None = None) -> Iterator[dict]:
-        """Every substitution under which the formula ``f`` follows from the agent's state."""
-        return solve(self.ag, f, self.s if s is None else s, self.intention)
-
-    def query_beliefs(self, lit: Literal) -> Iterator[dict]:
-        """Every substitution under which ``lit`` matches a belief (facts and rules), without
-        the rest of :meth:`solve` (no internal actions, no arithmetic)."""
-        return query_bb(self.ag, lit, self.s)
-
-
-def call_ia(ctx: Any, lit: Literal) -> Any:
-    """Run the internal action ``lit`` (arguments resolved with the context's substitution).
-
-    An unknown ``.name`` is, in Jason, only a parser warning: the literal stays a plain one and
-    runs as an environment action, which fails with ``error(action_failed)``.
-    """
-    fn = IA_REGISTRY.get(lit.functor)
-    if fn is None:
-        raise IAError(f"unknown internal action {lit.functor}", "action_failed")
-    s = ctx.s
-    args = [resolve(a, s, ctx.ag) for a in lit.args]
-    try:
-        return fn(ctx, args)
-    except IAError as e:
-        if "{ia}" in e.message:   # Jason names the action by its class name (``sort``)
-            e.message = e.message.replace("{ia}", lit.functor.rsplit(".", 1)[-1])
-        raise
+    from .intentions import Intention
 
 
 def solve(ag: Agent, f: Any, s: dict, intention: Intention | None = None) -> Iterator[dict]:

@@ -9,8 +9,9 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from .ia import SUSPEND, FailGoal, IAContext, IAError, call_ia
 from .intentions import Event, IntendedMeans, Intention, Suspension
-from .logic import IAContext, call_ia, compile_context, eval_rel, first_solution, query_bb, solve
+from .logic import compile_context, eval_rel, first_solution, query_bb, solve
 from .plans import (
     ACHIEVE,
     ADD,
@@ -36,7 +37,7 @@ from .plans import (
     Plan,
     Trigger,
 )
-from .stdlib import SUSPEND, FailGoal, IAError
+from .selection import Option
 from .terms import ListTerm, Literal, NsLit, PlanTerm, RelExpr, Rule, is_ground, is_internal_action, term_str
 from .unify import ArithError, rename_vars, resolve, unify
 
@@ -123,8 +124,9 @@ def deliberate(ag: Agent) -> bool:
     if ag.goal_state_events:
         ag.post_goal_states()
     while ag.events:
-        # SelEv: the first event, unless an atomic intention may have a say
-        ev = sel_ev(ag) if ag.atomic_used else ag.events.popleft()
+        # SelEv: the first event, unless an atomic intention or the agent's own selection
+        # function may have a say
+        ev = sel_ev(ag) if ag.atomic_used or ag.selection.event is not None else ag.events.popleft()
         if ev is None:
             break
         ag.selected_event = ev
@@ -137,7 +139,8 @@ def deliberate(ag: Agent) -> bool:
 def sel_ev(ag: Agent) -> Event | None:
     """SelEv: the first event (FIFO), with Jason's rules for atomic intentions: no event is
     selected while an atomic intention runs, and an event of an atomic intention (its subgoal)
-    goes before every other event (``TransitionSystem.applySelEv``)."""
+    goes before every other event (``TransitionSystem.applySelEv``); then the agent's own
+    ``selection.event`` function, when it has one."""
     if ag.atomic_used:
         if ag.atomic_running():
             return None
@@ -145,7 +148,29 @@ def sel_ev(ag: Agent) -> Event | None:
             if ev.intention is not None and ev.intention.is_atomic:
                 del ag.events[k]
                 return ev
-    return ag.events.popleft()
+    choose = ag.selection.event
+    if choose is None:
+        return ag.events.popleft()
+    chosen = choose(ag, list(ag.events))
+    if chosen is None:
+        return None
+    _take(ag.events, chosen, "event")
+    return chosen
+
+
+def _take(queue: Any, chosen: Any, what: str) -> None:
+    """Remove ``chosen`` (the very object) from ``queue``; a selection function must return
+    one of the members it was given."""
+    for k, x in enumerate(queue):
+        if x is chosen:
+            del queue[k]
+            return
+    raise _not_a_candidate(what, chosen)
+
+
+def _not_a_candidate(what: str, chosen: Any) -> ValueError:
+    return ValueError(f"the {what} selection function returned {chosen!r}, which is not one of "
+                      "the candidates it was given")
 
 
 def rel_pl(ag: Agent, ev: Event) -> list[Plan]:
@@ -157,31 +182,59 @@ def sel_appl(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | N
     """ApplPl + SelAppl: the first applicable plan in source order and its unifier.
 
     Plans are checked one by one and the search stops at the first applicable one (Jason's
-    default ``selectOption``), so later contexts are never evaluated.
+    default ``selectOption``), so later contexts are never evaluated. An agent with its own
+    ``selection.option`` function gets every applicable plan (ApplPl) and picks one.
     """
+    if ag.selection.option is not None:
+        return _sel_option(ag, lit, relevant)
     for plan in relevant:
-        u: dict = {}
-        args = plan.trigger_args
-        if args is not None and type(lit) is Literal:
-            # same key as the event (RelPl): only the arguments remain to unify
-            if args and not _unify_args(args, lit.args, u, ag):
-                continue
-        elif not unify(plan.trigger.literal, lit, u, ag):
-            continue
-        ctx = plan.context
-        if ctx is None:
-            return plan, u
-        compiled = plan.compiled_context
-        if compiled is None and not plan.context_checked:
-            compiled = plan.compiled_context = compile_context(ctx)
-            plan.context_checked = True
-        try:
-            sol = compiled.solve(ag, u) if compiled is not None else first_solution(ag, ctx, u)
-        except (ArithError, RecursionError):
-            continue
+        sol = _applicable(ag, lit, plan)
         if sol is not None:
             return plan, sol
     return None
+
+
+def _applicable(ag: Agent, lit: Any, plan: Plan) -> dict | None:
+    """ApplPl for one relevant plan: the unifier under which its trigger matches ``lit`` and
+    its context holds, or None."""
+    u: dict = {}
+    args = plan.trigger_args
+    if args is not None and type(lit) is Literal:
+        # same key as the event (RelPl): only the arguments remain to unify
+        if args and not _unify_args(args, lit.args, u, ag):
+            return None
+    elif not unify(plan.trigger.literal, lit, u, ag):
+        return None
+    ctx = plan.context
+    if ctx is None:
+        return u
+    compiled = plan.compiled_context
+    if compiled is None and not plan.context_checked:
+        compiled = plan.compiled_context = compile_context(ctx)
+        plan.context_checked = True
+    try:
+        return compiled.solve(ag, u) if compiled is not None else first_solution(ag, ctx, u)
+    except (ArithError, RecursionError):
+        return None
+
+
+def _sel_option(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | None:
+    """ApplPl for every relevant plan, then the agent's ``selection.option`` function."""
+    choose = ag.selection.option
+    assert choose is not None
+    options = []
+    for plan in relevant:
+        sol = _applicable(ag, lit, plan)
+        if sol is not None:
+            options.append(Option(plan, sol))
+    if not options:
+        return None
+    chosen = choose(ag, options)
+    if chosen is None:
+        return None
+    if not any(o is chosen for o in options):
+        raise _not_a_candidate("option", chosen)
+    return chosen.plan, chosen.unifier
 
 
 def handle_event(ag: Agent, ev: Event) -> bool:
@@ -354,8 +407,9 @@ def act(ag: Agent) -> bool:
     running = ag.running
     if not running:
         return did
-    # SelInt: round robin (the first one) unless an atomic intention may have a say
-    i = sel_int(ag) if ag.atomic_used else running.popleft()
+    # SelInt: round robin (the first one) unless an atomic intention or the agent's own
+    # selection function may have a say
+    i = sel_int(ag) if ag.atomic_used or ag.selection.intention is not None else running.popleft()
     if i is None:
         return did
     exec_int(ag, i)
@@ -363,7 +417,8 @@ def act(ag: Agent) -> bool:
 
 
 def sel_int(ag: Agent) -> Intention | None:
-    """SelInt: round robin; an atomic intention is always selected first."""
+    """SelInt: round robin; an atomic intention is always selected first; then the agent's own
+    ``selection.intention`` function, when it has one."""
     running = ag.running
     if not running:
         return None
@@ -373,7 +428,14 @@ def sel_int(ag: Agent) -> Intention | None:
                 running.remove(i)
                 return i
         return None   # the atomic intention waits: nothing else runs meanwhile (as in Jason)
-    return running.popleft()
+    choose = ag.selection.intention
+    if choose is None:
+        return running.popleft()
+    chosen = choose(ag, list(running))
+    if chosen is None:
+        return None
+    _take(running, chosen, "intention")
+    return chosen
 
 
 def exec_int(ag: Agent, i: Intention) -> None:

@@ -6,6 +6,7 @@ import itertools
 from typing import Any
 
 from ..arch import Message, new_msg_id
+from ..ia import SUSPEND, IAContext, IAError, internal_action
 from ..intentions import Event
 from ..plans import ADD, BELIEF, Trigger
 from ..terms import (
@@ -22,7 +23,6 @@ from ..terms import (
     with_nested_source,
 )
 from ..unify import eval_arith, resolve, unify
-from . import SUSPEND, IAError, arg_count, internal_action
 
 PERFORMATIVES = {"tell", "untell", "achieve", "unachieve", "askOne", "askAll", "tellHow",
                  "untellHow", "askHow", "signal"}
@@ -46,12 +46,11 @@ def _perf(t: Any) -> str:
 _sync_ids = itertools.count(1)
 
 
-@internal_action(".send")
-def send(ctx: Any, args: list) -> Any:
+@internal_action(".send", arity=(3, 5))
+def send(ctx: IAContext, args: list) -> Any:
     """``.send(Receiver(s), Performative, Content[, Answer|MsgId[, Timeout]])`` (jason.stdlib.send):
     an ask with an answer argument suspends the intention until the answer (one message id for
     every receiver); a tell/untell/unknown performative with a fourth argument is a reply."""
-    arg_count(args, 3, 4, 5)
     ag = ctx.ag
     to = args[0]
     if not isinstance(to, (Literal, ListTerm, str)) or (isinstance(to, Literal) and to.args):
@@ -91,15 +90,14 @@ def _strip(t: Any) -> Any:
     return t
 
 
-@internal_action(".add_nested_source")
-def add_nested_source(ctx: Any, args: list) -> bool:
+@internal_action(".add_nested_source", arity=3)
+def add_nested_source(ctx: IAContext, args: list) -> bool:
     """``.add_nested_source(Content, Source, Result)``: adds ``source(Source)``."""
-    arg_count(args, 3)
     return ctx.unify(args[2], with_nested_source(args[0], args[1]))
 
 
-@internal_action(".kqml_belief_answer")
-def kqml_belief_answer(ctx: Any, args: list) -> Any:
+@internal_action(".kqml_belief_answer", arity=3)
+def kqml_belief_answer(ctx: IAContext, args: list) -> Any:
     """``.kqml_belief_answer(NS, Content, Ans)``: rason's form of Jason 3.3's
     ``kqml::bel_no_source_self`` rule (askOne/askAll answers). Content and Ans are literals
     without namespace; NS is their namespace (free: each namespace of the belief base, in
@@ -107,7 +105,6 @@ def kqml_belief_answer(ctx: Any, args: list) -> Any:
     without namespace and with every annotation but ``source(self)`` when Content names none;
     when it names some, with none (the rule's ``NS::Content[|LA]`` leaves ``LA`` free then,
     and ``clear_source_self`` makes it ``[]``: checked with Jason 3.3.2)."""
-    arg_count(args, 3)
     ns_arg, content = args[0], args[1]
     if not isinstance(content, Literal):
         return False
@@ -135,16 +132,14 @@ def kqml_belief_answer(ctx: Any, args: list) -> Any:
     return gen()
 
 
-@internal_action(".remove_source_annot")
-def remove_source_annot(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".remove_source_annot", arity=2)
+def remove_source_annot(ctx: IAContext, args: list) -> bool:
     return ctx.unify(args[1], _strip(args[0]))
 
 
-@internal_action(".clear_source_self")
-def clear_source_self(ctx: Any, args: list) -> bool:
+@internal_action(".clear_source_self", arity=2)
+def clear_source_self(ctx: IAContext, args: list) -> bool:
     """Remove ``source(self)`` from each literal of a list (askAll answers)."""
-    arg_count(args, 2)
     items = list_to_python(args[0]) or []
     out = []
     self_src = Literal("source", (Literal("self"),))
@@ -155,17 +150,15 @@ def clear_source_self(ctx: Any, args: list) -> bool:
     return ctx.unify(args[1], ListTerm(tuple(out)))
 
 
-@internal_action(".signal")
-def signal(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".signal", arity=1)
+def signal(ctx: IAContext, args: list) -> bool:
     if isinstance(args[0], Literal):
         ctx.ag.add_event(Event(Trigger(ADD, BELIEF, args[0])))
     return True
 
 
-@internal_action(".broadcast")
-def broadcast(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".broadcast", arity=2)
+def broadcast(ctx: IAContext, args: list) -> bool:
     ag = ctx.ag
     msg = Message(ag.name, "", _perf(args[0]), args[1])
     ag.arch.broadcast(ag, msg)

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..ia import IAContext, IAError, internal_action, wrong_arg
 from ..parser import AslSyntaxError, include_namespace, parse_include, path_include_resolver
 from ..plans import K_ACHIEVE, K_ACHIEVE_NEW, K_FOR, K_IF, K_WHILE, Deed
 from ..terms import AnnotVar, Literal, LogExpr, PlanTerm, RelExpr, Var, is_internal_action, term_str
 from ..unify import resolve, unify
-from . import IAError, arg_count, internal_action, wrong_arg
 
 #: what a condition may be (Jason: a ``LogicalFormula``)
 _FORMULAS = (Literal, LogExpr, RelExpr, Var, AnnotVar)
@@ -23,7 +23,7 @@ def _body(t: Any, which: str) -> tuple:
     return t.body
 
 
-def _insert_next(ctx: Any, deed: Deed) -> bool:
+def _insert_next(ctx: IAContext, deed: Deed) -> bool:
     """Run ``deed`` as the next step of the current intention."""
     if ctx.im is None:
         raise IAError(f"'{term_str(deed.term)}' runs only in a plan body")
@@ -31,14 +31,13 @@ def _insert_next(ctx: Any, deed: Deed) -> bool:
     return True
 
 
-def _line(ctx: Any) -> int:
+def _line(ctx: IAContext) -> int:
     return ctx.deed.line if ctx.deed is not None else 0
 
 
-@internal_action(".if_then_else")
-def if_then_else(ctx: Any, args: list) -> bool:
+@internal_action(".if_then_else", arity=(2, 3))
+def if_then_else(ctx: IAContext, args: list) -> bool:
     """``.if_then_else(Cond, {Then}[, {Else}])``: the ``if`` statement as an action."""
-    arg_count(args, 2, 3)
     if not isinstance(args[0], _FORMULAS):
         raise wrong_arg("first argument (test) must be a logical formula.")
     then = _body(args[1], "second")
@@ -46,37 +45,33 @@ def if_then_else(ctx: Any, args: list) -> bool:
     return _insert_next(ctx, Deed(K_IF, args[0], _line(ctx), ([(args[0], then)], els)))
 
 
-@internal_action(".foreach")
-def foreach(ctx: Any, args: list) -> bool:
+@internal_action(".foreach", arity=2)
+def foreach(ctx: IAContext, args: list) -> bool:
     """``.foreach(Cond, {Body})``: the ``for`` statement as an action (the body once per
     solution of Cond, taken lazily; bindings as before the loop afterwards)."""
-    arg_count(args, 2)
     if not isinstance(args[0], _FORMULAS):
         raise wrong_arg("first argument must be a logical formula.")
     return _insert_next(ctx, Deed(K_FOR, args[0], _line(ctx), _body(args[1], "second")))
 
 
-@internal_action(".loop")
-def loop(ctx: Any, args: list) -> bool:
+@internal_action(".loop", arity=2)
+def loop(ctx: IAContext, args: list) -> bool:
     """``.loop(Cond, {Body})``: the ``while`` statement as an action."""
-    arg_count(args, 2)
     if not isinstance(args[0], _FORMULAS):
         raise wrong_arg("first argument (test) must be a logical formula.")
     return _insert_next(ctx, Deed(K_WHILE, args[0], _line(ctx), _body(args[1], "second")))
 
 
-@internal_action(".internal_action")
-def internal_action_(ctx: Any, args: list) -> bool:
+@internal_action(".internal_action", arity=1)
+def internal_action_(ctx: IAContext, args: list) -> bool:
     """``.internal_action(T)``: T is an internal action (``.print``, ``my.act(1)``)."""
-    arg_count(args, 1)
     return isinstance(args[0], Literal) and is_internal_action(args[0].functor)
 
 
-@internal_action(".include")
-def include(ctx: Any, args: list) -> bool:
+@internal_action(".include", arity=(1, 2))
+def include(ctx: IAContext, args: list) -> bool:
     """``.include("f.asl"[, NS])``: add the file's plans, beliefs and goals to this agent, as
     the ``include`` directive does (NS free: a new namespace, bound to it)."""
-    arg_count(args, 1, 2)
     if not isinstance(args[0], str):
         raise wrong_arg("first argument must be a string.")
     if len(args) > 1 and not (isinstance(args[1], (Var, AnnotVar))
@@ -94,11 +89,10 @@ def include(ctx: Any, args: list) -> bool:
     return ns is None or ctx.unify(args[1], Literal(ns))
 
 
-@internal_action(".drop_future_intention")
-def drop_future_intention(ctx: Any, args: list) -> bool:
+@internal_action(".drop_future_intention", arity=1)
+def drop_future_intention(ctx: IAContext, args: list) -> bool:
     """``.drop_future_intention(G)``: drop each intention whose current plan has ``!G`` (or
     ``!!G``) still to do; no event is posted."""
-    arg_count(args, 1)
     if not isinstance(args[0], Literal):
         raise wrong_arg(f"first argument '{term_str(args[0])}' must be a literal")
     ag = ctx.ag

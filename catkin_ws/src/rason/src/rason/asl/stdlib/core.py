@@ -6,6 +6,7 @@ import datetime
 import re
 from typing import Any
 
+from ..ia import SUSPEND, FailGoal, IAContext, IAError, internal_action, wrong_arg
 from ..parser import AslSyntaxError, parse_source, parse_term
 from ..plans import Plan, PlanTerm, Trigger, plan_term_trigger
 from ..terms import (
@@ -25,11 +26,10 @@ from ..terms import (
     to_print_str,
 )
 from ..unify import eval_arith, rename_vars, resolve, unify
-from . import SUSPEND, FailGoal, IAError, arg_count, internal_action, wrong_arg
 
 
 # ---------------------------------------------------------------- console
-def print_text(ctx: Any, args: list, first: int = 0) -> str:
+def print_text(ctx: IAContext, args: list, first: int = 0) -> str:
     """The arguments from ``first`` on as Jason's ``.print`` joins them: strings without quotes,
     a free variable as its name (as written in the action) with ``<no-value>``."""
     written = ctx.deed.term.args if ctx.deed is not None and isinstance(ctx.deed.term, Literal) else ()
@@ -45,7 +45,7 @@ def print_text(ctx: Any, args: list, first: int = 0) -> str:
 
 
 @internal_action(".print", ".println")
-def print_(ctx: Any, args: list) -> bool:
+def print_(ctx: IAContext, args: list) -> bool:
     """Concatenate the arguments (strings without quotes) and print them."""
     ctx.ag.console(print_text(ctx, args))
     return True
@@ -54,12 +54,11 @@ def print_(ctx: Any, args: list) -> bool:
 _PUTS_VAR = re.compile(r"#\{([A-Za-z0-9_]+)\}")
 
 
-@internal_action(".puts")
-def puts(ctx: Any, args: list) -> bool:
+@internal_action(".puts", arity=(1, 2))
+def puts(ctx: IAContext, args: list) -> bool:
     """``.puts(S[, R])`` (jason.stdlib.puts): each ``#{T}`` (T a name, number or variable) is
     replaced by T's value; the string arguments are joined; a variable last argument gets the
     text, else it is printed."""
-    arg_count(args, 1, 2)
     if not isinstance(args[0], str):
         raise wrong_arg("first argument must be a string")
 
@@ -80,7 +79,7 @@ _JAVA_FORMAT = re.compile(r"%(\d+\$)?([-#+ 0,(]*)(\d+)?(\.\d+)?([a-zA-Z%])")
 
 
 @internal_action(".printf")
-def printf(ctx: Any, args: list) -> bool:
+def printf(ctx: IAContext, args: list) -> bool:
     """``.printf(Format, Args...)`` (jason.stdlib.printf): Java's ``String.format``; every number
     is a Double, so ``%d`` is an error."""
     if not args:
@@ -122,30 +121,27 @@ def printf(ctx: Any, args: list) -> bool:
 
 # ---------------------------------------------------------------- failure
 @internal_action(".fail")
-def fail(ctx: Any, args: list) -> bool:
+def fail(ctx: IAContext, args: list) -> bool:
     """Fail the intention; the arguments become annotations of the failure event."""
     raise FailGoal(list(args))
 
 
 # ---------------------------------------------------------------- identity
-@internal_action(".my_name")
-def my_name(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".my_name", arity=1)
+def my_name(ctx: IAContext, args: list) -> bool:
     return ctx.unify(args[0], Literal(ctx.ag.name))
 
 
-@internal_action(".all_names")
-def all_names(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".all_names", arity=1)
+def all_names(ctx: IAContext, args: list) -> bool:
     names = ctx.ag.arch.agent_names() or [ctx.ag.name]
     return ctx.unify(args[0], make_list([Literal(n) for n in names]))
 
 
 # ---------------------------------------------------------------- time
-@internal_action(".wait")
-def wait(ctx: Any, args: list) -> Any:
+@internal_action(".wait", arity=(1, 3))
+def wait(ctx: IAContext, args: list) -> Any:
     """``.wait(ms)``, ``.wait({+b})``, ``.wait({+b}, ms)``, ``.wait(cond)``, ``.wait(cond, ms)``."""
-    arg_count(args, 1, 2, 3)
     ag = ctx.ag
     if ctx.intention is None:
         raise IAError(".wait outside an intention")
@@ -183,7 +179,7 @@ def wait(ctx: Any, args: list) -> Any:
 
 
 @internal_action(".time")
-def time_(ctx: Any, args: list) -> bool:
+def time_(ctx: IAContext, args: list) -> bool:
     """``.time(H, M, S[, MS])`` wall time; ``.time(T)``: milliseconds from the agent's clock."""
     if len(args) == 1:
         return ctx.unify(args[0], float(int(ctx.ag.arch.clock.now() * 1000)))
@@ -192,24 +188,22 @@ def time_(ctx: Any, args: list) -> bool:
     return all(ctx.unify(a, float(v)) for a, v in zip(args, vals, strict=False))
 
 
-@internal_action(".nano_time")
-def nano_time(ctx: Any, args: list) -> bool:
+@internal_action(".nano_time", arity=1)
+def nano_time(ctx: IAContext, args: list) -> bool:
     """``.nano_time(T)``: nanoseconds from the agent's clock (for measuring short intervals)."""
-    arg_count(args, 1, 1)
     return ctx.unify(args[0], float(ctx.ag.arch.clock.now_ns()))
 
 
 @internal_action(".date")
-def date(ctx: Any, args: list) -> bool:
+def date(ctx: IAContext, args: list) -> bool:
     now = datetime.date.today()
     return all(ctx.unify(a, float(v)) for a, v in zip(args, [now.year, now.month, now.day], strict=False))
 
 
-@internal_action(".random")
-def random_(ctx: Any, args: list) -> Any:
+@internal_action(".random", arity=(1, 3))
+def random_(ctx: IAContext, args: list) -> Any:
     """``.random(R)``: R in [0,1); ``.random(R, N)``: N such numbers one after another on
     backtracking (N = 0: without end); ``.random(L, X[, N])``: a random member of list L."""
-    arg_count(args, 1, 2, 3)
     rnd = ctx.ag.random
     if len(args) == 1:
         return ctx.unify(args[0], rnd.random())
@@ -233,10 +227,9 @@ def random_(ctx: Any, args: list) -> Any:
     return gen()
 
 
-@internal_action(".range")
-def range_(ctx: Any, args: list) -> Any:
+@internal_action(".range", arity=(3, 4))
+def range_(ctx: IAContext, args: list) -> Any:
     """``.range(V, Start, End[, Step])`` enumerates numbers (nothing when Start > End)."""
-    arg_count(args, 3, 4)
     start = eval_arith(args[1], ctx.s, ctx.ag)
     end = eval_arith(args[2], ctx.s, ctx.ag)
     step = eval_arith(args[3], ctx.s, ctx.ag) if len(args) == 4 else 1.0
@@ -255,26 +248,24 @@ def range_(ctx: Any, args: list) -> Any:
 
 # ---------------------------------------------------------------- type checks
 def _type_check(pred):
-    def fn(ctx: Any, args: list) -> bool:
-        arg_count(args, 1)
+    def fn(ctx: IAContext, args: list) -> bool:
         return pred(args[0])
     return fn
 
 
-internal_action(".string")(_type_check(lambda t: isinstance(t, str)))
-internal_action(".number")(_type_check(lambda t: isinstance(t, float)))
-internal_action(".list")(_type_check(lambda t: isinstance(t, ListTerm)))
-internal_action(".atom")(_type_check(
+internal_action(".string", arity=1)(_type_check(lambda t: isinstance(t, str)))
+internal_action(".number", arity=1)(_type_check(lambda t: isinstance(t, float)))
+internal_action(".list", arity=1)(_type_check(lambda t: isinstance(t, ListTerm)))
+internal_action(".atom", arity=1)(_type_check(
     lambda t: isinstance(t, Literal) and not t.args and not t.annots and not t.neg))
-internal_action(".structure")(_type_check(lambda t: isinstance(t, (Literal, ListTerm))))
-internal_action(".literal")(_type_check(lambda t: isinstance(t, Literal)))
-internal_action(".ground")(_type_check(is_ground))
+internal_action(".structure", arity=1)(_type_check(lambda t: isinstance(t, (Literal, ListTerm))))
+internal_action(".literal", arity=1)(_type_check(lambda t: isinstance(t, Literal)))
+internal_action(".ground", arity=1)(_type_check(is_ground))
 
 
-@internal_action(".term2string")
-def term2string(ctx: Any, args: list) -> bool:
+@internal_action(".term2string", arity=2)
+def term2string(ctx: IAContext, args: list) -> bool:
     """``.term2string(T, S)``: S is T's text, or T the term parsed from S (jason.stdlib.term2string)."""
-    arg_count(args, 2)
     t, s = args
     if not isinstance(t, Var):
         return ctx.unify(s, term_str(t))
@@ -293,9 +284,8 @@ def _as_literal(t: Any) -> Literal:
     return t
 
 
-@internal_action(".abolish")
-def abolish(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".abolish", arity=1)
+def abolish(ctx: IAContext, args: list) -> bool:
     t = args[0]
     if not isinstance(t, (Literal, AnnotVar, Var, NsLit)):
         raise IAError(f"not a literal: {term_str(t)}")
@@ -303,31 +293,27 @@ def abolish(ctx: Any, args: list) -> bool:
     return True
 
 
-@internal_action(".asserta")
-def asserta(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".asserta", arity=1)
+def asserta(ctx: IAContext, args: list) -> bool:
     ctx.ag.add_belief(_as_literal(args[0]).with_self_source(), front=True)
     return True
 
 
-@internal_action(".assertz")
-def assertz(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".assertz", arity=1)
+def assertz(ctx: IAContext, args: list) -> bool:
     ctx.ag.add_belief(_as_literal(args[0]).with_self_source(), front=False)
     return True
 
 
-@internal_action(".findall")
-def findall(ctx: Any, args: list) -> bool:
+@internal_action(".findall", arity=3)
+def findall(ctx: IAContext, args: list) -> bool:
     """``.findall(Template, Query, List)``."""
-    arg_count(args, 3)
     res = [resolve(args[0], sol, ctx.ag) for sol in ctx.solve(args[1])]
     return ctx.unify(args[2], make_list(res))
 
 
-@internal_action(".setof")
-def setof(ctx: Any, args: list) -> bool:
-    arg_count(args, 3)
+@internal_action(".setof", arity=3)
+def setof(ctx: IAContext, args: list) -> bool:
     res: list = []
     for sol in ctx.solve(args[1]):
         v = resolve(args[0], sol, ctx.ag)
@@ -337,18 +323,16 @@ def setof(ctx: Any, args: list) -> bool:
     return ctx.unify(args[2], make_list(res))
 
 
-@internal_action(".count")
-def count(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".count", arity=2)
+def count(ctx: IAContext, args: list) -> bool:
     n = sum(1 for _ in ctx.solve(args[0]))
     return ctx.unify(args[1], float(n))
 
 
-@internal_action(".remove_plan")
-def remove_plan(ctx: Any, args: list) -> bool:
+@internal_action(".remove_plan", arity=(1, 2))
+def remove_plan(ctx: IAContext, args: list) -> bool:
     """``.remove_plan(Label(s)[, Source])`` (jason.stdlib.remove_plan, PlanLibrary.remove): the
     source (``self`` by default) leaves the plan's label; a plan left without sources goes."""
-    arg_count(args, 1, 2)
     labels = list_to_python(args[0]) if isinstance(args[0], ListTerm) else [args[0]]
     src = args[1] if len(args) > 1 else SELF_ATOM
     pl = ctx.ag.pl
@@ -371,8 +355,10 @@ def remove_plan(ctx: Any, args: list) -> bool:
 SELF_ATOM = Literal("self")
 
 
-def _label_sources(label: Literal) -> list:
+def _label_sources(label: Literal | Var | None) -> list:
     """The sources of a plan's label (a label without one is the agent's own: ``self``)."""
+    if not isinstance(label, Literal):
+        return [SELF_ATOM]
     out = [a.args[0] for a in label.annots
            if isinstance(a, Literal) and a.functor == "source" and len(a.args) == 1]
     return out or [SELF_ATOM]
@@ -388,7 +374,7 @@ def _with_label_sources(p: Plan, sources: list) -> Plan:
 
 
 @internal_action(".stopMAS")
-def stop_mas(ctx: Any, args: list) -> bool:
+def stop_mas(ctx: IAContext, args: list) -> bool:
     ctx.ag.request_stop()
     return True
 
@@ -409,11 +395,10 @@ def _to_plan(t: Any) -> Any:
     raise wrong_arg(f"The term '{term_str(t)}' ({type(t).__name__}) can not be used as a plan for .add_plan.")
 
 
-@internal_action(".add_plan")
-def add_plan(ctx: Any, args: list) -> bool:
+@internal_action(".add_plan", arity=(1, 3))
+def add_plan(ctx: IAContext, args: list) -> bool:
     """``.add_plan(P[, Source[, begin|end]])``: P a plan term, a string or a list of them; a plan
     equal to one already in the library (same trigger, context and body) is not added again."""
-    arg_count(args, 1, 2, 3)
     front = len(args) > 2 and term_str(args[2]) == "begin"
     items = list_to_python(args[0]) if isinstance(args[0], ListTerm) else [args[0]]
     pl = ctx.ag.pl
@@ -455,11 +440,10 @@ def _trigger_of(t: Any) -> Any:
     raise wrong_arg(f"first argument '{term_str(t)}' must follow the syntax of a trigger.")
 
 
-@internal_action(".relevant_plans")
-def relevant_plans(ctx: Any, args: list) -> bool:
+@internal_action(".relevant_plans", arity=(2, 3))
+def relevant_plans(ctx: IAContext, args: list) -> bool:
     """``.relevant_plans(Trigger, Plans[, Labels])`` (jason.stdlib.relevant_plans): the plans
     whose trigger unifies with Trigger, as plan terms, labels without their sources."""
-    arg_count(args, 2, 3)
     te = _trigger_of(args[0])
     plans, labels = [], []
     lit = te.literal
@@ -479,16 +463,15 @@ def relevant_plans(ctx: Any, args: list) -> bool:
     return len(args) < 3 or ctx.unify(make_list(labels), args[2])
 
 
-@internal_action(".plan_label")
-def plan_label(ctx: Any, args: list) -> bool:
+@internal_action(".plan_label", arity=2)
+def plan_label(ctx: IAContext, args: list) -> bool:
     """``.plan_label(P, L)``: P is the plan (as a term) whose label is L."""
-    arg_count(args, 2)
     if isinstance(args[1], (Var, AnnotVar)) and isinstance(args[0], PlanTerm) and args[0].plan is not None:
         label = args[0].plan.label    # the label of the plan term as written
         return label is not None and ctx.unify(args[1], label)
     name = args[1].functor if isinstance(args[1], Literal) else to_print_str(args[1])
     for p in ctx.ag.pl.plans:
-        if p.label_name() == name:
+        if isinstance(p.label, Literal) and p.label.functor == name:
             # the library's labels carry their source (PlanLibrary.add), which plan_label keeps
             q = Plan(p.label.with_self_source(), p.trigger, p.context, p.body, p.line, p.src,
                      in_file=p.in_file)

@@ -8,6 +8,7 @@ import re
 from typing import Any
 
 from ..containers import MapTerm, QueueTerm, SetTerm
+from ..ia import IAContext, IAError, internal_action, wrong_arg
 from ..intentions import java_map_order
 from ..kqml import KQML_SRC
 from ..plans import ACHIEVE, ADD, BELIEF, PlanTerm, Trigger, plan_term_trigger
@@ -26,7 +27,6 @@ from ..terms import (
     to_print_str,
 )
 from ..unify import rename_vars, resolve, unify
-from . import IAError, arg_count, internal_action, wrong_arg
 from .core import print_text
 
 TRUE_ATOM = Literal("true")
@@ -37,7 +37,7 @@ _SHOWN_LEVELS = {"severe", "warning", "info"}
 
 
 @internal_action(".log")
-def log(ctx: Any, args: list) -> bool:
+def log(ctx: IAContext, args: list) -> bool:
     """``.log(Level, Args...)``: the arguments as ``.print`` joins them, logged at Level
     (severe, warning, info are shown; fine, finer, finest are not)."""
     if not args:
@@ -81,10 +81,9 @@ def type_names(t: Any) -> list[str]:
     return out
 
 
-@internal_action(".type")
-def type_(ctx: Any, args: list) -> Any:
+@internal_action(".type", arity=2)
+def type_(ctx: IAContext, args: list) -> Any:
     """``.type(T, Type)``: checks, or enumerates, the types of T."""
-    arg_count(args, 2)
     names = type_names(args[0])
     if not isinstance(args[1], (Var, AnnotVar)):
         return isinstance(args[1], Literal) and args[1].functor in names and not args[1].args
@@ -97,46 +96,41 @@ def type_(ctx: Any, args: list) -> Any:
     return gen()
 
 
-@internal_action(".eval")
-def eval_(ctx: Any, args: list) -> bool:
+@internal_action(".eval", arity=2)
+def eval_(ctx: IAContext, args: list) -> bool:
     """``.eval(R, Formula)``: R is ``true`` when the formula holds, else ``false``."""
-    arg_count(args, 2)
     ok = next(iter(ctx.solve(args[1])), None) is not None
     return ctx.unify(args[0], TRUE_ATOM if ok else FALSE_ATOM)
 
 
-@internal_action(".copy_term", ".rename_apart")
-def copy_term(ctx: Any, args: list) -> bool:
+@internal_action(".copy_term", ".rename_apart", arity=2)
+def copy_term(ctx: IAContext, args: list) -> bool:
     """``.copy_term(T, C)`` / ``.rename_apart(T, C)``: C is T with new variables."""
-    arg_count(args, 2)
     return ctx.unify(args[1], rename_vars(args[0], {}))
 
 
-@internal_action(".set_random_seed")
-def set_random_seed(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".set_random_seed", arity=1)
+def set_random_seed(ctx: IAContext, args: list) -> bool:
     if not isinstance(args[0], float):
         raise wrong_arg("the seed must be a number")
     ctx.ag.random.seed(int(args[0]))
     return True
 
 
-@internal_action(".version")
-def version(ctx: Any, args: list) -> bool:
+@internal_action(".version", arity=1)
+def version(ctx: IAContext, args: list) -> bool:
     """``.version(V)``: the Jason version whose language this interpreter follows."""
-    arg_count(args, 1)
     return ctx.unify(args[0], "3.3.0 (rason)")
 
 
-@internal_action(".verbose")
-def verbose(ctx: Any, args: list) -> bool:
+@internal_action(".verbose", arity=1)
+def verbose(ctx: IAContext, args: list) -> bool:
     """``.verbose(N)``: accepted; rason has one console level."""
-    arg_count(args, 1)
     return True
 
 
 @internal_action(".print_unifier")
-def print_unifier(ctx: Any, args: list) -> bool:
+def print_unifier(ctx: IAContext, args: list) -> bool:
     items = ", ".join(f"{k}={term_str(resolve(v, ctx.s))}" for k, v in ctx.s.items()
                       if not k.startswith("_"))
     ctx.ag.console("{" + items + "}")
@@ -151,10 +145,9 @@ def _rule_term(r: Rule) -> PlanTerm:
     return PlanTerm((), str(rule), rule=rule)
 
 
-@internal_action(".relevant_rules")
-def relevant_rules(ctx: Any, args: list) -> bool:
+@internal_action(".relevant_rules", arity=2)
+def relevant_rules(ctx: IAContext, args: list) -> bool:
     """``.relevant_rules(Head, List)``: the rules whose head unifies with Head, as terms."""
-    arg_count(args, 2)
     pat = args[0]
     out = []
     if isinstance(pat, Literal):
@@ -165,7 +158,7 @@ def relevant_rules(ctx: Any, args: list) -> bool:
 
 
 @internal_action(".list_rules")
-def list_rules(ctx: Any, args: list) -> bool:
+def list_rules(ctx: IAContext, args: list) -> bool:
     """``.list_rules`` prints every rule; ``.list_rules(Head)`` those whose head unifies."""
     for r in ctx.ag.bb.rules():
         if args and not (isinstance(args[0], Literal) and unify(args[0], r.head, dict(ctx.s))):
@@ -175,7 +168,7 @@ def list_rules(ctx: Any, args: list) -> bool:
 
 
 @internal_action(".list_plans")
-def list_plans(ctx: Any, args: list) -> bool:
+def list_plans(ctx: IAContext, args: list) -> bool:
     """``.list_plans`` prints the plans (those of the KQML protocol aside); with a trigger
     term, only the plans relevant for it."""
     trig = None
@@ -193,10 +186,9 @@ def list_plans(ctx: Any, args: list) -> bool:
     return True
 
 
-@internal_action(".relevant_plan")
-def relevant_plan(ctx: Any, args: list) -> Any:
+@internal_action(".relevant_plan", arity=2)
+def relevant_plan(ctx: IAContext, args: list) -> Any:
     """``.relevant_plan(Trigger, Plan)``: backtracks over the plans relevant for Trigger."""
-    arg_count(args, 2)
     trig = plan_term_trigger(args[0]) if isinstance(args[0], PlanTerm) else None
     if trig is None:
         raise wrong_arg("first argument must be a trigger term")
@@ -213,10 +205,9 @@ def relevant_plan(ctx: Any, args: list) -> Any:
     return gen()
 
 
-@internal_action(".get_src_info")
-def get_src_info(ctx: Any, args: list) -> bool:
+@internal_action(".get_src_info", arity=2)
+def get_src_info(ctx: IAContext, args: list) -> bool:
     """``.get_src_info(Plan|Label, Info)``: ``[code_src(File), code_line(Line)]``."""
-    arg_count(args, 2)
     p = None
     if isinstance(args[0], PlanTerm) and args[0].plan is not None:
         p = args[0].plan
@@ -229,10 +220,9 @@ def get_src_info(ctx: Any, args: list) -> bool:
 
 
 # ---------------------------------------------------------------- events
-@internal_action(".drop_event")
-def drop_event(ctx: Any, args: list) -> bool:
+@internal_action(".drop_event", arity=1)
+def drop_event(ctx: IAContext, args: list) -> bool:
     """``.drop_event(G)``: removes the ``+!G`` events waiting to be handled."""
-    arg_count(args, 1)
     pattern = args[0]
     ag = ctx.ag
     keep = [ev for ev in ag.events if not (ev.trigger.op == ADD and ev.trigger.type == ACHIEVE
@@ -243,7 +233,7 @@ def drop_event(ctx: Any, args: list) -> bool:
 
 
 @internal_action(".perceive")
-def perceive(ctx: Any, args: list) -> bool:
+def perceive(ctx: IAContext, args: list) -> bool:
     """``.perceive``: perceive now (the next cycle perceives anyway)."""
     percepts = ctx.ag.arch.perceive()
     if percepts is not None:
@@ -252,18 +242,17 @@ def perceive(ctx: Any, args: list) -> bool:
 
 
 # ---------------------------------------------------------------- agents
-def _runtime(ctx: Any) -> Any:
+def _runtime(ctx: IAContext) -> Any:
     rt = getattr(ctx.ag.arch, "create_agent", None)
     if rt is None:
         raise IAError("this agent's host cannot create or kill agents", "internal_action")
     return ctx.ag.arch
 
 
-@internal_action(".create_agent")
-def create_agent(ctx: Any, args: list) -> bool:
+@internal_action(".create_agent", arity=(1, 3))
+def create_agent(ctx: IAContext, args: list) -> bool:
     """``.create_agent(Name, Source[, Options])``: a new agent in the same host; a free Name
     gets the name the host chose."""
-    arg_count(args, 1, 2, 3)
     arch = _runtime(ctx)
     name = args[0]
     wanted = None if isinstance(name, (Var, AnnotVar)) else to_print_str(name)
@@ -275,17 +264,15 @@ def create_agent(ctx: Any, args: list) -> bool:
     return ctx.unify(name, Literal(made)) if wanted is None else True
 
 
-@internal_action(".kill_agent")
-def kill_agent(ctx: Any, args: list) -> bool:
+@internal_action(".kill_agent", arity=1)
+def kill_agent(ctx: IAContext, args: list) -> bool:
     """``.kill_agent(Name)``: the agent stops and leaves the host."""
-    arg_count(args, 1)
     return bool(_runtime(ctx).kill_agent(to_print_str(args[0])))
 
 
-@internal_action(".clone")
-def clone(ctx: Any, args: list) -> bool:
+@internal_action(".clone", arity=1)
+def clone(ctx: IAContext, args: list) -> bool:
     """``.clone(Name)``: a new agent running this agent's program."""
-    arg_count(args, 1)
     arch = _runtime(ctx)
     try:
         arch.create_agent(ctx.ag, to_print_str(args[0]), ctx.ag.filename)
@@ -295,17 +282,16 @@ def clone(ctx: Any, args: list) -> bool:
 
 
 @internal_action(".save_agent", ".mind_inspector")
-def not_here(ctx: Any, args: list) -> bool:
+def not_here(ctx: IAContext, args: list) -> bool:
     raise IAError("not available in rason: the agent's state lives in the node "
                   "(see rosservice .../mind)", "internal_action")
 
 
 # ---------------------------------------------------------------- files
-@internal_action(".list_files")
-def list_files(ctx: Any, args: list) -> bool:
+@internal_action(".list_files", arity=(2, 3))
+def list_files(ctx: IAContext, args: list) -> bool:
     """``.list_files(Folder, Pattern, Files)`` / ``.list_files(Folder, Files)``: the files under
     Folder (recursively) whose path matches the regular expression."""
-    arg_count(args, 2, 3)
     folder = to_print_str(args[0])
     pattern = to_print_str(args[1]) if len(args) == 3 else ".*"
     try:
@@ -330,10 +316,9 @@ _AT_UNITS = {"ms": 1.0, "milliseconds": 1.0, "millisecond": 1.0, "s": 1000.0, "s
 _AT_RX = re.compile(r"\s*now\s*\+\s*([0-9]+(?:\.[0-9]+)?)\s*([a-z]*)\s*$")
 
 
-@internal_action(".at")
-def at(ctx: Any, args: list) -> bool:
+@internal_action(".at", arity=2)
+def at(ctx: IAContext, args: list) -> bool:
     """``.at("now +N unit", {+!g})``: the event happens once, N units from now."""
-    arg_count(args, 2)
     m = _AT_RX.match(to_print_str(args[0]))
     if m is None or (m.group(2) and m.group(2) not in _AT_UNITS):
         raise wrong_arg(f"'{to_print_str(args[0])}' is not a time like \"now +3 s\"")
@@ -349,10 +334,9 @@ def at(ctx: Any, args: list) -> bool:
 
 
 # ---------------------------------------------------------------- namespaces
-@internal_action(".namespace")
-def namespace(ctx: Any, args: list) -> Any:
+@internal_action(".namespace", arity=1)
+def namespace(ctx: IAContext, args: list) -> Any:
     """``.namespace(NS)``: NS is a namespace of this agent (enumerates them when free)."""
-    arg_count(args, 1)
 
     def gen():
         for ns in ctx.ag.bb.namespaces():
@@ -369,21 +353,19 @@ def _ns_props(ag: Any, ns: Any) -> dict:
     return ag.namespace_props.setdefault(term_str(ns), {})
 
 
-@internal_action(".namespace_set_prop")
-def namespace_set_prop(ctx: Any, args: list) -> bool:
+@internal_action(".namespace_set_prop", arity=3)
+def namespace_set_prop(ctx: IAContext, args: list) -> bool:
     """``.namespace_set_prop(NS, Key, Value)``."""
-    arg_count(args, 3)
     props = _ns_props(ctx.ag, args[0])
     props[term_str(args[1])] = (args[1], args[2])
     return True
 
 
-@internal_action(".namespace_get_prop")
-def namespace_get_prop(ctx: Any, args: list) -> Any:
+@internal_action(".namespace_get_prop", arity=(2, 4))
+def namespace_get_prop(ctx: IAContext, args: list) -> Any:
     """``.namespace_get_prop(NS, Key[, Value[, Default]])``: a free Key enumerates the keys
     (in the order of Jason's hash map of properties); a missing Key gives Default, and without
     one the action succeeds with Value left free (as Jason 3.3)."""
-    arg_count(args, 2, 3, 4)
     props = _ns_props(ctx.ag, args[0])
     key = args[1]
     if not isinstance(key, (Var, AnnotVar)):
@@ -401,11 +383,10 @@ def namespace_get_prop(ctx: Any, args: list) -> Any:
     return gen()
 
 
-@internal_action(".belief")
-def belief(ctx: Any, args: list) -> Any:
+@internal_action(".belief", arity=1)
+def belief(ctx: IAContext, args: list) -> Any:
     """``.belief(B)``: backtracks over the beliefs stored in the belief base that unify with B
     (rules are not used, except those whose body is ``true``)."""
-    arg_count(args, 1)
     pattern = args[0]
     bb = ctx.ag.bb
     if isinstance(pattern, Literal):
@@ -433,7 +414,7 @@ def belief(ctx: Any, args: list) -> Any:
 
 
 # ---------------------------------------------------------------- directory facilitator
-def _directory(ctx: Any) -> Any:
+def _directory(ctx: IAContext) -> Any:
     df = ctx.ag.arch.service_directory()
     if df is None:
         raise IAError("this agent's host has no directory facilitator", "internal_action")
@@ -447,34 +428,30 @@ def _service(args: list) -> str:
     return to_print_str(args[0])
 
 
-@internal_action(".df_register")
-def df_register(ctx: Any, args: list) -> bool:
+@internal_action(".df_register", arity=(1, 2))
+def df_register(ctx: IAContext, args: list) -> bool:
     """``.df_register(S[, Type])``: this agent provides service S (Type is not used to match,
     as in Jason's local infrastructure)."""
-    arg_count(args, 1, 2)
     _directory(ctx).register(ctx.ag.name, _service(args))
     return True
 
 
-@internal_action(".df_deregister")
-def df_deregister(ctx: Any, args: list) -> bool:
-    arg_count(args, 1, 2)
+@internal_action(".df_deregister", arity=(1, 2))
+def df_deregister(ctx: IAContext, args: list) -> bool:
     _directory(ctx).deregister(ctx.ag.name, _service(args))
     return True
 
 
-@internal_action(".df_search")
-def df_search(ctx: Any, args: list) -> bool:
+@internal_action(".df_search", arity=(2, 3))
+def df_search(ctx: IAContext, args: list) -> bool:
     """``.df_search(S[, Type], L)``: L lists the agents providing S."""
-    arg_count(args, 2, 3)
     names = _directory(ctx).search(_service(args), ctx.ag.arch.service_alive)
     return ctx.unify(args[-1], make_list([Literal(n) for n in names]))
 
 
-@internal_action(".df_subscribe")
-def df_subscribe(ctx: Any, args: list) -> bool:
+@internal_action(".df_subscribe", arity=(1, 2))
+def df_subscribe(ctx: IAContext, args: list) -> bool:
     """``.df_subscribe(S[, Type])``: ``df`` tells this agent ``provider(Agent, "S")`` for each
     provider of S, now and later."""
-    arg_count(args, 1, 2)
     _directory(ctx).subscribe(ctx.ag.name, _service(args))
     return True

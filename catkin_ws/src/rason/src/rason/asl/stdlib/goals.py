@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..ia import SUSPEND, IAContext, IAError, internal_action, wrong_arg
 from ..intentions import Fork, ForkBranch, IntendedMeans, Intention, Suspension, has_goal, java_map_order
 from ..plans import ACHIEVE, ADD, K_INTERNAL, Deed, Plan, deed_str, map_deeds
 from ..terms import Literal, PlanTerm, Var, make_list, term_str
 from ..unify import rename_vars, unify
-from . import SUSPEND, IAError, arg_count, internal_action, wrong_arg
 
 
 def _places(ag: Any) -> list:
@@ -66,7 +66,7 @@ def intention_term(i: Any) -> Literal:
     return Literal("intention", (float(i.id), make_list([im_term(im) for im in reversed(i.ims)])))
 
 
-def _intend_solutions(ctx: Any, pattern: Any, int_id: Any, with_suspended: bool):
+def _intend_solutions(ctx: IAContext, pattern: Any, int_id: Any, with_suspended: bool):
     """jason.stdlib.intend.allIntentions: one solution per ``+!G`` intended means of each
     visited intention, top of its stack first (``int_id``: unified with the intention's
     number). An intention held by ``.suspend`` counts for ``.desire`` but not for ``.intend``."""
@@ -82,17 +82,15 @@ def _intend_solutions(ctx: Any, pattern: Any, int_id: Any, with_suspended: bool)
                 yield s2
 
 
-@internal_action(".intend")
-def intend(ctx: Any, args: list) -> Any:
-    arg_count(args, 1, 2)
+@internal_action(".intend", arity=(1, 2))
+def intend(ctx: IAContext, args: list) -> Any:
     return _intend_solutions(ctx, args[0], args[1] if len(args) == 2 else None, False)
 
 
-@internal_action(".desire")
-def desire(ctx: Any, args: list) -> Any:
+@internal_action(".desire", arity=(1, 2))
+def desire(ctx: IAContext, args: list) -> Any:
     """jason.stdlib.desire: the selected event, the queued events (``+!g`` triggers), then
     every solution of ``.intend``."""
-    arg_count(args, 1, 2)
     pattern = args[0]
     ag = ctx.ag
 
@@ -117,11 +115,10 @@ _STATE = {"SE": "running", "SI": "running", "E": "running", "I": "running",
           "PE": "suspended", "PA": "waiting"}
 
 
-@internal_action(".intention")
-def intention(ctx: Any, args: list) -> Any:
+@internal_action(".intention", arity=(2, 4))
+def intention(ctx: IAContext, args: list) -> Any:
     """``.intention(Id, State[, Stack[, current]])`` (jason.stdlib.intention): states as
     ``Intention.getStateBasedOnPlace`` (running, waiting, suspended)."""
-    arg_count(args, 2, 3, 4)
     ag = ctx.ag
     if len(args) == 4 and term_str(args[3]) == "current":
         i = ag.current
@@ -146,26 +143,23 @@ def intention(ctx: Any, args: list) -> Any:
     return gen()
 
 
-@internal_action(".current_intention")
-def current_intention(ctx: Any, args: list) -> bool:
+@internal_action(".current_intention", arity=1)
+def current_intention(ctx: IAContext, args: list) -> bool:
     """``.current_intention(I)``: ``intention(Id, [im(...)...])`` of the running intention."""
-    arg_count(args, 1)
     i = ctx.intention
     if i is None:
         return False
     return ctx.unify(args[0], intention_term(i))
 
 
-@internal_action(".drop_desire")
-def drop_desire(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".drop_desire", arity=1)
+def drop_desire(ctx: IAContext, args: list) -> bool:
     ctx.ag.drop_goal(args[0], ctx.s, drop_events=True)
     return True
 
 
-@internal_action(".drop_intention")
-def drop_intention(ctx: Any, args: list) -> bool:
-    arg_count(args, 0, 1)
+@internal_action(".drop_intention", arity=(0, 1))
+def drop_intention(ctx: IAContext, args: list) -> bool:
     if not args:
         if ctx.intention is not None:
             ctx.ag.remove_intention(ctx.intention)
@@ -174,32 +168,29 @@ def drop_intention(ctx: Any, args: list) -> bool:
     return True
 
 
-@internal_action(".drop_all_desires")
-def drop_all_desires(ctx: Any, args: list) -> bool:
+@internal_action(".drop_all_desires", arity=0)
+def drop_all_desires(ctx: IAContext, args: list) -> bool:
     """Drop every event and intention but the current one (jason.stdlib.drop_all_desires)."""
-    arg_count(args, 0)
     ctx.ag.drop_all(events=True, keep=ctx.intention)
     return True
 
 
-@internal_action(".drop_all_intentions")
-def drop_all_intentions(ctx: Any, args: list) -> bool:
+@internal_action(".drop_all_intentions", arity=0)
+def drop_all_intentions(ctx: IAContext, args: list) -> bool:
     """Drop every intention (and its events) but the current one (jason.stdlib.drop_all_intentions)."""
-    arg_count(args, 0)
     ctx.ag.drop_all(events=False, keep=ctx.intention)
     return True
 
 
 @internal_action(".drop_all_events")
-def drop_all_events(ctx: Any, args: list) -> bool:
+def drop_all_events(ctx: IAContext, args: list) -> bool:
     ctx.ag.events.clear()
     return True
 
 
-@internal_action(".suspend")
-def suspend(ctx: Any, args: list) -> Any:
+@internal_action(".suspend", arity=(0, 1))
+def suspend(ctx: IAContext, args: list) -> Any:
     """``.suspend(G)`` / ``.suspend`` (the current intention), jason.stdlib.suspend."""
-    arg_count(args, 0, 1)
     ag = ctx.ag
     if not args:
         i = ctx.intention
@@ -215,21 +206,19 @@ def suspend(ctx: Any, args: list) -> Any:
     return SUSPEND if own else True
 
 
-@internal_action(".resume")
-def resume(ctx: Any, args: list) -> bool:
+@internal_action(".resume", arity=1)
+def resume(ctx: IAContext, args: list) -> bool:
     """``.resume(G)``, jason.stdlib.resume."""
-    arg_count(args, 1)
     if not isinstance(args[0], Literal):
         raise wrong_arg("first argument must be a literal")
     ctx.s = ctx.ag.resume_goal(args[0], ctx.s)
     return True
 
 
-@internal_action(".suspended")
-def suspended(ctx: Any, args: list) -> Any:
+@internal_action(".suspended", arity=2)
+def suspended(ctx: IAContext, args: list) -> Any:
     """``.suspended(G, R)`` (jason.stdlib.suspended): G is a goal of an intention waiting for
     an action (R = ``act``) or pending in PI (R = its reason: ``suspend_ia`` for ``.suspend``)."""
-    arg_count(args, 2)
     if not isinstance(args[0], Literal):
         raise wrong_arg("first argument must be a literal")
     for place, i in _places(ctx.ag):
@@ -250,28 +239,24 @@ def suspended(ctx: Any, args: list) -> Any:
     return False
 
 
-@internal_action(".succeed_goal")
-def succeed_goal(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".succeed_goal", arity=1)
+def succeed_goal(ctx: IAContext, args: list) -> bool:
     ctx.ag.succeed_goal(args[0], ctx.s)
     return True
 
 
-@internal_action(".fail_goal")
-def fail_goal(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".fail_goal", arity=1)
+def fail_goal(ctx: IAContext, args: list) -> bool:
     ctx.ag.fail_goal(args[0], ctx.s)
     return True
 
 
-@internal_action(".fork")
-def fork(ctx: Any, args: list) -> Any:
+@internal_action(".fork", arity=(2, None))
+def fork(ctx: IAContext, args: list) -> Any:
     """``.fork(and|or, {Body1}, {Body2}, ...)`` (what Jason's ``|&|``/``|||`` become): each body
     runs in an intention of its own that carries on with the rest of the current plan after a
     ``.join``; the current intention stops here. ``and`` goes on when every branch has joined
     (with the last one's bindings), ``or`` with the first one (the others are dropped)."""
-    if len(args) < 2:
-        arg_count(args, 2)
     kind = args[0]
     if not (isinstance(kind, Literal) and not kind.args and kind.functor in ("and", "or")):
         raise wrong_arg("first argument must be 'and' or 'or'.")
@@ -305,7 +290,7 @@ def fork(ctx: Any, args: list) -> Any:
 
 
 @internal_action(".join")
-def join(ctx: Any, args: list) -> Any:
+def join(ctx: IAContext, args: list) -> Any:
     """Put by ``.fork`` after each branch: ``and`` waits for every branch, ``or`` goes on with
     the first branch and drops the others."""
     if len(args) != 1 or not isinstance(args[0], ForkTerm):
@@ -333,12 +318,11 @@ class ForkTerm:
         return str(self.fork)
 
 
-@internal_action(".done")
-def done(ctx: Any, args: list) -> Any:
+@internal_action(".done", arity=(0, 1))
+def done(ctx: IAContext, args: list) -> Any:
     """``.done`` / ``.done(G)`` (Jason 3.3): the goal of the current means, or the goal G of the
     current intention, is achieved now: its means go and its caller goes on after it. As in
     Jason, when the current intention has no such goal, the intention stays suspended."""
-    arg_count(args, 0, 1)
     if args and not isinstance(args[0], (Literal, Var)):
         raise wrong_arg("first argument must be a literal")
     ag, i, im = ctx.ag, ctx.intention, ctx.im

@@ -6,9 +6,9 @@ import functools
 from typing import Any
 
 from ..containers import MapTerm, QueueTerm, SetTerm
+from ..ia import IAContext, IAError, internal_action, wrong_arg
 from ..terms import ListTerm, Literal, Var, list_to_python, make_list, sort_key, term_str
 from ..unify import compare_terms, unify
-from . import IAError, arg_count, internal_action, wrong_arg
 from .strings import java_replace_all
 
 
@@ -19,9 +19,8 @@ def _items(t: Any, what: str = "first argument must be a list") -> list:
     return items
 
 
-@internal_action(".member")
-def member(ctx: Any, args: list) -> Any:
-    arg_count(args, 2)
+@internal_action(".member", arity=2)
+def member(ctx: IAContext, args: list) -> Any:
     coll = args[1]
     if isinstance(coll, (SetTerm, QueueTerm)):
         items = coll.items()
@@ -36,9 +35,8 @@ def member(ctx: Any, args: list) -> Any:
     return gen()
 
 
-@internal_action(".length")
-def length(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".length", arity=2)
+def length(ctx: IAContext, args: list) -> bool:
     if isinstance(args[0], (str, SetTerm, MapTerm, QueueTerm)):
         return ctx.unify(args[1], float(len(args[0])))
     items = list_to_python(args[0])
@@ -59,7 +57,7 @@ def _plain(t: Any) -> str:
 
 
 @internal_action(".concat")
-def concat(ctx: Any, args: list) -> bool:
+def concat(ctx: IAContext, args: list) -> bool:
     """Lists when the first argument is a list (every other part must be one), else strings."""
     if len(args) < 2:
         raise IAError("wrong number of arguments", "wrong_arguments")
@@ -80,9 +78,8 @@ def concat(ctx: Any, args: list) -> bool:
     return ctx.unify("".join(_plain(p) for p in parts), out)
 
 
-@internal_action(".nth")
-def nth(ctx: Any, args: list) -> Any:
-    arg_count(args, 3)
+@internal_action(".nth", arity=3)
+def nth(ctx: IAContext, args: list) -> Any:
     if not isinstance(args[0], (float, Var)):
         raise wrong_arg(f"the first argument should be numeric or a variable -- not '{term_str(args[0])}'.")
     items = _items(args[1], f"the second argument should be a list and not '{term_str(args[1])}'.")
@@ -108,54 +105,48 @@ def _cmp(a: Any, b: Any) -> int:
     return compare_terms(a, b)
 
 
-@internal_action(".max")
-def max_(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".max", arity=2)
+def max_(ctx: IAContext, args: list) -> bool:
     items = _items(args[0])
     if not items:
         return False
     return ctx.unify(args[1], max(items, key=functools.cmp_to_key(_cmp)))
 
 
-@internal_action(".min")
-def min_(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".min", arity=2)
+def min_(ctx: IAContext, args: list) -> bool:
     items = _items(args[0])
     if not items:
         return False
     return ctx.unify(args[1], min(items, key=functools.cmp_to_key(_cmp)))
 
 
-@internal_action(".sort")
-def sort(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".sort", arity=2)
+def sort(ctx: IAContext, args: list) -> bool:
     return ctx.unify(args[1], make_list(sorted(_items(args[0]), key=sort_key)))
 
 
-@internal_action(".reverse")
-def reverse(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".reverse", arity=2)
+def reverse(ctx: IAContext, args: list) -> bool:
     if isinstance(args[0], ListTerm):
         return ctx.unify(args[1], make_list(list(reversed(_items(args[0])))))
     return ctx.unify(args[1], _plain_str(args[0])[::-1])
 
 
-@internal_action(".empty")
-def empty(ctx: Any, args: list) -> bool:
-    arg_count(args, 1)
+@internal_action(".empty", arity=1)
+def empty(ctx: IAContext, args: list) -> bool:
     if isinstance(args[0], str):
         return args[0] == ""
     return isinstance(args[0], ListTerm) and not _items(args[0])
 
 
-@internal_action(".delete")
-def delete(ctx: Any, args: list) -> bool:
+@internal_action(".delete", arity=(3, 4))
+def delete(ctx: IAContext, args: list) -> bool:
     """``.delete(X, L, R)``; a number X is a position, ``.delete(Start, End, L, R)`` a range.
 
     As in Jason, bindings made by the first element that unifies with X are kept for the
     following ones (``.delete(p(_), [p(1), p(2)], R)`` gives ``[p(2)]``).
     """
-    arg_count(args, 3, 4)
     if isinstance(args[0], float):
         nxt, start = 1, int(args[0])
         end = start + 1
@@ -198,33 +189,29 @@ def _set_args(args: list) -> list:
     return _items(args[1])
 
 
-@internal_action(".difference")
-def difference(ctx: Any, args: list) -> bool:
-    arg_count(args, 3)
+@internal_action(".difference", arity=3)
+def difference(ctx: IAContext, args: list) -> bool:
     b = _set_args(args)
     res = sorted({x for x in _items(args[0]) if x not in b}, key=sort_key)
     return ctx.unify(args[2], make_list(res))
 
 
-@internal_action(".intersection")
-def intersection(ctx: Any, args: list) -> bool:
-    arg_count(args, 3)
+@internal_action(".intersection", arity=3)
+def intersection(ctx: IAContext, args: list) -> bool:
     b = _set_args(args)
     res = sorted({x for x in _items(args[0]) if x in b}, key=sort_key)
     return ctx.unify(args[2], make_list(res))
 
 
-@internal_action(".union")
-def union(ctx: Any, args: list) -> bool:
-    arg_count(args, 3)
+@internal_action(".union", arity=3)
+def union(ctx: IAContext, args: list) -> bool:
     _set_args(args)
     res = sorted(set(_items(args[0])) | set(_items(args[1])), key=sort_key)
     return ctx.unify(args[2], make_list(res))
 
 
-@internal_action(".shuffle")
-def shuffle(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".shuffle", arity=2)
+def shuffle(ctx: IAContext, args: list) -> bool:
     items = _items(args[0])
     ctx.ag.random.shuffle(items)
     return ctx.unify(args[1], make_list(items))
@@ -232,7 +219,6 @@ def shuffle(ctx: Any, args: list) -> bool:
 
 def _sublist_args(args: list) -> list:
     """The argument checks shared by ``.prefix .suffix .sublist``; the list's items."""
-    arg_count(args, 2)
     if not isinstance(args[0], (ListTerm, Var)):
         raise wrong_arg("first argument must be a list or a variable")
     if not isinstance(args[1], ListTerm):
@@ -244,7 +230,7 @@ def _sublist_args(args: list) -> list:
     return items
 
 
-def _each_candidate(ctx: Any, pattern: Any, candidates: Any) -> Any:
+def _each_candidate(ctx: IAContext, pattern: Any, candidates: Any) -> Any:
     def gen():
         for c in candidates:
             s2 = dict(ctx.s)
@@ -253,22 +239,22 @@ def _each_candidate(ctx: Any, pattern: Any, candidates: Any) -> Any:
     return gen()
 
 
-@internal_action(".prefix")
-def prefix(ctx: Any, args: list) -> Any:
+@internal_action(".prefix", arity=2)
+def prefix(ctx: IAContext, args: list) -> Any:
     """``.prefix(P, L)``: longest prefix first, ``[]`` last (jason.stdlib.prefix)."""
     items = _sublist_args(args)
     return _each_candidate(ctx, args[0], (items[:n] for n in range(len(items), -1, -1)))
 
 
-@internal_action(".suffix")
-def suffix(ctx: Any, args: list) -> Any:
+@internal_action(".suffix", arity=2)
+def suffix(ctx: IAContext, args: list) -> Any:
     """``.suffix(S, L)``: the whole list first, ``[]`` last (jason.stdlib.suffix)."""
     items = _sublist_args(args)
     return _each_candidate(ctx, args[0], (items[k:] for k in range(len(items) + 1)))
 
 
-@internal_action(".sublist")
-def sublist(ctx: Any, args: list) -> Any:
+@internal_action(".sublist", arity=2)
+def sublist(ctx: IAContext, args: list) -> Any:
     """``.sublist(S, L)``: the prefixes of each suffix, longest first, then ``[]``
     (jason.stdlib.sublist: [a,b,c], [a,b], [a], [b,c], [b], [c], [])."""
     items = _sublist_args(args)
@@ -286,8 +272,7 @@ def _add_annot(t: Any, annot: Any) -> Any:
     return t
 
 
-@internal_action(".add_annot")
-def add_annot(ctx: Any, args: list) -> bool:
+@internal_action(".add_annot", arity=3)
+def add_annot(ctx: IAContext, args: list) -> bool:
     """``.add_annot(T, A, R)``: R is T (or each literal of the list T) with annotation A."""
-    arg_count(args, 3)
     return ctx.unify(_add_annot(args[0], args[1]), args[2])

@@ -5,9 +5,9 @@ from __future__ import annotations
 import re
 from typing import Any
 
+from ..ia import IAContext, IAError, internal_action
 from ..terms import Var, to_print_str
 from ..unify import unify
-from . import IAError, arg_count, internal_action
 
 
 def _s(t: Any) -> str:
@@ -20,12 +20,11 @@ def _java_substring(s: str, begin: int, end: int) -> str:
     return s[begin:end]
 
 
-@internal_action(".substring")
-def substring(ctx: Any, args: list) -> Any:
+@internal_action(".substring", arity=(2, 4))
+def substring(ctx: IAContext, args: list) -> Any:
     """jason.stdlib.substring: ``.substring(Sub, S)`` tests; ``.substring(R, S, B[, E])`` with R
     unbound extracts S[B:E]; ``.substring(Sub, S, P[, E])`` enumerates the positions P where Sub
     occurs (E is then P + length - 1, as Jason computes it)."""
-    arg_count(args, 2, 3, 4)
     sub, s = _s(args[0]), _s(args[1])
     if len(args) == 2:
         return sub in s
@@ -50,15 +49,13 @@ def substring(ctx: Any, args: list) -> Any:
     return gen()
 
 
-@internal_action(".lower_case")
-def lower_case(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".lower_case", arity=2)
+def lower_case(ctx: IAContext, args: list) -> bool:
     return ctx.unify(args[1], _s(args[0]).lower())
 
 
-@internal_action(".upper_case")
-def upper_case(ctx: Any, args: list) -> bool:
-    arg_count(args, 2)
+@internal_action(".upper_case", arity=2)
+def upper_case(ctx: IAContext, args: list) -> bool:
     return ctx.unify(args[1], _s(args[0]).upper())
 
 
@@ -84,8 +81,7 @@ def java_replace_all(pattern: str, text: str, replacement: str) -> str:
         return text.replace(pattern, replacement)
 
 
-@internal_action(".replace")
-def replace(ctx: Any, args: list) -> bool:
+@internal_action(".replace", arity=4)
+def replace(ctx: IAContext, args: list) -> bool:
     """``.replace(S, Old, New, R)``: Java ``replaceAll`` (Old is a regular expression)."""
-    arg_count(args, 4)
     return ctx.unify(args[3], java_replace_all(_s(args[1]), _s(args[0]), _s(args[2])))
