@@ -102,4 +102,11 @@ step "rason.asl compiled with mypyc (python -m rason.asl native build)"
 PYTHONPATH="$ROOT/catkin_ws/src/rason/src" RASON_NATIVE=0 "$VENV/bin/python3" -m rason.asl native build \
   --log "$ROOT/catkin_ws/native.log" > /dev/null &
 progress "$ROOT/catkin_ws/native.log" $!
+CURRENT_STEP="bytecode"
+# the workspace's Python compiled to bytecode now, as pip does for installed packages: a start
+# then costs the same whether or not PYTHONDONTWRITEBYTECODE=1 stops Python writing it itself
+step "bytecode of the workspace's Python (python -m compileall)"
+"$VENV/bin/python3" -m compileall -q -j 0 "$ROOT"/catkin_ws/src/*/src \
+  "$ROOT/catkin_ws/devel/lib/python3/dist-packages" > "$ROOT/catkin_ws/compileall.log" 2>&1 &
+progress "$ROOT/catkin_ws/compileall.log" $! || { tail -20 "$ROOT/catkin_ws/compileall.log" >&2; false; }
 step "done: source $ROOT/env.sh to use rosrun, rostopic, rosservice"

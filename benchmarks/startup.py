@@ -11,9 +11,13 @@ generated module, ``rason/asl/asl_tables.py``) and Python its compiled modules (
 the temporary folder, ``PYTHONDONTWRITEBYTECODE`` is dropped for the children); the "first run"
 row starts with both empty (what the very first start on a machine costs).
 
+``--no-write-bytecode`` runs the children with ``PYTHONDONTWRITEBYTECODE=1`` instead, as some
+machines are set up: they then read only the bytecode already there, which setup.sh compiles
+for the workspace (``python -m compileall``) and pip for agentspeak's venv.
+
 Targets (issue 19): empty agent under 0.15 s, 1,000-plan agent under 1 s.
 
-Usage: python3 benchmarks/startup.py [--repeat 7] [--no-agentspeak]
+Usage: python3 benchmarks/startup.py [--repeat 7] [--no-agentspeak] [--no-write-bytecode]
 """
 
 from __future__ import annotations
@@ -67,6 +71,8 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeat", type=int, default=7, help="best of R starts (interleaved)")
     ap.add_argument("--no-agentspeak", action="store_true")
+    ap.add_argument("--no-write-bytecode", action="store_true",
+                    help="children run with PYTHONDONTWRITEBYTECODE=1 (the bytecode setup made)")
     args = ap.parse_args()
 
     with tempfile.TemporaryDirectory(prefix="rason-startup-") as tmp:
@@ -80,9 +86,14 @@ def main() -> int:
         env = dict(os.environ)
         env["PYTHONPATH"] = os.path.abspath(SRC) + os.pathsep + env.get("PYTHONPATH", "")
         env["XDG_CACHE_HOME"] = os.path.join(tmp, "cache")
-        # compiled modules are kept as on a user's machine, but out of the source tree
-        env.pop("PYTHONDONTWRITEBYTECODE", None)
-        env["PYTHONPYCACHEPREFIX"] = os.path.join(tmp, "pycache")
+        env.pop("PYTHONPYCACHEPREFIX", None)
+        if args.no_write_bytecode:
+            # Python writes no bytecode: each start reads what setup.sh / pip compiled
+            env["PYTHONDONTWRITEBYTECODE"] = "1"
+        else:
+            # compiled modules are kept as on a user's machine, but out of the source tree
+            env.pop("PYTHONDONTWRITEBYTECODE", None)
+            env["PYTHONPYCACHEPREFIX"] = os.path.join(tmp, "pycache")
         # the first start on this machine: empty cache folder (builds and stores the tables)
         first = run_once([sys.executable, "-m", "rason.asl", "run", files["empty"]], env)
         ours = {label: Timing() for label in files}
@@ -96,8 +107,9 @@ def main() -> int:
                     theirs[label].add(*run_once([py, "-m", "agentspeak", path], env))
 
     load = os.getloadavg()[0]
+    bytecode = "PYTHONDONTWRITEBYTECODE=1" if args.no_write_bytecode else "bytecode written"
     print(f"Start-up of a whole process, best of {args.repeat}; Python {sys.version.split()[0]}; "
-          f"load average {load:.1f}")
+          f"{bytecode}; load average {load:.1f}")
     print(f"{'agent':>22} | {'rason wall s':>12} | {'rason CPU s':>11} | {'agentspeak wall s':>17} | "
           f"{'agentspeak CPU s':>16} | {'target':>6} | met")
     print("-" * 108)

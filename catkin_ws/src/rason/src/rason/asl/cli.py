@@ -1,5 +1,5 @@
 """Command line: ``python -m rason.asl run FILE.mas2j|FILE.asl [--timeout S] [--seed N] [--no-tro]
-[--max-intention-depth N] [--internal-actions MODULE]``; ``python -m rason.asl native
+[--max-intention-depth N] [--internal-actions MODULE] [--source-path DIR]``; ``python -m rason.asl native
 build|status`` (the compiled modules, :mod:`.native`)."""
 
 from __future__ import annotations
@@ -9,6 +9,7 @@ import sys
 
 from . import native
 from .agent import AgentOptions
+from .environment import EnvironmentLoadError
 from .ia import ModuleLoadError, load_modules
 from .parser import AslSyntaxError
 from .runtime import run_file
@@ -29,6 +30,9 @@ def main(argv: list[str] | None = None) -> int:
     r.add_argument("--internal-actions", metavar="MODULE", action="append", default=[],
                    help="import this Python module first: its @internal_action functions "
                         "become internal actions of every agent (repeatable)")
+    r.add_argument("--source-path", metavar="DIR", action="append", default=[],
+                   help="look for the project's agent files in DIR first (repeatable), e.g. "
+                        "a Jason source tree's example folder")
     n = sub.add_parser("native", help="compile the reasoning cycle's modules with mypyc, or say "
                        "whether they are in use")
     n.add_argument("action", choices=("build", "status"))
@@ -45,8 +49,9 @@ def main(argv: list[str] | None = None) -> int:
     sys.setrecursionlimit(max(sys.getrecursionlimit(), 20000))
     try:
         options = AgentOptions(tro=args.tro, max_intention_depth=args.max_intention_depth)
-        _, ok = run_file(args.file, args.timeout, args.seed, options=options)
-    except AslSyntaxError as e:
+        _, ok = run_file(args.file, args.timeout, args.seed, options=options,
+                         source_path=args.source_path)
+    except (AslSyntaxError, EnvironmentLoadError) as e:
         print(str(e), file=sys.stderr)
         return 2
     except OSError as e:

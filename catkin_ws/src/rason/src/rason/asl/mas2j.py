@@ -3,8 +3,9 @@ language: ``infrastructure``, ``environment``, ``executionControl`` (with ``at``
 (file, options, ``agentArchClass``, ``agentClass``, ``beliefBaseClass``, ``#N``, ``at``),
 ``directives``, ``classpath`` and ``aslSourcePath``.
 
-What has no meaning in a local or ROS run (infrastructures, environments, Java classes, hosts)
-is parsed and reported once in :attr:`MasProject.notes`.
+What has no meaning in a local or ROS run (infrastructures, Java classes, hosts) is parsed and
+reported once in :attr:`MasProject.notes`. ``environment:`` names a Python class for a local run
+(:mod:`.environment`).
 """
 
 from __future__ import annotations
@@ -173,8 +174,9 @@ def _fix_path(p: str, base_dir: str) -> list[str]:
     return [os.path.join(base_dir, p), os.path.abspath(p)]
 
 
-def parse_mas2j(text: str, path: str = "<mas2j>") -> MasProject:
-    """Parse the text of a ``.mas2j`` file; raises :class:`AslSyntaxError`."""
+def parse_mas2j(text: str, path: str = "<mas2j>", source_path: list[str] | None = None) -> MasProject:
+    """Parse the text of a ``.mas2j`` file; raises :class:`AslSyntaxError`. ``source_path``:
+    folders searched for agents' files before the project's ``aslSourcePath``."""
     try:
         tree = _get_lark().parse(text)
         name, sections = _ToProject().transform(tree)
@@ -188,6 +190,7 @@ def parse_mas2j(text: str, path: str = "<mas2j>") -> MasProject:
         raise AslSyntaxError(path, 1, 1, str(e).splitlines()[0] if str(e) else "invalid project") from None
     base_dir = os.path.dirname(os.path.abspath(path)) if path != "<mas2j>" else os.getcwd()
     proj = MasProject(name, [], path)
+    proj.source_path.extend(os.path.abspath(d) for d in source_path or ())
     decls: list = []
     for kind, value in sections:
         if kind == "infrastructure":
@@ -195,8 +198,10 @@ def parse_mas2j(text: str, path: str = "<mas2j>") -> MasProject:
             proj.notes.append(f"infrastructure '{value}' ignored: agents run locally")
         elif kind == "environment":
             proj.environment = value[0]
-            proj.notes.append(f"environment '{value[0]}' ignored: no Java environment here "
-                              "(on ROS the robot is the environment)")
+            proj.notes.append(f"environment '{value[0]}' is a Python class for local runs "
+                              "(rason.asl.environment); the ROS host does not load it")
+            if value[1]:
+                proj.notes.append(f"environment 'at \"{value[1][1]}\"' ignored: it runs in this process")
         elif kind == "control":
             proj.execution_control = value[0]
             proj.notes.append(f"executionControl '{value[0]}' ignored: agents run asynchronously")
@@ -252,7 +257,7 @@ _UNUSED_OPTIONS = frozenset({"events", "intBels", "nrcbp", "verbose", "synchroni
                              "mindinspector"})
 
 
-def load_mas2j(path: str) -> MasProject:
-    """Read and parse a ``.mas2j`` file."""
+def load_mas2j(path: str, source_path: list[str] | None = None) -> MasProject:
+    """Read and parse a ``.mas2j`` file (``source_path``: as for :func:`parse_mas2j`)."""
     with open(path, encoding="utf-8") as f:
-        return parse_mas2j(f.read(), str(path))
+        return parse_mas2j(f.read(), str(path), source_path)

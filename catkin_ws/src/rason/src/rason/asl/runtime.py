@@ -14,6 +14,7 @@ from .arch import AgentArch, Clock, Message, UnknownReceiver, WallClock
 from .df import DF_NAME, ProviderNotice, ServiceDirectory
 
 if TYPE_CHECKING:
+    from .environment import Environment
     from .mas2j import MasProject
 
 
@@ -74,6 +75,8 @@ class LocalMas:
         self.source_path: list[str] = []
         #: the directory facilitator of this MAS (``.df_register`` ...)
         self.df = ServiceDirectory(self._tell_provider)
+        #: the project's environment (``environment:`` in ``.mas2j``), or None
+        self.environment: Environment | None = None
 
     # ------------------------------------------------------------ setup
     def console(self, agent_name: str, text: str) -> None:
@@ -94,7 +97,32 @@ class LocalMas:
     def make_arch(self, name: str) -> AgentArch:
         if self.arch_factory is not None:
             return self.arch_factory(self, name)
+        if self.environment is not None:
+            from .environment import EnvArch  # imports this module: only with an environment
+
+            return EnvArch(self, self.clock, self.environment, name)
         return LocalArch(self, self.clock)
+
+    def set_environment(self, env: Environment) -> None:
+        """Agents added from now on perceive and act on ``env``; it wakes them, prints with
+        them and knows their names through this MAS."""
+        self.environment = env
+        env._inform = self._environment_changed
+        env._console = self.console
+        env._names = lambda: list(self.agents)
+
+    def _environment_changed(self, names: tuple[str, ...]) -> None:
+        for name in names or tuple(self.agents):
+            ag = self.agents.get(name)
+            if ag is not None:
+                ag.wake()
+        self.notify()
+
+    def stop_environment(self) -> None:
+        """The MAS ends: the environment's ``stop()``, once."""
+        env, self.environment = self.environment, None
+        if env is not None:
+            env.stop()
 
     def add_agent(self, name: str, source: str, filename: str = "<string>", seed: int | None = None,
                   src_name: str | None = None, options: AgentOptions | None = None) -> Agent:
@@ -109,6 +137,10 @@ class LocalMas:
     def load_project(self, proj: MasProject, seed: int | None = None) -> None:
         base = os.path.dirname(os.path.abspath(proj.path))
         self.source_path = [*proj.source_path, base]
+        if proj.environment and self.arch_factory is None:
+            from .environment import load_environment
+
+            self.set_environment(load_environment(proj.environment, base))
         for k, spec in enumerate(proj.agents):
             src = load_agent_source(spec.asl_path)
             rel = os.path.relpath(spec.asl_path, base)
@@ -224,9 +256,11 @@ class LocalMas:
 
 
 def run_file(path: str, timeout: float | None = None, seed: int | None = None,
-             clock: Clock | None = None, options: AgentOptions | None = None) -> tuple[LocalMas, bool]:
+             clock: Clock | None = None, options: AgentOptions | None = None,
+             source_path: list[str] | None = None) -> tuple[LocalMas, bool]:
     """Load a ``.mas2j`` or ``.asl`` file and run it locally (``options``: the agents' defaults,
-    a ``.mas2j`` agent's own options win)."""
+    a ``.mas2j`` agent's own options win; ``source_path``: more folders for the project's
+    agents, searched first); the project's environment stops when the run ends."""
     mas = LocalMas(clock)
     if options is not None:
         mas.options = options
@@ -239,7 +273,7 @@ def run_file(path: str, timeout: float | None = None, seed: int | None = None,
             # imported here: the project reader needs lark, which a lone agent does without
             from .mas2j import load_mas2j
 
-            mas.load_project(load_mas2j(path), seed)
+            mas.load_project(load_mas2j(path, source_path), seed)
         else:
             name = os.path.splitext(os.path.basename(path))[0]
             mas.add_agent(name, load_agent_source(path), path, seed)
@@ -248,5 +282,8 @@ def run_file(path: str, timeout: float | None = None, seed: int | None = None,
             gc.enable()
     for n in mas.notes:
         print(f"note: {n}", file=sys.stderr)
-    ok = mas.run(timeout)
+    try:
+        ok = mas.run(timeout)
+    finally:
+        mas.stop_environment()
     return mas, ok

@@ -150,6 +150,9 @@ def mas_main() -> int:
     except UnicodeDecodeError as err:
         print(f"{opts.file}: not UTF-8 text (byte {err.start}); save the file as UTF-8", file=sys.stderr)
         return 2
+    if project.environment:
+        print(f"rason: environment {project.environment} not loaded: on ROS the robot is the "
+              "agents' environment", file=sys.stderr)
     agents = []
     for spec in project.agents:
         pfilter = None
