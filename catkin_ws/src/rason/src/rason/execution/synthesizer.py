@@ -47,11 +47,11 @@ from typing import Any, ClassVar
 import rospy
 from jason_msgs.msg import Perception
 
-from rason.ros.badinput import shorten
 from rason.ros.fanout import direct_publisher
-from rason.ros.guard import RateLimitedWarnings
-from rason.ros.master_watch import watch_master
-from rason.ros.params import load_or_exit, param, start_node
+from rosnode_kit.badinput import shorten
+from rosnode_kit.guard import RateLimitedWarnings
+from rosnode_kit.master_watch import watch_master
+from rosnode_kit.params import load_or_exit, param, start_node
 
 __all__ = ["BadFrame", "Synthesizer", "SynthesizerParams", "run"]
 

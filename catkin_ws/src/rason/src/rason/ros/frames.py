@@ -51,8 +51,8 @@ import rospy
 from rospy.exceptions import TransportException, TransportTerminated
 from rospy.impl.tcpros_base import TCPROSTransport
 
-from rason.ros.badinput import shorten
-from rason.ros.guard import WARNINGS
+from rosnode_kit.badinput import shorten
+from rosnode_kit.guard import WARNINGS
 
 _LENGTH = struct.Struct("<I")
 _TIME = struct.Struct("<2I")

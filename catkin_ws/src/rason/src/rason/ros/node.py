@@ -65,7 +65,6 @@ from rason.ros.auth import (
     split_signed,
     verify_parameters,
 )
-from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.fanout import direct_publisher
 from rason.ros.feedback import (
     CancelReason,
@@ -75,10 +74,8 @@ from rason.ros.feedback import (
     parse_running,
 )
 from rason.ros.frames import MAX_NICE, MAX_SLICE_S, framed_subscriber
-from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.holdback import HoldBack
 from rason.ros.mind_state import LatchedTopic, MindStatePublisher, mind_state_topic
-from rason.ros.params import ParamError, param
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import (
     DF_PERFORMATIVE,
@@ -91,6 +88,9 @@ from rason.ros.presence import (
     Directory,
 )
 from rason.ros.ticker import Ticker
+from rosnode_kit.badinput import BadInputLog, shorten
+from rosnode_kit.guard import RateLimitedWarnings, guarded
+from rosnode_kit.params import ParamError, param
 
 #: s (ROS time) between two checks of action timeouts and perception TTLs
 CHECK_PERIOD = 0.05
