@@ -13,8 +13,8 @@ import pytest
 import rospy
 from std_msgs.msg import String
 
+from rason.process.harness import Process, RosHarness
 from rason.ros.fanout import direct_publisher
-from rason.testing.harness import Process, RosHarness
 
 # A subscriber node: prints the sequence number of every message it hears.
 READER = """

@@ -30,8 +30,8 @@ from rospy.exceptions import TransportException, TransportTerminated
 from rospy.impl.tcpros_base import TCPROSTransport
 from rospy.impl.tcpros_pubsub import TCPROSSub
 
+from rason.process.procstat import sched_slice
 from rason.ros.frames import FlatDecoder, FrameReader, framed_subscriber
-from rason.testing.procstat import sched_slice
 
 
 def _message(seq: int, content: str = "") -> AgentMessage:

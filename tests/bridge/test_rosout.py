@@ -7,7 +7,7 @@ import textwrap
 
 import pytest
 
-from rason.testing.harness import python
+from rason.process.harness import python
 
 pytestmark = pytest.mark.ros
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from rason.testing.harness import free_port
+from rason.process.harness import free_port
 
 SRC = Path(__file__).resolve().parents[2] / "catkin_ws" / "src"
 #: ROS nodes: their --help ends with the private parameter table (rosnode_kit.params)
