@@ -80,6 +80,7 @@ from rason.execution.results import (
     TIMEOUT,
     Verdict,
 )
+from rason.ros import fastpath
 from rason.ros.auth import (
     ACTION_KIND,
     EVENT_KIND,
@@ -90,7 +91,6 @@ from rason.ros.auth import (
     verify_parameters,
 )
 from rason.ros.auth import Verdict as Authenticity
-from rason.ros.fanout import direct_publisher
 from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK, ACTION_RUNNING
 from rason.ros.presence import GOODBYE, PRESENCE, PRESENCE_TOPIC
 from rason.ros.ticker import Ticker
@@ -183,7 +183,7 @@ class Decomposer:
             rospy.logwarn(f"{self.name}: no ~auth_key_file: this decomposer accepts actions "
                           "from any sender on the ROS graph, and any process may keep them "
                           "running with presence beats in the agent's name")
-        self.events = direct_publisher("jason/event", Event, queue_size=100)
+        self.events = fastpath.publisher("jason/event", Event, queue_size=100)
         # the watchdog ticks only while an action runs: an idle decomposer's thread sleeps
         self.watchdog = Ticker(self.params.watchdog_rate, self._locked("watchdog", self._on_tick),
                                lambda: bool(self.goals), name=f"{self.name}-watchdog")
