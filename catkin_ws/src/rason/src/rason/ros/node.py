@@ -251,7 +251,7 @@ class RasonNode:
 
         # -- topics (subscriptions start with the agents: see start) -------------------------------
         # The agents' traffic is written from the publishing thread, each subscriber at once,
-        # never waiting for one that does not read (rason.ros.fanout).
+        # never waiting for one that does not read (rason.ros.fastpath.fanout).
         self.action_pub = fastpath.publisher(self.topic("jason/action"), Action, queue_size=100)
         self.cancel_pub = fastpath.publisher(self.topic("jason/cancel"), ActionCancel, queue_size=100)
         # a node that subscribes hears our agents' presence at once, not a period later
