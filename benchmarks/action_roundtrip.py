@@ -16,7 +16,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 
 AGENT = """
 !start.

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Fleet scale: N robot hosts on one LAN, every agent broadcasting (needs root: ip netns).
 
-For each N (default 1, 5, 10, 20) a fresh LAN of network namespaces (``rason.testing.netns``,
+For each N (default 1, 5, 10, 20) a fresh LAN of network namespaces (``rason.process.netns``,
 the firewall of docs/deployment.md on every host): a ``master`` host with ``roscore``, and N robot hosts
 ``r1..rN``, each with ``rosrun rason agent rK``, ``rosrun rason echo_decomposer`` and a 20 Hz
 perception stream (``rostopic pub -r 20``), all in the robot's namespace ``/rK``. Every agent
@@ -58,9 +58,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from rason.testing import netns
-from rason.testing.harness import Process, RosHarness
-from rason.testing.procstat import cpu_seconds
+from rason.process import netns
+from rason.process.harness import Process, RosHarness
+from rason.process.procstat import cpu_seconds
 
 ROOT = Path(__file__).resolve().parent.parent
 PRESENCE_PERIOD = 1.0

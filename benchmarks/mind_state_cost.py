@@ -19,8 +19,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from rason.testing.harness import RosHarness
-from rason.testing.procstat import cpu_seconds
+from rason.process.harness import RosHarness
+from rason.process.procstat import cpu_seconds
 
 LISTING_5_4 = """
 value(0).

@@ -23,8 +23,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from rason.testing.harness import RosHarness
-from rason.testing.procstat import cpu_seconds
+from rason.process.harness import RosHarness
+from rason.process.procstat import cpu_seconds
 
 N_VALUES = (1, 3, 5, 10)
 F_VALUES = (1, 3, 5, 10, 30, 50)

@@ -27,7 +27,7 @@ import time
 
 import numpy as np
 
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 from turtlebot_model.cloud import pack_cloud
 from turtlebot_sim import kinect
 from turtlebot_sim.render import RenderPool

@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from rason.asl import Agent, AgentArch, AgentOptions
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 
 LOOP = """n(0).
 !loop.

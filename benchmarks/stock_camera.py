@@ -19,7 +19,7 @@ import re
 import threading
 import time
 
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 from rason_diagnosis.paths import world_file
 
 COMMANDS = {"faulty": (0.3, 0.3), "helper": (0.0, 0.4)}      # m/s, rad/s: keep both moving

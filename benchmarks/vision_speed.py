@@ -5,7 +5,7 @@
 1. Detector throughput on 640x480 frames on one core (process pinned to one CPU, OpenCV
    single-threaded): frames rendered by the simulator (seeded scenarios), the detector run
    over them in a loop; also with the message -> numpy conversion included. Target >= 60 fps.
-2. Node latency: a private roscore (``rason.testing.harness.RosHarness``), ``rosrun rason_vision
+2. Node latency: a private roscore (``rason.process.harness.RosHarness``), ``rosrun rason_vision
    robot_synthesizer __ns:=/bench _timing:=true``; this process publishes image + cloud pairs
    (rospy, header stamp = publish time), one pair at a time at ~10 Hz. Reported:
    * node message-in -> perception-out: the synchronized pair's callback to the perception
@@ -86,7 +86,7 @@ def node_latency(frames: list[tuple[np.ndarray, np.ndarray]],
     from jason_msgs.msg import Perception
     from sensor_msgs.msg import Image, PointCloud2
 
-    from rason.testing.harness import RosHarness
+    from rason.process.harness import RosHarness
     from rason_vision_tools.messages import frame_messages
 
     pairs = [frame_messages(*f) for f in frames]

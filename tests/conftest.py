@@ -1,6 +1,6 @@
 """Fixtures shared by the whole suite.
 
-ROS tests use real processes started by :class:`rason.testing.harness.RosHarness`:
+ROS tests use real processes started by :class:`rason.process.harness.RosHarness`:
 
 * ``ros``: the session's roscore (one per pytest run, so this process's rospy node can join it:
   rospy allows one master per process). Processes a test starts with ``ros.rosrun``/``ros.run``
@@ -18,7 +18,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from rason.testing.harness import Process, RosHarness, processes_left_by
+from rason.process.harness import Process, RosHarness, processes_left_by
 
 
 def _ros_available() -> bool:

@@ -13,7 +13,7 @@ import time
 from collections.abc import Callable, Iterable
 from typing import TypeVar
 
-from rason.testing.harness import Process
+from rason.process.harness import Process
 
 T = TypeVar("T")
 

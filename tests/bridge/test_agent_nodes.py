@@ -6,10 +6,10 @@ import os
 import re
 
 import pytest
+from agent_nodes import start_agent, write_agent
 from polling import wait_until
 
-from rason.testing.agent_nodes import start_agent, write_agent
-from rason.testing.procstat import sched_slice
+from rason.process.procstat import sched_slice
 
 pytestmark = pytest.mark.ros
 

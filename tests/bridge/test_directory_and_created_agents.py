@@ -7,8 +7,7 @@ import textwrap
 import time
 
 import pytest
-
-from rason.testing.agent_nodes import start_agent
+from agent_nodes import start_agent
 
 pytestmark = pytest.mark.ros
 

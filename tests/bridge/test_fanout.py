@@ -1,4 +1,4 @@
-"""rason.ros.fanout: a publisher that writes from the publishing thread and never blocks on a
+"""rason.ros.fastpath.fanout: a publisher that writes from the publishing thread and never blocks on a
 subscriber that stops reading (real subscriber processes, real TCPROS sockets)."""
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ import pytest
 import rospy
 from std_msgs.msg import String
 
-from rason.ros.fanout import direct_publisher
-from rason.testing.harness import Process, RosHarness
+from rason.process.harness import Process, RosHarness
+from rason.ros.fastpath.fanout import direct_publisher
 
 # A subscriber node: prints the sequence number of every message it hears.
 READER = """

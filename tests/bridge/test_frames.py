@@ -1,4 +1,4 @@
-"""rason.ros.frames: a subscriber connection's messages read without rospy's per-message work.
+"""rason.ros.fastpath.frames: a subscriber connection's messages read without rospy's per-message work.
 
 The connection-level tests drive a real rospy ``TCPROSTransport`` over a real socket pair, with
 a real TCPROS handshake written by the publishing end; the last test is a framed subscriber in
@@ -30,8 +30,8 @@ from rospy.exceptions import TransportException, TransportTerminated
 from rospy.impl.tcpros_base import TCPROSTransport
 from rospy.impl.tcpros_pubsub import TCPROSSub
 
-from rason.ros.frames import FlatDecoder, FrameReader, framed_subscriber
-from rason.testing.procstat import sched_slice
+from rason.process.procstat import sched_slice
+from rason.ros.fastpath.frames import FlatDecoder, FrameReader, framed_subscriber
 
 
 def _message(seq: int, content: str = "") -> AgentMessage:

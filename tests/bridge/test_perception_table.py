@@ -5,9 +5,9 @@ from __future__ import annotations
 import pytest
 
 from rason.asl import Literal
-from rason.ros import badinput
-from rason.ros.badinput import BadInputLog, GlobalLimit
 from rason.ros.perceptions import PerceptionFilter, PerceptionTable, parse_percept
+from rosnode_kit import badinput
+from rosnode_kit.badinput import BadInputLog, GlobalLimit
 
 
 @pytest.fixture(autouse=True)

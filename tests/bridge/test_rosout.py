@@ -1,4 +1,4 @@
-"""Log lines of rason nodes cost no call to the master (rason.ros.rosout works around rospy
+"""Log lines of rason nodes cost no call to the master (rosnode_kit.rosout works around rospy
 asking the master for an unset parameter with every log line)."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import textwrap
 
 import pytest
 
-from rason.testing.harness import python
+from rason.process.harness import python
 
 pytestmark = pytest.mark.ros
 
@@ -15,7 +15,7 @@ pytestmark = pytest.mark.ros
 NODE = textwrap.dedent("""
     import sys, time
     import rospy, rospy.client
-    from rason.ros.rosout import ROSOUT_TOPICS_PARAM, cache_rosout_setting
+    from rosnode_kit.rosout import ROSOUT_TOPICS_PARAM, cache_rosout_setting
     rospy.init_node("logger", anonymous=True)
     if sys.argv[1] == "cached":
         assert cache_rosout_setting()

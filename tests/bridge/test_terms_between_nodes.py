@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from rason.testing.harness import Process, RosHarness
+from rason.process.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -12,7 +12,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from rason.testing.harness import Process, RosHarness
+from rason.process.harness import Process, RosHarness
 
 #: The repository (the pages' commands run from its root).
 REPO = Path(__file__).resolve().parents[2]

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from rason.testing.harness import processes_left_by
+from rason.process.harness import processes_left_by
 from rason_diagnosis.scenario import FAULTS, expected_diagnosis
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]

@@ -15,7 +15,7 @@ import re
 import pytest
 from doc_commands import FIRST_AGENT, REPO, run_in_order, section_blocks, start_node
 
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
 

@@ -15,7 +15,7 @@ import time
 import pytest
 from doc_commands import BY_HAND, run_in_order, section_blocks
 
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
 

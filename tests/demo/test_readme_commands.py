@@ -23,7 +23,7 @@ import time
 import pytest
 from doc_commands import NODE_START_S, PAGES, README, REPO, blocks, in_sequence, without_comment
 
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
 

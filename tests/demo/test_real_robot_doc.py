@@ -36,7 +36,7 @@ from doc_commands import blocks as doc_blocks
 from doc_commands import without_comment
 from geometry_msgs.msg import Twist
 
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 from rason_diagnosis.paths import world_file
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]

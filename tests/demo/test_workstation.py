@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from rason.testing.harness import Process, RosHarness
+from rason.process.harness import Process, RosHarness
 from rason_diagnosis.paths import world_file
 from rason_diagnosis.scenario import HELPER_MOTION, HELPER_VISION, ROBOTS
 

@@ -21,7 +21,7 @@ from jason_msgs.msg import Perception
 from sensor_msgs.msg import Image, PointCloud2, PointField
 from std_msgs.msg import Header
 
-from rason.testing.harness import Process, RosHarness
+from rason.process.harness import Process, RosHarness
 from rason_vision.convert import cloud_fields, image_fields
 from rason_vision_tools.bagio import read_bag
 

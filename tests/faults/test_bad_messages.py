@@ -17,7 +17,7 @@ from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from nav_msgs.msg import Odometry
 from polling import wait_until
 
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -13,12 +13,12 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import start_agent
 from jason_msgs.msg import ActionCancel, Event
 from polling import wait_until
 
+from rason.process.harness import RosHarness
 from rason.ros.feedback import CancelReason, accepted_beat_period, parse_accepted, parse_running
-from rason.testing.agent_nodes import start_agent
-from rason.testing.harness import RosHarness
 
 pytestmark = pytest.mark.ros
 

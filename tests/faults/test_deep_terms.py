@@ -11,11 +11,11 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import connected_to, mind, start_agent
 from jason_msgs.msg import AgentMessage, Perception
 from polling import wait_until
 
-from rason.testing.agent_nodes import connected_to, mind, start_agent
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -16,11 +16,11 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import start_agent
 from rosgraph_msgs.msg import Clock
 
+from rason.process.harness import RosHarness
 from rason.ros.node import FROZEN_CLOCK_S
-from rason.testing.agent_nodes import start_agent
-from rason.testing.harness import RosHarness
 
 pytestmark = pytest.mark.ros
 

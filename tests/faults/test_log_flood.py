@@ -16,8 +16,8 @@ from jason_msgs.msg import AgentMessage
 
 from kobuki_fault_injector.srv import FaultInjector
 from rason.execution.decomposer import Goal
-from rason.ros.badinput import GLOBAL_BURST, GLOBAL_RATE, MAX_LINE, BadInputLog, GlobalLimit
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
+from rosnode_kit.badinput import GLOBAL_BURST, GLOBAL_RATE, MAX_LINE, BadInputLog, GlobalLimit
 
 LONGEST_LINE = MAX_LINE + 400      # a shortened text, its marker, the node's prefix, counts
 

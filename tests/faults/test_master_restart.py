@@ -8,11 +8,11 @@ import time
 
 import pytest
 import yaml
+from agent_nodes import mind, start_agent
 from polling import wait_until
 
-from rason.testing.agent_nodes import mind, start_agent
-from rason.testing.harness import HarnessError, RosHarness
-from rason.testing.procstat import tcp_connections
+from rason.process.harness import HarnessError, RosHarness
+from rason.process.procstat import tcp_connections
 
 pytestmark = pytest.mark.ros
 

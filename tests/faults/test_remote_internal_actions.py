@@ -14,10 +14,10 @@ import secrets
 from pathlib import Path
 
 import pytest
+from agent_nodes import connected_to, key_file, start_agent
 from polling import wait_until
 
-from rason.testing.agent_nodes import connected_to, key_file, start_agent
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -16,12 +16,12 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import connected_to, start_agent
 from jason_msgs.msg import AgentMessage
 from polling import wait_until
 
+from rason.process.harness import Process, RosHarness
 from rason.ros.auth import MessageAuth, SignedFields, load_key, new_nonce
-from rason.testing.agent_nodes import connected_to, start_agent
-from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
 

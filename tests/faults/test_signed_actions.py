@@ -15,13 +15,13 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import connected_to, key_file, mind, start_agent
 from jason_msgs.msg import Action, Event
 from polling import wait_until
 
+from rason.process.harness import RosHarness
 from rason.ros.auth import AUTH_PARAMETER
 from rason.ros.feedback import parse_accepted
-from rason.testing.agent_nodes import connected_to, key_file, mind, start_agent
-from rason.testing.harness import RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -23,13 +23,13 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import connected_to
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import AgentMessage, Event
 
+from rason.process.harness import Process, RosHarness
 from rason.ros.feedback import parse_feedback
 from rason.ros.presence import PRESENCE
-from rason.testing.agent_nodes import connected_to
-from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
 

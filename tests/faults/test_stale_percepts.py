@@ -8,9 +8,8 @@ import time
 from pathlib import Path
 
 import pytest
+from agent_nodes import mind, start_agent
 from polling import wait_until
-
-from rason.testing.agent_nodes import mind, start_agent
 
 pytestmark = pytest.mark.ros
 

@@ -17,13 +17,13 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import start_agent
 from jason_msgs.msg import ActionCancel, AgentMessage, Event
 from polling import wait_until
 
+from rason.process.harness import Process, RosHarness
 from rason.ros.feedback import CancelReason, parse_accepted, parse_feedback
 from rason.ros.presence import GOODBYE, PRESENCE
-from rason.testing.agent_nodes import start_agent
-from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
 

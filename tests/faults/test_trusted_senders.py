@@ -9,10 +9,10 @@ import secrets
 import time
 
 import pytest
+from agent_nodes import connected_to, key_file, start_agent
 from polling import wait_until
 
-from rason.testing.agent_nodes import connected_to, key_file, start_agent
-from rason.testing.harness import Process, RosHarness
+from rason.process.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -27,9 +27,9 @@ from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event
 from nav_msgs.msg import Odometry
 from polling import wait_until
 
+from rason.process.harness import Process, RosHarness
 from rason.ros.feedback import parse_feedback
 from rason.ros.presence import PRESENCE
-from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -16,8 +16,8 @@ import time
 
 import pytest
 
-from rason.testing import netns
-from rason.testing.harness import processes_left_by
+from rason.process import netns
+from rason.process.harness import processes_left_by
 from rason_diagnosis.hosts import LinkCut, PresenceEvent, presence_events
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo, pytest.mark.hosts]
@@ -122,8 +122,8 @@ def test_link_cut_mid_run_is_noticed_and_never_gives_a_wrong_component(tmp_path)
 SUPERVISION = """
 import json, sys, time
 from pathlib import Path
-from rason.testing import netns
-from rason.testing.harness import RosHarness
+from rason.process import netns
+from rason.process.harness import RosHarness
 asl = Path(sys.argv[1])
 asl.write_text("!go. +!go <- .wait(1000); move(1).")
 with netns.Lan(["master", "brain", "base"], firewall=True) as lan:

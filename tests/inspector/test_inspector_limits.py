@@ -20,8 +20,8 @@ from polling import wait_until
 from std_msgs.msg import String
 
 from rason.inspector.web import interface_addresses
+from rason.process.harness import Process, RosHarness
 from rason.ros.presence import GOODBYE, PRESENCE
-from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -24,7 +24,7 @@ from geometry_msgs.msg import Twist, Vector3
 from nav_msgs.msg import Odometry
 
 from kobuki_fault_injector.srv import FaultInjector
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 from turtlebot_model.geometry import yaw_from_quaternion
 
 DATA = Path(__file__).resolve().parent / "data"

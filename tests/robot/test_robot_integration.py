@@ -25,8 +25,8 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import String
 
 from kobuki_fault_injector.srv import FaultInjector
+from rason.process.harness import RosHarness
 from rason.ros.feedback import parse_accepted, parse_feedback
-from rason.testing.harness import RosHarness
 from turtlebot_model.geometry import yaw_from_quaternion
 
 pytestmark = pytest.mark.ros

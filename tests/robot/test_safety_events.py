@@ -26,8 +26,8 @@ from jason_msgs.msg import Action, Event
 from kobuki_msgs.msg import BumperEvent, CliffEvent, WheelDropEvent
 from nav_msgs.msg import Odometry
 
+from rason.process.harness import Process, RosHarness
 from rason.ros.feedback import parse_feedback
-from rason.testing.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -17,8 +17,8 @@ import pytest
 import rospy
 from jason_msgs.msg import Action, Event
 
+from rason.process.harness import RosHarness
 from rason.ros.feedback import parse_feedback
-from rason.testing.harness import RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from rason.ros.input_watch import InputWatch, Publication
+from rosnode_kit.input_watch import InputWatch, Publication
 from turtlebot_sim.base_events import (
     BaseEventScript,
     Bumper,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from rason.testing.harness import RosHarness
+from rason.process.harness import RosHarness
 
 pytestmark = pytest.mark.ros
 

@@ -1,6 +1,6 @@
 """Lines the harness relays from several processes at once (the demo's console: both agents and
 the demo itself) stay whole on one stdout (they once spliced: ``print`` writes the text and the
-newline separately). No ROS: plain processes through :class:`rason.testing.harness.Process`."""
+newline separately). No ROS: plain processes through :class:`rason.process.harness.Process`."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ NAMES = ("faulty", "helper", "sim")
 RELAY = f"""
 import sys, tempfile
 from pathlib import Path
-from rason.testing.harness import Process, echo_line
+from rason.process.harness import Process, echo_line
 folder = Path(tempfile.mkdtemp())
 child = "for i in range({LINES}): print(str(i) + ' x' + ' y' * 20)"
 procs = [Process(name, [sys.executable, "-c", child], {{}}, folder / (name + ".log"),

@@ -8,7 +8,7 @@ import threading
 
 import pytest
 
-from rason.testing.harness import HarnessError, Process, RosHarness
+from rason.process.harness import HarnessError, Process, RosHarness
 
 pytestmark = pytest.mark.ros
 

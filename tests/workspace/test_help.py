@@ -9,10 +9,10 @@ from pathlib import Path
 
 import pytest
 
-from rason.testing.harness import free_port
+from rason.process.harness import free_port
 
 SRC = Path(__file__).resolve().parents[2] / "catkin_ws" / "src"
-#: ROS nodes: their --help ends with the private parameter table (rason.ros.params)
+#: ROS nodes: their --help ends with the private parameter table (rosnode_kit.params)
 NODES = {("kobuki_fault_injector", "fault_injector"), ("rason", "agent"), ("rason", "mas"),
          ("rason", "echo_decomposer"), ("rason", "mind_inspector"),
          ("rason", "motion_decomposer"), ("rason_vision", "robot_synthesizer"),

@@ -1,4 +1,4 @@
-"""Node parameters declared once (rason.ros.params): conversion, checks and the --help table."""
+"""Node parameters declared once (rosnode_kit.params): conversion, checks and the --help table."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import pytest
 
-from rason.ros.params import ParamError, _kinds, help_text, param, parse, required, unknown_names
+from rosnode_kit.params import ParamError, _kinds, help_text, param, parse, required, unknown_names
 
 
 @dataclass(frozen=True)

@@ -112,11 +112,13 @@ def imported_names(tree: ast.AST, module: str, is_package: bool) -> Iterator[str
             yield from (f"{name}.{alias.name}" for alias in node.names)
 
 
-def robot_closure() -> Closure:
+def robot_closure(scripts: list[Path] = ROBOT_SCRIPTS,
+                  modules: list[str] = ROBOT_MODULES) -> Closure:
+    """What `scripts` and `modules` import, followed through the workspace's modules."""
     packages = workspace_packages()
     closure = Closure()
-    todo = [(name, "") for name in ROBOT_MODULES]
-    for script in ROBOT_SCRIPTS:
+    todo = [(name, "") for name in modules]
+    for script in scripts:
         todo += [(name, str(script)) for name in
                  imported_names(ast.parse(script.read_text()), "__main__", False)]
     while todo:
@@ -148,13 +150,24 @@ def rel(path: Path) -> str:
 
 def test_the_closure_is_the_robot_side_and_pulls_no_workstation_module(closure: Closure):
     # the resolver must find the robot side itself, or every check below passes vacuously
-    for expected in ("rason.execution.motion", "rason.execution.safety", "rason.ros.params",
+    for expected in ("rason.execution.motion", "rason.execution.safety", "rosnode_kit.params",
                      "kobuki_fault_injector.node", "rason_vision.synthesizer",
                      "rason_vision.detector", "turtlebot_model.geometry"):
         assert expected in closure.modules, expected
     pulled = [f"{name} ({rel(path)})" for name, path in closure.modules.items()
               if name.startswith(WORKSTATION_ONLY)]
     assert not pulled, f"the robot side imports workstation modules: {pulled}"
+
+
+def test_the_fault_injector_and_the_simulator_import_no_rason():
+    """Layers point one way: the functional layer (injector, simulator) builds on rosnode_kit,
+    never on the agent bridge above it."""
+    for script in (SRC / "kobuki_fault_injector" / "scripts" / "fault_injector",
+                   SRC / "turtlebot_sim" / "scripts" / "sim"):
+        closure = robot_closure([script], [])
+        assert "rosnode_kit.params" in closure.modules, script   # the resolver followed it
+        pulled = sorted(name for name in closure.modules if name.split(".")[0] == "rason")
+        assert not pulled, f"{rel(script)} imports rason: {pulled}"
 
 
 def test_third_party_imports_are_what_noetic_ships(closure: Closure):

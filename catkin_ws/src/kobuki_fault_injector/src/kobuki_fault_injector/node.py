@@ -14,7 +14,7 @@ remaps one after the other, so ``mobile_base/odom:=odom odom:=fault_injector/odo
 subscribe the node to its own output. On a robot with turtlebot's velocity mux add
 ``mobile_base/commands/velocity:=cmd_vel_mux/input/navi`` (docs/drivers.md). When the odometry
 input stays silent for 3 s while another Odometry topic of the namespace flows, the node warns,
-naming both (:mod:`rason.ros.input_watch`).
+naming both (:mod:`rosnode_kit.input_watch`).
 
 Service ``fault_injector`` (``kobuki_fault_injector/FaultInjector``): ``left_actuator``,
 ``right_actuator``, ``both_actuators``, ``odometry`` or ``cancel``; see
@@ -23,7 +23,7 @@ is published latched on ``fault_injector/status`` (std_msgs/String) and, once a 
 every change, on ``/diagnostics`` (level WARN while a fault is active, OK otherwise). A velocity
 command with a non-finite component is replaced by a stop (with a rate-limited warning).
 After a roscore restart the node registers its topics and service again
-(:mod:`rason.ros.master_watch`).
+(:mod:`rosnode_kit.master_watch`).
 """
 
 from __future__ import annotations
@@ -51,11 +51,11 @@ from kobuki_fault_injector.srv import (
     FaultInjectorRequest,
     FaultInjectorResponse,
 )
-from rason.ros.badinput import shorten
-from rason.ros.guard import guarded
-from rason.ros.input_watch import watch_input
-from rason.ros.master_watch import watch_master
-from rason.ros.params import ParamError, exit_on_help, load_or_exit, param
+from rosnode_kit.badinput import shorten
+from rosnode_kit.guard import guarded
+from rosnode_kit.input_watch import watch_input
+from rosnode_kit.master_watch import watch_master
+from rosnode_kit.params import ParamError, exit_on_help, load_or_exit, param
 
 #: How to wire the odometry under the stock driver names (the miswiring warning ends with it).
 STOCK_HINT = ("Under the stock driver names (the driver publishes odom) run the injector with "

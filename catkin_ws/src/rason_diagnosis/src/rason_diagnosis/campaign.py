@@ -24,7 +24,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import yaml
 
-from rason.testing.harness import processes_left_by
+from rason.process.harness import processes_left_by
 from rason_diagnosis import thesis
 from rason_diagnosis.drivers import SIM, WIRINGS
 from rason_diagnosis.paths import world_file

@@ -28,8 +28,8 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 
-from rason.testing import netns
-from rason.testing.harness import echo_line
+from rason.process import netns
+from rason.process.harness import echo_line
 
 #: The hosts of the case study, in address order: world = .1, helper = .2, faulty = .3.
 HOSTS = ("world", "helper", "faulty")

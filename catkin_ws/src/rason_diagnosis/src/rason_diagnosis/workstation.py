@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from rason.inspector.main import InspectorParams
-from rason.testing.harness import HarnessError, Process, RosHarness
+from rason.process.harness import HarnessError, Process, RosHarness
 from rason_diagnosis.hosts import interrupt
 from rason_diagnosis.paths import agent_file
 from rason_diagnosis.scenario import (

@@ -27,7 +27,6 @@ import cv2
 import numpy as np
 import yaml
 
-from rason.ros.params import ParamError, exit_on_help, param, parse
 from rason_vision.colours import (
     CYLINDERS,
     LABELS,
@@ -41,6 +40,7 @@ from rason_vision.colours import (
 from rason_vision.compressed import compressed_to_rgb
 from rason_vision.convert import image_to_rgb
 from rason_vision.detector import HsvRange
+from rosnode_kit.params import ParamError, exit_on_help, param, parse
 
 USAGE = ("rosrun rason_vision calibrate [_snapshot:=frame.png] _out:=colours.yaml "
          "(_green:=x,y,w,h _orange:=x,y,w,h | _labels:=labels.png) [_bag:=file.bag] "

@@ -51,7 +51,6 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import CameraInfo, CompressedImage, Image, PointCloud2
 
 from rason.execution.synthesizer import BadFrame, Synthesizer, SynthesizerParams, run
-from rason.ros.params import param
 from rason_vision.colours import load_colours
 from rason_vision.compressed import compressed_depth_to_z, compressed_to_rgb
 from rason_vision.convert import (
@@ -65,6 +64,7 @@ from rason_vision.convert import (
 )
 from rason_vision.detector import GREEN, ORANGE, DetectorConfig, HsvRange, detect
 from rason_vision.geometry import format_literal, format_partial_literal
+from rosnode_kit.params import param
 from turtlebot_model.geometry import angle_diff_deg, wrap_deg, yaw_from_quaternion
 
 _BASE = DetectorConfig()

@@ -19,7 +19,7 @@ node's namespace, so ``__ns:=/test1`` gives ``/test1/faulty/...``; all stamps ar
 docs/drivers.md has the table.
 
 Under the default profile the node does not set ``/use_sim_time``: set it before starting the
-other nodes. After a roscore restart it registers its topics again (:mod:`rason.ros.master_watch`).
+other nodes. After a roscore restart it registers its topics again (:mod:`rosnode_kit.master_watch`).
 """
 
 from __future__ import annotations
@@ -41,8 +41,8 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image, JointState, PointCloud2
 from tf2_msgs.msg import TFMessage
 
-from rason.ros.master_watch import watch_master
-from rason.ros.params import ParamError, exit_on_help, exit_rejected, load_or_exit, param
+from rosnode_kit.master_watch import watch_master
+from rosnode_kit.params import ParamError, exit_on_help, exit_rejected, load_or_exit, param
 from turtlebot_sim import config as worldcfg
 from turtlebot_sim import msgs, stock
 from turtlebot_sim.base_events import BaseEventScript, BumperSwitches, ScriptedEvent, Side

@@ -53,7 +53,7 @@ What the base does (names relative, so ``__ns:=/robot`` puts it under the robot)
   (``timeout``) or whose agent went silent; with no action running it sleeps
   (:class:`rason.ros.ticker.Ticker`: nothing moves, so there is nothing to watch).
 
-Every callback is exception-safe (:mod:`rason.ros.guard`); one re-entrant lock,
+Every callback is exception-safe (:mod:`rosnode_kit.guard`); one re-entrant lock,
 :attr:`Decomposer.lock`, is held around all of them, including the ones registered with
 :meth:`Decomposer.subscribe`. Private parameters: :class:`DecomposerParams` (``--help`` prints
 them); a decomposer with parameters of its own declares a subclass of it as ``Params`` and
@@ -80,6 +80,7 @@ from rason.execution.results import (
     TIMEOUT,
     Verdict,
 )
+from rason.ros import fastpath
 from rason.ros.auth import (
     ACTION_KIND,
     EVENT_KIND,
@@ -90,14 +91,13 @@ from rason.ros.auth import (
     verify_parameters,
 )
 from rason.ros.auth import Verdict as Authenticity
-from rason.ros.badinput import shorten
-from rason.ros.fanout import direct_publisher
 from rason.ros.feedback import ACTION_ACCEPTED, ACTION_FEEDBACK, ACTION_RUNNING
-from rason.ros.guard import RateLimitedWarnings, guarded
-from rason.ros.master_watch import watch_master
-from rason.ros.params import load_or_exit, param, start_node
 from rason.ros.presence import GOODBYE, PRESENCE, PRESENCE_TOPIC
 from rason.ros.ticker import Ticker
+from rosnode_kit.badinput import shorten
+from rosnode_kit.guard import RateLimitedWarnings, guarded
+from rosnode_kit.master_watch import watch_master
+from rosnode_kit.params import load_or_exit, param, start_node
 
 __all__ = ["OK", "Decomposer", "DecomposerParams", "Goal", "Verdict", "run"]
 
@@ -185,7 +185,7 @@ class Decomposer:
             rospy.logwarn(f"{self.name}: no ~auth_key_file: this decomposer accepts actions "
                           "from any sender on the ROS graph, and any process may keep them "
                           "running with presence beats in the agent's name")
-        self.events = direct_publisher("jason/event", Event, queue_size=100)
+        self.events = fastpath.publisher("jason/event", Event, queue_size=100)
         # the watchdog ticks only while an action runs: an idle decomposer's thread sleeps
         self.watchdog = Ticker(self.params.watchdog_rate, self._locked("watchdog", self._on_tick),
                                lambda: bool(self.goals), name=f"{self.name}-watchdog")

@@ -66,7 +66,7 @@ from rason.execution.progress import (
 )
 from rason.execution.ramp import SpeedLimits, next_speed
 from rason.execution.safety import BUMPER, CLIFF, WHEEL_DROP, BaseSafety
-from rason.ros.params import param
+from rosnode_kit.params import param
 from turtlebot_model.geometry import wrap_rad, yaw_from_quaternion
 
 TURN_TO = "turn_to"

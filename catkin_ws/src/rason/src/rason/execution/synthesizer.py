@@ -47,11 +47,11 @@ from typing import Any, ClassVar
 import rospy
 from jason_msgs.msg import Perception
 
-from rason.ros.badinput import shorten
-from rason.ros.fanout import direct_publisher
-from rason.ros.guard import RateLimitedWarnings
-from rason.ros.master_watch import watch_master
-from rason.ros.params import load_or_exit, param, start_node
+from rason.ros import fastpath
+from rosnode_kit.badinput import shorten
+from rosnode_kit.guard import RateLimitedWarnings
+from rosnode_kit.master_watch import watch_master
+from rosnode_kit.params import load_or_exit, param, start_node
 
 __all__ = ["BadFrame", "Synthesizer", "SynthesizerParams", "run"]
 
@@ -101,7 +101,7 @@ class Synthesizer:
         self.rejected = 0         # frames refused
         self.setup()
         self.declare_ttl()        # before the first publication, so agents find it at once
-        self.publisher = direct_publisher("jason/perception", Perception, queue_size=10)
+        self.publisher = fastpath.publisher("jason/perception", Perception, queue_size=10)
         queue = self.params.queue_size
         # rospy's receive buffer: 1 MB measured faster than 64 kB or 16 MB for 5 MB clouds.
         buff = self.params.buff_size

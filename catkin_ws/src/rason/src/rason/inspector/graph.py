@@ -20,8 +20,8 @@ from sensor_msgs.msg import Image
 from std_msgs.msg import String
 
 from rason.inspector.store import MAX_NAME, BadMindState, CameraFrame, InspectorStore, Pose
-from rason.ros.badinput import shorten
 from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE, Directory
+from rosnode_kit.badinput import shorten
 from turtlebot_model.geometry import yaw_from_quaternion
 
 MIND_STATE_SUFFIX = "/mind_state"

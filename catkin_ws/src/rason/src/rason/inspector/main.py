@@ -22,7 +22,7 @@ from aiohttp import web
 from rason.inspector.graph import GraphWatcher
 from rason.inspector.store import InspectorStore
 from rason.inspector.web import allowed_hosts, make_app
-from rason.ros.params import exit_on_help, load_or_exit, param
+from rosnode_kit.params import exit_on_help, load_or_exit, param
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 

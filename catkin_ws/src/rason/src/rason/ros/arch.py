@@ -19,9 +19,9 @@ import rospy
 
 from rason.asl import AgentArch, Clock, Message, UnknownReceiver
 from rason.ros.auth import TrustPolicy
-from rason.ros.badinput import shorten
 from rason.ros.feedback import CancelReason, Feedback
 from rason.ros.perceptions import PerceptionFilter, PerceptionTable, parse_percept
+from rosnode_kit.badinput import shorten
 
 if TYPE_CHECKING:
     from rason.asl import Agent

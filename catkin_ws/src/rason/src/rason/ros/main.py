@@ -49,10 +49,10 @@ def _run(node_name: str, argv: list[str],
     sys.argv = argv
     import rospy
 
-    from rason.ros.master_watch import watch_master
     from rason.ros.node import AgentNodeParams, RasonNode
-    from rason.ros.params import ParamError, forget, load
-    from rason.ros.rosout import cache_rosout_setting
+    from rosnode_kit.master_watch import watch_master
+    from rosnode_kit.params import ParamError, forget, load
+    from rosnode_kit.rosout import cache_rosout_setting
 
     rospy.init_node(node_name)
     cache_rosout_setting()
@@ -119,7 +119,7 @@ def _parser(prog: str, description: str) -> argparse.ArgumentParser:
     if "-h" in sys.argv[1:] or "--help" in sys.argv[1:]:
         # Only printing: rospy (imported with the node module) may now read sys.argv.
         from rason.ros.node import AgentNodeParams
-        from rason.ros.params import table_text
+        from rosnode_kit.params import table_text
 
         epilog = table_text(AgentNodeParams)
     return argparse.ArgumentParser(prog=prog, description=description, epilog=epilog,

@@ -36,7 +36,7 @@ from std_msgs.msg import String
 
 from rason.asl import Message, term_str
 from rason.asl.inspection import to_json
-from rason.ros.guard import WARNINGS
+from rosnode_kit.guard import WARNINGS
 
 if TYPE_CHECKING:
     from rason.asl import Agent

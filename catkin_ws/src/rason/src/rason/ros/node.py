@@ -49,6 +49,7 @@ from jason_msgs.srv import Mind, MindResponse
 from rason.asl import Agent, AgentOptions, Message, load_agent_source, parse_term_text, term_str, term_text
 from rason.asl.df import DF_NAME, ProviderNotice, Registration, ServiceDirectory
 from rason.asl.terms import ListTerm, Literal, list_to_python, non_finite_part
+from rason.ros import fastpath
 from rason.ros.acceptance import RemoteActions
 from rason.ros.arch import RosAgArch, ros_now
 from rason.ros.auth import (
@@ -65,8 +66,6 @@ from rason.ros.auth import (
     split_signed,
     verify_parameters,
 )
-from rason.ros.badinput import BadInputLog, shorten
-from rason.ros.fanout import direct_publisher
 from rason.ros.feedback import (
     CancelReason,
     accepted_beat_period,
@@ -74,11 +73,8 @@ from rason.ros.feedback import (
     parse_feedback,
     parse_running,
 )
-from rason.ros.frames import MAX_NICE, MAX_SLICE_S, framed_subscriber
-from rason.ros.guard import RateLimitedWarnings, guarded
 from rason.ros.holdback import HoldBack
 from rason.ros.mind_state import LatchedTopic, MindStatePublisher, mind_state_topic
-from rason.ros.params import ParamError, param
 from rason.ros.perceptions import PerceptionFilter
 from rason.ros.presence import (
     DF_PERFORMATIVE,
@@ -91,6 +87,9 @@ from rason.ros.presence import (
     Directory,
 )
 from rason.ros.ticker import Ticker
+from rosnode_kit.badinput import BadInputLog, shorten
+from rosnode_kit.guard import RateLimitedWarnings, guarded
+from rosnode_kit.params import ParamError, param
 
 #: s (ROS time) between two checks of action timeouts and perception TTLs
 CHECK_PERIOD = 0.05
@@ -170,14 +169,14 @@ class AgentNodeParams:
         "until the agent's own input wakes its thread): when the CPU is short, this node's own "
         "work, and the broadcasts it sends, go before the fleet's incoming messages, so a "
         "broadcast reaches its receivers before they take the CPU from its sender; 0 = the "
-        "node's own priority", minimum=0, maximum=MAX_NICE)
+        "node's own priority", minimum=0, maximum=fastpath.MAX_NICE)
     receive_slice: float = param(
         0.0002, "seconds: the scheduling slice the threads that read /jason/messages ask Linux "
         "for (EEVDF, kernel 6.12 and later; older kernels ignore it): a thread with a shorter "
         "slice gets the CPU sooner when it wakes, for less time at a time, so a message's "
         "handling (a fraction of a millisecond) does not wait behind the default slices of "
         "the other processes woken with it; 0 = the kernel's default slice",
-        minimum=0.0, maximum=MAX_SLICE_S)
+        minimum=0.0, maximum=fastpath.MAX_SLICE_S)
     mind_state_rate: float = param(
         10.0, "at most this many jason/NAME/mind_state publications a second (only when the mind "
         "changed; for the mind inspector); 0 = not published", minimum=0.0)
@@ -252,14 +251,14 @@ class RasonNode:
 
         # -- topics (subscriptions start with the agents: see start) -------------------------------
         # The agents' traffic is written from the publishing thread, each subscriber at once,
-        # never waiting for one that does not read (rason.ros.fanout).
-        self.action_pub = direct_publisher(self.topic("jason/action"), Action, queue_size=100)
-        self.cancel_pub = direct_publisher(self.topic("jason/cancel"), ActionCancel, queue_size=100)
+        # never waiting for one that does not read (rason.ros.fastpath.fanout).
+        self.action_pub = fastpath.publisher(self.topic("jason/action"), Action, queue_size=100)
+        self.cancel_pub = fastpath.publisher(self.topic("jason/cancel"), ActionCancel, queue_size=100)
         # a node that subscribes hears our agents' presence at once, not a period later
-        self.message_pub = direct_publisher(MESSAGES_TOPIC, AgentMessage, queue_size=100,
+        self.message_pub = fastpath.publisher(MESSAGES_TOPIC, AgentMessage, queue_size=100,
                                             subscriber_listener=_GreetNewSubscribers(self.greet))
         # the same beats for this robot's decomposers, every period (they do not hear the fleet)
-        self.presence_pub = direct_publisher(self.topic(PRESENCE_TOPIC), AgentMessage,
+        self.presence_pub = fastpath.publisher(self.topic(PRESENCE_TOPIC), AgentMessage,
                                              queue_size=10, tcp_nodelay=True)
         self._presence_period = presence_period
         # ROS time each hosted agent last published on /jason/messages (presence or message)
@@ -303,15 +302,16 @@ class RasonNode:
     def start(self) -> None:
         """Subscribe (latched messages may arrive at once), announce the agents, start them."""
         # Every callback is guarded: a bad message costs a warning, never a timer or the node.
-        # The frequent topics are read by rason.ros.frames (less work per message than rospy).
-        self.event_sub = framed_subscriber(self.topic("jason/event"), Event,
-                                           guarded("jason/event")(self.on_event), queue_size=100)
-        framed_subscriber(self.topic("jason/perception"), Perception,
-                          guarded("jason/perception")(self.on_perception),
-                          queue_size=100, tcp_nodelay=True)
-        framed_subscriber(MESSAGES_TOPIC, AgentMessage, guarded(MESSAGES_TOPIC)(self.on_message),
-                          queue_size=200, nice=self.params.receive_nice,
-                          slice_s=self.params.receive_slice, tcp_nodelay=True)
+        # The frequent topics are read by rason.ros.fastpath's frame readers (less work per
+        # message than rospy's), unless RASON_STOCK_ROSPY=1.
+        self.event_sub = fastpath.subscriber(self.topic("jason/event"), Event,
+                                             guarded("jason/event")(self.on_event), queue_size=100)
+        fastpath.subscriber(self.topic("jason/perception"), Perception,
+                            guarded("jason/perception")(self.on_perception),
+                            queue_size=100, tcp_nodelay=True)
+        fastpath.subscriber(MESSAGES_TOPIC, AgentMessage, guarded(MESSAGES_TOPIC)(self.on_message),
+                            queue_size=200, nice=self.params.receive_nice,
+                            slice_s=self.params.receive_slice, tcp_nodelay=True)
         rospy.Subscriber(DIRECTORY_TOPIC, AgentMessage, guarded(DIRECTORY_TOPIC)(self.on_directory),
                          queue_size=50)
         self._started = True

@@ -8,7 +8,7 @@ kept until the agent perceives, and each one is parsed and applied in turn.
 
 Malformed perception strings (and numbers that are not finite: ``NaN``, ``Infinity``) are dropped
 and the rest of the message still counts; they are logged once per source and text, at most once
-a second per source, shortened, with bounded memory (:class:`~rason.ros.badinput.BadInputLog`).
+a second per source, shortened, with bounded memory (:class:`~rosnode_kit.badinput.BadInputLog`).
 An agent may also declare which functors and sources it wants.
 
 A source may have a time to live (TTL): when it has been silent for longer than that, its list
@@ -28,8 +28,8 @@ from typing import Generic, TypeVar
 
 from rason.asl import Literal, parse_literal
 from rason.asl.terms import non_finite_part
-from rason.ros.badinput import BadInputLog, shorten
 from rason.ros.feedback import split_top_level
+from rosnode_kit.badinput import BadInputLog, shorten
 
 L = TypeVar("L")
 
@@ -121,7 +121,7 @@ class PerceptionTable(Generic[L]):
         parse: turns one perception string into a literal; raises ValueError (or a subclass,
             such as the interpreter's syntax error) for malformed text.
         warn: where warnings about malformed perception strings go (rate-limited: see
-            :class:`~rason.ros.badinput.BadInputLog`).
+            :class:`~rosnode_kit.badinput.BadInputLog`).
         mode: ``replace`` (per-source replacement) or ``queue`` (every message is applied).
         ttl: a source's time to live in seconds (``0`` = its list stands until replaced);
             asked with each message of the source, so it must be cheap.

@@ -15,7 +15,7 @@ import re
 from dataclasses import dataclass
 
 from rason.execution.decomposer import Decomposer, DecomposerParams, Goal, Verdict, run
-from rason.ros.params import param
+from rosnode_kit.params import param
 
 ATOM = re.compile(r"^[a-z][A-Za-z0-9_]*$")
 

@@ -37,7 +37,7 @@ from typing import Any
 
 import rospy  # local: the harness itself must work without rospy importable
 
-from rason.testing.netns import Host
+from rason.process.netns import Host
 
 #: The master this process's rospy node was initialised against (rospy allows only one).
 _ROSPY_MASTER: str | None = None
@@ -281,7 +281,7 @@ class RosHarness:
         sim_time: set ``/use_sim_time`` before any node starts (the simulator publishes /clock).
         echo: stream every process's output to stdout, each line prefixed with its name.
         log_dir: where process logs go (default: a fresh temporary folder, kept for reading).
-        master_host: run roscore on this host of a :class:`rason.testing.netns.Lan`, on port
+        master_host: run roscore on this host of a :class:`rason.process.netns.Lan`, on port
             11311 as on a real robot network (this process must be on the LAN too:
             ``netns.enter``); nodes given ``host=`` then run on their own hosts, the others
             on the master's host.
@@ -421,9 +421,11 @@ class RosHarness:
     def rosrun(self, package: str, executable: str, *args: str, ns: str | None = None,
                name: str | None = None, params: dict[str, object] | None = None,
                echo: bool | str | None = None, cwd: str | Path | None = None,
-               host: Host | None = None, piped: bool = True) -> Process:
+               host: Host | None = None, piped: bool = True,
+               env: dict[str, str] | None = None) -> Process:
         """Start ``rosrun package executable args...`` (``__ns:=ns``, ``__name:=name``, ``_k:=v``)
-        on ``host`` (a namespace of a Lan) or on this machine (``piped``: see :class:`Process`)."""
+        on ``host`` (a namespace of a Lan) or on this machine (``piped``: see :class:`Process`),
+        with ``env`` added to the harness' environment."""
         argv = ["rosrun", package, executable, *args]
         if ns:
             argv.append(f"__ns:={ns}")
@@ -436,7 +438,7 @@ class RosHarness:
             node_key = "/" + "/".join(p.strip("/") for p in (ns or "", executable) if p.strip("/"))
             host = self.placement.get(node_key) or (
                 self.placement.get("/" + ns.strip("/")) if ns else None)
-        return self.run(argv, label=label, echo=echo, cwd=cwd, host=host, piped=piped)
+        return self.run(argv, label=label, echo=echo, cwd=cwd, env=env, host=host, piped=piped)
 
     def run(self, argv: Sequence[str], label: str | None = None, echo: bool | str | None = None,
             cwd: str | Path | None = None, env: dict[str, str] | None = None,

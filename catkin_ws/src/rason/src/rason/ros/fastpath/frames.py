@@ -51,8 +51,8 @@ import rospy
 from rospy.exceptions import TransportException, TransportTerminated
 from rospy.impl.tcpros_base import TCPROSTransport
 
-from rason.ros.badinput import shorten
-from rason.ros.guard import WARNINGS
+from rosnode_kit.badinput import shorten
+from rosnode_kit.guard import WARNINGS
 
 _LENGTH = struct.Struct("<I")
 _TIME = struct.Struct("<2I")
@@ -74,7 +74,9 @@ class FlatDecoder:
 
     def __init__(self, data_class: Any) -> None:
         self.data_class = data_class
-        self.fields = list(zip(data_class.__slots__, data_class._slot_types, strict=True))
+        # one type per slot (genpy); the robot side's Python 3.8 has no zip(strict=True)
+        types = data_class._slot_types
+        self.fields = [(name, types[i]) for i, name in enumerate(data_class.__slots__)]
 
     @staticmethod
     def reads(data_class: Any) -> bool:

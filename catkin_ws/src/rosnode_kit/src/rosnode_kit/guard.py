@@ -16,7 +16,7 @@ from typing import Any, TypeVar
 
 import rospy
 
-from rason.ros.badinput import BadInputLog, shorten
+from rosnode_kit.badinput import BadInputLog, shorten
 
 #: Most distinct warning kinds remembered (bounded memory under arbitrary input).
 MAX_KINDS = 256
@@ -27,7 +27,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 class RateLimitedWarnings:
     """Warnings keyed by kind, each kind logged at most once per `period` s of ROS time.
 
-    A :class:`~rason.ros.badinput.BadInputLog` on ``rospy.logwarn`` and ROS time, with no
+    A :class:`~rosnode_kit.badinput.BadInputLog` on ``rospy.logwarn`` and ROS time, with no
     per-input memory: the same failure is reported again every period while it lasts.
     """
 

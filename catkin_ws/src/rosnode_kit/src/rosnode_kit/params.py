@@ -34,7 +34,7 @@ from typing import Any, TypeVar
 import rospy
 import yaml
 
-from rason.ros.rosout import cache_rosout_setting
+from rosnode_kit.rosout import cache_rosout_setting
 
 T = TypeVar("T")
 

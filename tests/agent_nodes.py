@@ -9,7 +9,7 @@ from pathlib import Path
 
 import yaml
 
-from rason.testing.harness import Process, RosHarness
+from rason.process.harness import Process, RosHarness
 
 
 def write_agent(folder: Path, name: str, source: str) -> Path:
@@ -20,11 +20,11 @@ def write_agent(folder: Path, name: str, source: str) -> Path:
 
 
 def start_agent(ros: RosHarness, folder: Path, name: str, source: str, ns: str,
-                **params: object) -> Process:
-    """``rosrun rason agent NAME FILE.asl __ns:=ns _param:=value...``, waited for until its
-    ``jason/NAME/mind`` service is up."""
+                env: dict[str, str] | None = None, **params: object) -> Process:
+    """``rosrun rason agent NAME FILE.asl __ns:=ns _param:=value...`` (with ``env`` added to
+    its environment), waited for until its ``jason/NAME/mind`` service is up."""
     path = write_agent(folder, name, source)
-    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params)
+    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params, env=env)
     ros.wait_for_service(f"{ns}/jason/{name}/mind", watch=[proc])
     return proc
 

@@ -1,1 +1,0 @@
-"""Nodes and helpers for testing agents and decomposers."""

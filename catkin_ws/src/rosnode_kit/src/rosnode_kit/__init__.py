@@ -1,0 +1,1 @@
+"""rosnode_kit: generic rospy node helpers (parameters, guards, watches), no agent code."""
