@@ -51,11 +51,16 @@ PYTHON38 = Path("/usr/bin/python3.8")
 #: 1.17 unless noted); with the keywords passed to them.
 NOETIC_NUMPY: dict[str, set[str]] = {
     "abs": set(), "argmin": set(), "argsort": set(), "array": set(), "array_equal": set(),
-    "ascontiguousarray": {"dtype"}, "empty": {"dtype"}, "errstate": {"invalid"},
+    "ascontiguousarray": {"dtype"}, "empty": {"dtype"},
     "float32": set(), "frombuffer": {"dtype"}, "isfinite": set(), "median": {"axis"},
     "nan": set(), "ndarray": set(), "nonzero": set(), "stack": {"axis"}, "uint32": set(),
     "uint8": set(), "lib": set(), "lib.stride_tricks": set(),
     "lib.stride_tricks.as_strided": {"shape", "strides", "writeable"},  # writeable: 1.12
+    "arange": {"dtype"}, "argmax": set(), "asarray": {"dtype"}, "bincount": {"minlength"},
+    "ceil": set(), "clip": set(), "dtype": set(), "errstate": {"invalid", "divide"},
+    "float64": set(), "floor": set(), "int32": set(), "percentile": set(), "roll": set(),
+    "round": set(), "uint16": set(), "zeros": {"dtype"},
+    "nan_to_num": {"nan", "posinf"},            # these keywords are new in 1.17 itself
 }
 #: OpenCV names the robot side uses, each checked in OpenCV 4.2's Python bindings.
 NOETIC_OPENCV: dict[str, set[str]] = {
@@ -64,6 +69,11 @@ NOETIC_OPENCV: dict[str, set[str]] = {
     "boundingRect": set(), "connectedComponents": {"connectivity"},
     "connectedComponentsWithStats": {"connectivity", "ltype"}, "cvtColor": set(),
     "getStructuringElement": set(), "inRange": set(), "morphologyEx": set(),
+    "COLOR_BGR2RGB": set(), "COLOR_RGB2BGR": set(), "COLOR_BayerBG2RGB": set(),
+    "COLOR_BayerGB2RGB": set(), "COLOR_BayerGR2RGB": set(), "COLOR_BayerRG2RGB": set(),
+    "COLOR_YUV2RGB_UYVY": set(), "IMREAD_COLOR": set(), "IMREAD_UNCHANGED": set(),
+    "IMWRITE_JPEG_QUALITY": set(), "IMWRITE_PNG_COMPRESSION": set(), "imdecode": set(),
+    "imencode": set(),
 }
 NOETIC_APIS = {"numpy": NOETIC_NUMPY, "cv2": NOETIC_OPENCV}
 
