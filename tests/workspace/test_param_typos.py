@@ -15,15 +15,15 @@ AGENT = "!g.\n+!g <- .print(started).\n"
 @pytest.mark.parametrize(("package", "node", "typo", "meant"), [
     ("rason", "agent", "ack_timout", "ack_timeout"),
     ("rason", "echo_decomposer", "dellay", "delay"),
-    ("kobuki_fault_injector", "fault_injector", "mode", None),
+    ("kobuki_fault_injector", "fault_injector", "odom_inptu", "odom_input"),
 ])
 def test_an_unknown_private_parameter_is_warned_with_the_closest_name(
         ros: RosHarness, tmp_path, package, node, typo, meant):
     args = ("a", str(tmp_path / "a.asl")) if node == "agent" else ()
     (tmp_path / "a.asl").write_text(AGENT)
     proc = ros.rosrun(package, node, *args, ns=f"/typo_{node}", params={typo: 3})
-    hint = f"did you mean ~{meant}\\?" if meant else "this node's are: none"
-    proc.wait_for_line(rf"unknown private parameter ~{typo} \(ignored\); {hint}", timeout=60)
+    proc.wait_for_line(rf"unknown private parameter ~{typo} \(ignored\); did you mean ~{meant}\?",
+                       timeout=60)
     assert proc.alive()                     # a warning, not an error
 
 
