@@ -6,6 +6,8 @@
 #                                   right_actuator or none
 #       --seed N                    the seed of the run's variation
 #       --world FILE.yaml           your own world file (robot poses, room, lighting)
+#       --colours FILE.yaml         the synthesizer's colour ranges (rosrun rason_vision
+#                                   calibrate; default: the world's vision.colours)
 #       --json                      print the result as JSON at the end
 #       --record                    also record a bag of the run
 #       --drivers sim|stock         the simulator's topics: its own (sim time) or the real
@@ -24,6 +26,8 @@
 #       --layouts fixed|random      the thesis' layout, or a seeded random layout per run index
 #       --out DIR                   the folder for the report
 #       --faults NAME...            only these faults
+#       --world FILE.yaml           every run in this world (e.g. worlds/harsh.yaml)
+#       --colours FILE.yaml         as for demo
 #       --first-seed N              the seed of the first run
 #       --hosts                     every run across hosts of its own (root)
 #       --drivers sim|stock         as for demo

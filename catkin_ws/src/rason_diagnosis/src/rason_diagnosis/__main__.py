@@ -24,6 +24,7 @@ from rason.inspector.main import InspectorParams
 from rason_diagnosis import thesis, workstation
 from rason_diagnosis.drivers import SIM, WIRINGS
 from rason_diagnosis.hosts import LinkCut, interrupt
+from rason_diagnosis.paths import world_colours
 from rason_diagnosis.scenario import (
     FAULTS,
     INJECTED_FAULTS,
@@ -58,6 +59,9 @@ def world_problem(path: Path) -> str | None:
     if kinds.get("helper") != "helper" or kinds.get("faulty") != "faulty":
         return ("the case study needs a robot named helper (kind: helper) and one named faulty "
                 f"(kind: faulty); found {kinds or 'none'}")
+    colours = world_colours(path)
+    if colours is not None and not colours.is_file():
+        return f"its vision.colours names no file: {colours}"
     return None
 
 
@@ -87,6 +91,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=None, help="folder for the picture and logs")
     parser.add_argument("--world", type=Path, default=None,
                         help="world file (robot poses, room, lighting; as worlds/case_study.yaml)")
+    parser.add_argument("--colours", type=Path, default=None,
+                        help="the synthesizer's colours file (rosrun rason_vision calibrate; "
+                             "default: the one the world names in vision.colours, else the "
+                             "detector's ranges; docs/vision.md)")
     parser.add_argument("--drivers", choices=sorted(WIRINGS), default=SIM.drivers.value,
                         help="the simulator's topics: sim (its own, sim time) or stock (the real "
                              "kobuki_node + Kinect drivers' names, wall time; docs/drivers.md)")
@@ -112,6 +120,8 @@ def main(argv: list[str] | None = None) -> int:
         problem = world_problem(args.world)
         if problem:
             parser.error(f"--world {args.world}: {problem}")
+    if args.colours is not None and not args.colours.is_file():
+        parser.error(f"--colours {args.colours}: no such file")
 
     seed = args.seed if args.seed is not None else int(time.time()) % 100000
     fault = args.fault or default_fault(seed)
@@ -125,7 +135,7 @@ def main(argv: list[str] | None = None) -> int:
                               sim_timeout=args.timeout,
                               inspector_port=args.inspector_port if args.inspector else None,
                               hosts=args.hosts, cuts=args.cut, world=args.world,
-                              wiring=WIRINGS[args.drivers])
+                              wiring=WIRINGS[args.drivers], colours=args.colours)
     except KeyboardInterrupt:
         print("\n[demo] interrupted: every node of the run was stopped", flush=True)
         return 130

@@ -20,7 +20,7 @@ from pathlib import Path
 from rason.testing.harness import HarnessError, RosHarness, echo_line
 from rason_diagnosis.drivers import SIM, Wiring
 from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
-from rason_diagnosis.paths import agent_file, world_file
+from rason_diagnosis.paths import agent_file, world_colours, world_file
 
 #: The injected run without a fault (Faulty should conclude ``no_fault``).
 NO_FAULT = "none"
@@ -116,7 +116,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                  sim_timeout: float = 300.0, real_time_factor: float = 1.0,
                  inspector_port: int | None = None, hosts: bool = False,
                  cuts: Sequence[LinkCut] = (), world: Path | None = None,
-                 wiring: Wiring = SIM) -> RunResult:
+                 wiring: Wiring = SIM, colours: Path | None = None) -> RunResult:
     """Run one scenario; returns its result (never raises for a failed diagnosis).
 
     With `inspector_port` (0: any free port) the mind inspector watches the run; its address is
@@ -125,7 +125,8 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
     ``cuts``: links taken down and up again during the run (implies ``hosts``).
     ``world``: a world file (robot poses, room, lighting, camera; see ``worlds/case_study.yaml``),
     default the thesis' layout. ``wiring``: the driver profile (:mod:`rason_diagnosis.drivers`);
-    under ``STOCK`` the times are wall seconds, as on robots.
+    under ``STOCK`` the times are wall seconds, as on robots. ``colours``: the synthesizer's
+    colours file (default: the one the world names, else the detector's ranges).
     """
     if fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
@@ -148,7 +149,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                 if inspector_port is not None:
                     result.inspector = _start_inspector(ros, inspector_port)
                 _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor,
-                     network, cuts, world or world_file(), wiring)
+                     network, cuts, world or world_file(), wiring, colours)
         except HarnessError as err:
             result.error = str(err).splitlines()[0]
     result.wall_s = round(time.monotonic() - started, 1)
@@ -160,7 +161,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
 def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: bool,
          sim_timeout: float, real_time_factor: float, network: CaseStudyLan | None = None,
          cuts: Sequence[LinkCut] = (), world: Path | None = None,
-         wiring: Wiring = SIM) -> None:
+         wiring: Wiring = SIM, colours: Path | None = None) -> None:
     import rospy  # the demo process joins the run as an observer
 
     from rason_diagnosis.monitor import RunMonitor
@@ -175,11 +176,13 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
                    params=wiring.injector_params)
         ros.rosrun("rason", "motion_decomposer", *wiring.odom_reader_args, ns=f"/{robot}",
                    params=HELPER_MOTION if robot == "helper" else None)
+    colours = colours or world_colours(world or world_file())
+    vision_colours = {"colours": str(colours.resolve())} if colours else {}
     for line in wiring.vision_nodes:
         ros.rosrun(line.package, line.executable, *line.args, ns=line.ns)
     ros.rosrun("rason_vision", "robot_synthesizer", *wiring.odom_reader_args,
                *wiring.synthesizer_args, ns="/helper",
-               params={**HELPER_VISION, **wiring.synthesizer_params})
+               params={**HELPER_VISION, **wiring.synthesizer_params, **vision_colours})
     for robot in ROBOTS:
         ros.wait_for_service(f"/{robot}/fault_injector", timeout=30)
         ros.wait_for_subscriber(f"/{robot}/jason/action", timeout=30)
