@@ -12,6 +12,8 @@
 #       --record                    also record a bag of the run
 #       --drivers sim|stock         the simulator's topics: its own (sim time) or the real
 #                                   Kobuki and Kinect drivers' (wall time; docs/drivers.md)
+#       --vision nodelets|raw       with --drivers stock: Debian's debayer + point-cloud
+#                                   nodelets before the synthesizer (default), or none
 #       --real                      only the workstation side, against robots already up
 #                                   (docs/real-robot.md)
 #       --out DIR                   the folder for the picture and logs
@@ -31,6 +33,7 @@
 #       --first-seed N              the seed of the first run
 #       --hosts                     every run across hosts of its own (root)
 #       --drivers sim|stock         as for demo
+#       --vision nodelets|raw       as for demo
 #       --report-only               rewrite report.md and the plots from --out's runs.csv
 #   ./run.sh bench NAME [ARGS...]   a benchmark of benchmarks/ (./run.sh bench lists them)
 #   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs), or a part: a file, -k NAME

@@ -26,12 +26,12 @@ import yaml
 
 from rason.testing.harness import processes_left_by
 from rason_diagnosis import thesis
-from rason_diagnosis.drivers import SIM, WIRINGS
+from rason_diagnosis.drivers import SIM, WIRINGS, VisionPath, wiring_for
 from rason_diagnosis.paths import world_colours, world_file
 from rason_diagnosis.scenario import FAULTS, Outcome, outcome_of
 
 FIELDS = ("fault", "seed", "diagnosis", "expected", "correct", "detection_s", "location_s",
-          "diagnosis_s", "total_s", "wall_s", "orphans", "error")
+          "diagnosis_s", "total_s", "wall_s", "orphans", "error", "unknown_reason")
 STEP_FIELDS = ("detection_s", "location_s", "diagnosis_s")
 
 
@@ -65,6 +65,7 @@ def demo_options(args: argparse.Namespace) -> list[str]:
     ``--world`` by its own, so the world's colours file is passed on explicitly)."""
     colours = args.colours or (world_colours(args.world) if args.world else None)
     return [*(["--hosts"] if args.hosts else []), "--drivers", args.drivers,
+            *(["--vision", args.vision] if args.vision else []),
             *(["--world", str(args.world)] if args.world and args.layouts == "fixed" else []),
             *(["--colours", str(colours)] if colours else [])]
 
@@ -78,6 +79,13 @@ def progress(done: int, total: int, started: float, last: dict) -> None:
     print(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} "
           f"{last.get('fault', '')}-{last.get('seed', '')}: {last.get('diagnosis')} ({mark}) "
           f"elapsed {elapsed:4.0f} s, eta {eta:4.0f} s   ", end="", flush=True)
+
+
+def verdict(result: dict) -> str:
+    """What a report adds to a run's diagnosis that is not right: why it is unknown, or WRONG."""
+    if outcome(result) == Outcome.WRONG:
+        return " (WRONG)"
+    return f" ({result.get('unknown_reason') or result.get('error') or 'no reason given'})"
 
 
 def _mean(values: list[float | None]) -> float | None:
@@ -137,7 +145,7 @@ def write_report(results: list[dict], out: Path, runs: int) -> str:
             lines.append(f"| {i} | {r['seed']} | {fmt(r.get('detection_s'))} | "
                          f"{fmt(r.get('location_s'))} | {fmt(r.get('diagnosis_s'))} | "
                          f"{fmt(r.get('total_s'))} | {r.get('diagnosis')}"
-                         f"{'' if r.get('correct') else ' (WRONG)'} |")
+                         f"{'' if r.get('correct') else verdict(r)} |")
         means = [_mean([r.get(f) for r in mine]) for f in (*STEP_FIELDS, "total_s")]
         lines.append("| mean (ours) | | " + " | ".join(fmt(m) for m in means) + " | |")
         if fault in thesis.TABLES:
@@ -192,6 +200,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--drivers", choices=sorted(WIRINGS), default=SIM.drivers.value,
                         help="every run under this driver profile (./run.sh demo --drivers; "
                              "docs/drivers.md)")
+    parser.add_argument("--vision", choices=[v.value for v in VisionPath], default=None,
+                        help="with --drivers stock: nodelets (default) or raw (./run.sh demo "
+                             "--vision; docs/drivers.md)")
     parser.add_argument("--world", type=Path, default=None,
                         help="every run in this world file (./run.sh demo --world; with "
                              "--layouts random: its room, light and camera under each layout)")
@@ -205,6 +216,10 @@ def main(argv: list[str] | None = None) -> int:
                         help="only rewrite report.md and the plots from the runs.csv in --out "
                              "(e.g. of a campaign cut short)")
     args = parser.parse_args(argv)
+    try:
+        wiring_for(args.drivers, args.vision)
+    except ValueError as err:
+        parser.error(str(err))
     for flag, path in (("--world", args.world), ("--colours", args.colours)):
         if path is not None and not path.is_file():
             parser.error(f"{flag} {path}: no such file")

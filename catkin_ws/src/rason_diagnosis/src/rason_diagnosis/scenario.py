@@ -83,6 +83,7 @@ class RunResult:
     dead: list[str] = field(default_factory=list)
     unknown_reason: str = ""
     drivers: str = "sim"
+    vision: str | None = None  # the stock profile's image path (rason_diagnosis.drivers)
 
     @property
     def outcome(self) -> Outcome:
@@ -132,7 +133,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
     out_dir.mkdir(parents=True, exist_ok=True)
     result = RunResult(fault=fault, seed=seed, expected=expected_diagnosis(fault),
-                       drivers=wiring.drivers.value,
+                       drivers=wiring.drivers.value, vision=wiring.vision,
                        out_dir=str(out_dir), hosts=hosts or bool(cuts),
                        cuts=[str(c) for c in cuts])
     started = time.monotonic()
@@ -234,6 +235,8 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         result.error = f"no diagnosis within {sim_timeout:g} simulated seconds"
     if result.hosts:
         _network_outcome(ros, result, agents, mind, cutter)
+    if result.diagnosis == "unknown":
+        result.unknown_reason = _unknown_reason(mind)
 
     t = monitor.times
     result.detection_s = _diff(t.move_start, t.help_request)
@@ -271,9 +274,7 @@ UNKNOWN_BECAUSE = re.compile(r'unknownBecause\("?(.*?)"?\)(?:\[|$)')
 def _network_outcome(ros: RosHarness, result: RunResult, agents: dict, mind,
                      cutter: LinkCutter | None) -> None:
     """--hosts: restore cut links, then record link events, what the agents noticed about each
-    other's presence, the processes that died, and why a diagnosis is unknown."""
-    import rospy
-
+    other's presence and the processes that died."""
     if cutter:
         cutter.finish()
         result.link_events = [asdict(e) for e in cutter.events]
@@ -284,13 +285,17 @@ def _network_outcome(ros: RosHarness, result: RunResult, agents: dict, mind,
     result.dead = [p.name for p in ros.processes if not p.alive()]
     if result.dead:
         result.error = result.error or f"processes died: {', '.join(result.dead)}"
-    if result.diagnosis == "unknown":
-        try:
-            beliefs = mind().beliefs
-        except (rospy.ServiceException, rospy.ROSException):
-            beliefs = []
-        result.unknown_reason = next((m.group(1) for m in map(UNKNOWN_BECAUSE.match, beliefs)
-                                      if m), "")
+
+
+def _unknown_reason(mind) -> str:
+    """Why Faulty concluded ``unknown`` (its ``unknownBecause`` belief), or ""."""
+    import rospy
+
+    try:
+        beliefs = mind().beliefs
+    except (rospy.ServiceException, rospy.ROSException):
+        beliefs = []
+    return next((m.group(1) for m in map(UNKNOWN_BECAUSE.match, beliefs) if m), "")
 
 
 def _diagnosis(mind) -> str | None:
