@@ -6,10 +6,14 @@
 #                                   right_actuator or none
 #       --seed N                    the seed of the run's variation
 #       --world FILE.yaml           your own world file (robot poses, room, lighting)
+#       --colours FILE.yaml         the synthesizer's colour ranges (rosrun rason_vision
+#                                   calibrate; default: the world's vision.colours)
 #       --json                      print the result as JSON at the end
 #       --record                    also record a bag of the run
 #       --drivers sim|stock         the simulator's topics: its own (sim time) or the real
 #                                   Kobuki and Kinect drivers' (wall time; docs/drivers.md)
+#       --vision nodelets|raw       with --drivers stock: Debian's debayer + point-cloud
+#                                   nodelets before the synthesizer (default), or none
 #       --real                      only the workstation side, against robots already up
 #                                   (docs/real-robot.md)
 #       --out DIR                   the folder for the picture and logs
@@ -24,9 +28,12 @@
 #       --layouts fixed|random      the thesis' layout, or a seeded random layout per run index
 #       --out DIR                   the folder for the report
 #       --faults NAME...            only these faults
+#       --world FILE.yaml           every run in this world (e.g. worlds/harsh.yaml)
+#       --colours FILE.yaml         as for demo
 #       --first-seed N              the seed of the first run
 #       --hosts                     every run across hosts of its own (root)
 #       --drivers sim|stock         as for demo
+#       --vision nodelets|raw       as for demo
 #       --report-only               rewrite report.md and the plots from --out's runs.csv
 #   ./run.sh bench NAME [ARGS...]   a benchmark of benchmarks/ (./run.sh bench lists them)
 #   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs), or a part: a file, -k NAME

@@ -22,8 +22,9 @@ import yaml
 
 from rason.inspector.main import InspectorParams
 from rason_diagnosis import thesis, workstation
-from rason_diagnosis.drivers import SIM, WIRINGS
+from rason_diagnosis.drivers import SIM, WIRINGS, VisionPath, wiring_for
 from rason_diagnosis.hosts import LinkCut, interrupt
+from rason_diagnosis.paths import world_colours
 from rason_diagnosis.scenario import (
     FAULTS,
     INJECTED_FAULTS,
@@ -58,6 +59,9 @@ def world_problem(path: Path) -> str | None:
     if kinds.get("helper") != "helper" or kinds.get("faulty") != "faulty":
         return ("the case study needs a robot named helper (kind: helper) and one named faulty "
                 f"(kind: faulty); found {kinds or 'none'}")
+    colours = world_colours(path)
+    if colours is not None and not colours.is_file():
+        return f"its vision.colours names no file: {colours}"
     return None
 
 
@@ -87,9 +91,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=None, help="folder for the picture and logs")
     parser.add_argument("--world", type=Path, default=None,
                         help="world file (robot poses, room, lighting; as worlds/case_study.yaml)")
+    parser.add_argument("--colours", type=Path, default=None,
+                        help="the synthesizer's colours file (rosrun rason_vision calibrate; "
+                             "default: the one the world names in vision.colours, else the "
+                             "detector's ranges; docs/vision.md)")
     parser.add_argument("--drivers", choices=sorted(WIRINGS), default=SIM.drivers.value,
                         help="the simulator's topics: sim (its own, sim time) or stock (the real "
                              "kobuki_node + Kinect drivers' names, wall time; docs/drivers.md)")
+    parser.add_argument("--vision", choices=[v.value for v in VisionPath], default=None,
+                        help="with --drivers stock: nodelets (default: Debian's debayer and "
+                             "point_cloud_xyzrgb in front of the synthesizer, as rgbd_launch) or "
+                             "raw (the synthesizer reads the Bayer and depth images itself)")
     parser.add_argument("--json", action="store_true", help="print the result as JSON at the end")
     parser.add_argument("--quiet", action="store_true", help="do not stream the agents' console")
     parser.add_argument("--timeout", type=float, default=300.0,
@@ -112,6 +124,12 @@ def main(argv: list[str] | None = None) -> int:
         problem = world_problem(args.world)
         if problem:
             parser.error(f"--world {args.world}: {problem}")
+    try:
+        wiring = wiring_for(args.drivers, args.vision)
+    except ValueError as err:
+        parser.error(str(err))
+    if args.colours is not None and not args.colours.is_file():
+        parser.error(f"--colours {args.colours}: no such file")
 
     seed = args.seed if args.seed is not None else int(time.time()) % 100000
     fault = args.fault or default_fault(seed)
@@ -125,7 +143,7 @@ def main(argv: list[str] | None = None) -> int:
                               sim_timeout=args.timeout,
                               inspector_port=args.inspector_port if args.inspector else None,
                               hosts=args.hosts, cuts=args.cut, world=args.world,
-                              wiring=WIRINGS[args.drivers])
+                              wiring=wiring, colours=args.colours)
     except KeyboardInterrupt:
         print("\n[demo] interrupted: every node of the run was stopped", flush=True)
         return 130
@@ -134,7 +152,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"[demo] injected fault : {fault}")
     print(f"[demo] diagnosis      : {result.diagnosis}  (expected {result.expected}) -> "
           f"{VERDICTS[result.outcome]}")
-    clock = "simulated" if WIRINGS[args.drivers].sim_time else "wall (stock drivers)"
+    clock = "simulated" if wiring.sim_time else "wall (stock drivers)"
     for label, value, index in (("fault detection", result.detection_s, 0),
                                 ("robot location", result.location_s, 1),
                                 ("diagnosis", result.diagnosis_s, 2),

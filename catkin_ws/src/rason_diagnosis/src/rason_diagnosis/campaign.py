@@ -1,4 +1,4 @@
-"""``./run.sh campaign [--runs N] [--drivers sim|stock] [--layouts fixed|random]``: every scenario N times.
+"""``./run.sh campaign [--runs N] [--world FILE] [--drivers sim|stock] ...``: every scenario N times.
 
 Each run is a separate demo process (its own roscore, simulator, nodes and agents) with a seed
 that varies start poses, lighting and sensor noise. Writes ``runs.csv``, ``report.md`` (tables in
@@ -26,12 +26,12 @@ import yaml
 
 from rason.process.harness import processes_left_by
 from rason_diagnosis import thesis
-from rason_diagnosis.drivers import SIM, WIRINGS
-from rason_diagnosis.paths import world_file
+from rason_diagnosis.drivers import SIM, WIRINGS, VisionPath, wiring_for
+from rason_diagnosis.paths import world_colours, world_file
 from rason_diagnosis.scenario import FAULTS, Outcome, outcome_of
 
 FIELDS = ("fault", "seed", "diagnosis", "expected", "correct", "detection_s", "location_s",
-          "diagnosis_s", "total_s", "wall_s", "orphans", "error")
+          "diagnosis_s", "total_s", "wall_s", "orphans", "error", "unknown_reason")
 STEP_FIELDS = ("detection_s", "location_s", "diagnosis_s")
 
 
@@ -61,8 +61,13 @@ def run_one(fault: str, seed: int, out: Path, extra: Sequence[str] = ()) -> dict
 
 
 def demo_options(args: argparse.Namespace) -> list[str]:
-    """The demo options every run of the campaign gets."""
-    return [*(["--hosts"] if args.hosts else []), "--drivers", args.drivers]
+    """The demo options every run of the campaign gets (a random layout's run replaces
+    ``--world`` by its own, so the world's colours file is passed on explicitly)."""
+    colours = args.colours or (world_colours(args.world) if args.world else None)
+    return [*(["--hosts"] if args.hosts else []), "--drivers", args.drivers,
+            *(["--vision", args.vision] if args.vision else []),
+            *(["--world", str(args.world)] if args.world and args.layouts == "fixed" else []),
+            *(["--colours", str(colours)] if colours else [])]
 
 
 def progress(done: int, total: int, started: float, last: dict) -> None:
@@ -74,6 +79,13 @@ def progress(done: int, total: int, started: float, last: dict) -> None:
     print(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} "
           f"{last.get('fault', '')}-{last.get('seed', '')}: {last.get('diagnosis')} ({mark}) "
           f"elapsed {elapsed:4.0f} s, eta {eta:4.0f} s   ", end="", flush=True)
+
+
+def verdict(result: dict) -> str:
+    """What a report adds to a run's diagnosis that is not right: why it is unknown, or WRONG."""
+    if outcome(result) == Outcome.WRONG:
+        return " (WRONG)"
+    return f" ({result.get('unknown_reason') or result.get('error') or 'no reason given'})"
 
 
 def _mean(values: list[float | None]) -> float | None:
@@ -133,7 +145,7 @@ def write_report(results: list[dict], out: Path, runs: int) -> str:
             lines.append(f"| {i} | {r['seed']} | {fmt(r.get('detection_s'))} | "
                          f"{fmt(r.get('location_s'))} | {fmt(r.get('diagnosis_s'))} | "
                          f"{fmt(r.get('total_s'))} | {r.get('diagnosis')}"
-                         f"{'' if r.get('correct') else ' (WRONG)'} |")
+                         f"{'' if r.get('correct') else verdict(r)} |")
         means = [_mean([r.get(f) for r in mine]) for f in (*STEP_FIELDS, "total_s")]
         lines.append("| mean (ours) | | " + " | ".join(fmt(m) for m in means) + " | |")
         if fault in thesis.TABLES:
@@ -188,6 +200,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--drivers", choices=sorted(WIRINGS), default=SIM.drivers.value,
                         help="every run under this driver profile (./run.sh demo --drivers; "
                              "docs/drivers.md)")
+    parser.add_argument("--vision", choices=[v.value for v in VisionPath], default=None,
+                        help="with --drivers stock: nodelets (default) or raw (./run.sh demo "
+                             "--vision; docs/drivers.md)")
+    parser.add_argument("--world", type=Path, default=None,
+                        help="every run in this world file (./run.sh demo --world; with "
+                             "--layouts random: its room, light and camera under each layout)")
+    parser.add_argument("--colours", type=Path, default=None,
+                        help="the synthesizer's colours file (rosrun rason_vision calibrate; "
+                             "default: the one the world names in vision.colours)")
     parser.add_argument("--layouts", choices=("fixed", "random"), default="fixed",
                         help="fixed: the thesis' layout; random: a seeded layout per run index "
                              "(the same N layouts for every fault)")
@@ -195,6 +216,13 @@ def main(argv: list[str] | None = None) -> int:
                         help="only rewrite report.md and the plots from the runs.csv in --out "
                              "(e.g. of a campaign cut short)")
     args = parser.parse_args(argv)
+    try:
+        wiring_for(args.drivers, args.vision)
+    except ValueError as err:
+        parser.error(str(err))
+    for flag, path in (("--world", args.world), ("--colours", args.colours)):
+        if path is not None and not path.is_file():
+            parser.error(f"{flag} {path}: no such file")
     if args.report_only:
         return report_only(args)
     (args.out / "runs").mkdir(parents=True, exist_ok=True)
@@ -235,7 +263,7 @@ def random_campaign(args: argparse.Namespace) -> int:
     """Every fault in N seeded random layouts; report.md, runs.csv, layouts.csv, plots."""
     from rason_diagnosis.layouts import random_layout, write_world
 
-    base = world_file()
+    base = args.world or world_file()
     room = tuple(yaml.safe_load(base.read_text()).get("room", {}).get("size", (10.0, 10.0)))
     layouts = [random_layout(args.first_seed + i, room) for i in range(args.runs)]
     worlds = {lay.seed: write_world(lay, base, args.out / "worlds" / f"layout-{lay.seed}.yaml")

@@ -4,12 +4,15 @@
 on wall time; the fault injector reads the driver's ``odom`` and publishes its copy on
 ``fault_injector/odom`` for the decomposer and the synthesizer, and Helper's Kinect goes through
 Debian's image pipeline (image_proc's debayer and depth_image_proc's point_cloud_xyzrgb
-nodelets) into the synthesizer, as rgbd_launch wires it on a robot.
+nodelets) into the synthesizer, as rgbd_launch wires it on a robot (``STOCK``), or the
+synthesizer reads the driver's Bayer and 16UC1 depth images itself (``STOCK_RAW``, ``--vision
+raw``).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from enum import StrEnum
 
 from turtlebot_sim.node import Drivers
 
@@ -17,6 +20,13 @@ from turtlebot_sim.node import Drivers
 STOCK_DEMO_RATE = 15.0
 #: The odometry the injector publishes for its readers under the stock names.
 INJECTED_ODOM = "fault_injector/odom"
+
+
+class VisionPath(StrEnum):
+    """How Helper's Kinect reaches the synthesizer under the stock profile (``--vision``)."""
+
+    NODELETS = "nodelets"   # Debian's debayer + point_cloud_xyzrgb in front, as rgbd_launch
+    RAW = "raw"             # the synthesizer reads the Bayer image and 16UC1 depth image itself
 
 
 @dataclass(frozen=True)
@@ -48,6 +58,8 @@ class Wiring:
     cloud_topic: str | None = "camera/depth_registered/points"
 
     camera_rate: float | None = None     # the sim's ~camera_rate (None: the profile's own)
+    #: the stock profile's image path; None under sim (its rgb8 and cloud go straight in)
+    vision: VisionPath | None = None
 
     def sim_params(self) -> dict[str, object]:
         """The simulator's parameters for this profile."""
@@ -73,9 +85,27 @@ STOCK = Wiring(
                   "depth_registered/image_rect:=depth_registered/image_raw")),
     ),
     odom_topic=INJECTED_ODOM, image_topic="camera/rgb/image_color", cloud_topic=None,
-    camera_rate=STOCK_DEMO_RATE)
+    camera_rate=STOCK_DEMO_RATE, vision=VisionPath.NODELETS)
+
+#: The stock profile without the nodelets: the synthesizer debayers ``camera/rgb/image_raw``
+#: and reads ``camera/depth_registered/image_raw`` with its camera_info; its default ``~slop``
+#: (0.075 s) covers the depth image's 0.055 s offset.
+STOCK_RAW = replace(STOCK, synthesizer_args=(), synthesizer_params={"depth_input": "image"},
+                    vision_nodes=(), image_topic="camera/rgb/image_raw", vision=VisionPath.RAW)
 
 WIRINGS = {w.drivers.value: w for w in (SIM, STOCK)}
+
+
+def wiring_for(drivers: str, vision: str | None = None) -> Wiring:
+    """The wiring of ``--drivers`` and ``--vision`` (stock's default: the nodelets, what
+    rgbd_launch starts on a TurtleBot); ValueError for ``vision`` under the sim profile."""
+    wiring = WIRINGS[drivers]
+    if vision is None:
+        return wiring
+    if wiring.vision is None:
+        raise ValueError(f"--vision {vision} needs --drivers stock: the {drivers} profile "
+                         "publishes rgb8 and a cloud, read as they are")
+    return STOCK_RAW if VisionPath(vision) is VisionPath.RAW else STOCK
 
 
 def rosrun_line(package: str, executable: str, ns: str, args: tuple[str, ...] = (),

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import yaml
 
+from rason_diagnosis.paths import world_colours
 from turtlebot_model.geometry import wrap_deg
 
 MIN_DISTANCE, MAX_DISTANCE = 0.8, 4.0
@@ -79,10 +80,14 @@ def random_layout(seed: int, room: tuple[float, float] = (10.0, 10.0)) -> Layout
 
 
 def write_world(layout: Layout, base: Path, out: Path) -> Path:
-    """``base`` (a world file) with the layout's robot poses, written to ``out``."""
+    """``base`` (a world file) with the layout's robot poses, written to ``out`` (a colours file
+    the world names is kept, by its absolute path)."""
     world = yaml.safe_load(base.read_text())
     world = copy.deepcopy(world)
     world["robots"] = layout.robots()
+    colours = world_colours(base)
+    if colours is not None:
+        world["vision"]["colours"] = str(colours)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(f"# random layout, seed {layout.seed}: {asdict(layout)}\n"
                    + yaml.safe_dump(world, sort_keys=False))

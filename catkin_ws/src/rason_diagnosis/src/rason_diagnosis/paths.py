@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import rospkg
+import yaml
 
 PACKAGE = "rason_diagnosis"
 #: The case study's agents, a folder of ``agents/``.
@@ -37,3 +38,13 @@ def agent_file(robot: str) -> Path:
 def world_file(name: str = "case_study") -> Path:
     """A world file shipped with the case study (``worlds/NAME.yaml``)."""
     return package_dir() / "worlds" / f"{name}.yaml"
+
+
+def world_colours(world: Path) -> Path | None:
+    """The cylinders' colours file a world names (``vision: {colours: FILE}``, relative to the
+    world file's folder; rosrun rason_vision calibrate writes it), or None for the detector's
+    default ranges."""
+    data = yaml.safe_load(Path(world).read_text()) or {}
+    vision = data.get("vision") if isinstance(data, dict) else None
+    name = vision.get("colours") if isinstance(vision, dict) else None
+    return None if not name else (Path(world).parent / str(name)).resolve()

@@ -20,7 +20,7 @@ from pathlib import Path
 from rason.process.harness import HarnessError, RosHarness, echo_line
 from rason_diagnosis.drivers import SIM, Wiring
 from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
-from rason_diagnosis.paths import agent_file, world_file
+from rason_diagnosis.paths import agent_file, world_colours, world_file
 
 #: The injected run without a fault (Faulty should conclude ``no_fault``).
 NO_FAULT = "none"
@@ -83,6 +83,7 @@ class RunResult:
     dead: list[str] = field(default_factory=list)
     unknown_reason: str = ""
     drivers: str = "sim"
+    vision: str | None = None  # the stock profile's image path (rason_diagnosis.drivers)
 
     @property
     def outcome(self) -> Outcome:
@@ -116,7 +117,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                  sim_timeout: float = 300.0, real_time_factor: float = 1.0,
                  inspector_port: int | None = None, hosts: bool = False,
                  cuts: Sequence[LinkCut] = (), world: Path | None = None,
-                 wiring: Wiring = SIM) -> RunResult:
+                 wiring: Wiring = SIM, colours: Path | None = None) -> RunResult:
     """Run one scenario; returns its result (never raises for a failed diagnosis).
 
     With `inspector_port` (0: any free port) the mind inspector watches the run; its address is
@@ -125,13 +126,14 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
     ``cuts``: links taken down and up again during the run (implies ``hosts``).
     ``world``: a world file (robot poses, room, lighting, camera; see ``worlds/case_study.yaml``),
     default the thesis' layout. ``wiring``: the driver profile (:mod:`rason_diagnosis.drivers`);
-    under ``STOCK`` the times are wall seconds, as on robots.
+    under ``STOCK`` the times are wall seconds, as on robots. ``colours``: the synthesizer's
+    colours file (default: the one the world names, else the detector's ranges).
     """
     if fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
     out_dir.mkdir(parents=True, exist_ok=True)
     result = RunResult(fault=fault, seed=seed, expected=expected_diagnosis(fault),
-                       drivers=wiring.drivers.value,
+                       drivers=wiring.drivers.value, vision=wiring.vision,
                        out_dir=str(out_dir), hosts=hosts or bool(cuts),
                        cuts=[str(c) for c in cuts])
     started = time.monotonic()
@@ -148,7 +150,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                 if inspector_port is not None:
                     result.inspector = _start_inspector(ros, inspector_port)
                 _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor,
-                     network, cuts, world or world_file(), wiring)
+                     network, cuts, world or world_file(), wiring, colours)
         except HarnessError as err:
             result.error = str(err).splitlines()[0]
     result.wall_s = round(time.monotonic() - started, 1)
@@ -160,7 +162,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
 def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: bool,
          sim_timeout: float, real_time_factor: float, network: CaseStudyLan | None = None,
          cuts: Sequence[LinkCut] = (), world: Path | None = None,
-         wiring: Wiring = SIM) -> None:
+         wiring: Wiring = SIM, colours: Path | None = None) -> None:
     import rospy  # the demo process joins the run as an observer
 
     from rason_diagnosis.monitor import RunMonitor
@@ -175,11 +177,13 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
                    params=wiring.injector_params)
         ros.rosrun("rason", "motion_decomposer", *wiring.odom_reader_args, ns=f"/{robot}",
                    params=HELPER_MOTION if robot == "helper" else None)
+    colours = colours or world_colours(world or world_file())
+    vision_colours = {"colours": str(colours.resolve())} if colours else {}
     for line in wiring.vision_nodes:
         ros.rosrun(line.package, line.executable, *line.args, ns=line.ns)
     ros.rosrun("rason_vision", "robot_synthesizer", *wiring.odom_reader_args,
                *wiring.synthesizer_args, ns="/helper",
-               params={**HELPER_VISION, **wiring.synthesizer_params})
+               params={**HELPER_VISION, **wiring.synthesizer_params, **vision_colours})
     for robot in ROBOTS:
         ros.wait_for_service(f"/{robot}/fault_injector", timeout=30)
         ros.wait_for_subscriber(f"/{robot}/jason/action", timeout=30)
@@ -231,6 +235,8 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         result.error = f"no diagnosis within {sim_timeout:g} simulated seconds"
     if result.hosts:
         _network_outcome(ros, result, agents, mind, cutter)
+    if result.diagnosis == "unknown":
+        result.unknown_reason = _unknown_reason(mind)
 
     t = monitor.times
     result.detection_s = _diff(t.move_start, t.help_request)
@@ -268,9 +274,7 @@ UNKNOWN_BECAUSE = re.compile(r'unknownBecause\("?(.*?)"?\)(?:\[|$)')
 def _network_outcome(ros: RosHarness, result: RunResult, agents: dict, mind,
                      cutter: LinkCutter | None) -> None:
     """--hosts: restore cut links, then record link events, what the agents noticed about each
-    other's presence, the processes that died, and why a diagnosis is unknown."""
-    import rospy
-
+    other's presence and the processes that died."""
     if cutter:
         cutter.finish()
         result.link_events = [asdict(e) for e in cutter.events]
@@ -281,13 +285,17 @@ def _network_outcome(ros: RosHarness, result: RunResult, agents: dict, mind,
     result.dead = [p.name for p in ros.processes if not p.alive()]
     if result.dead:
         result.error = result.error or f"processes died: {', '.join(result.dead)}"
-    if result.diagnosis == "unknown":
-        try:
-            beliefs = mind().beliefs
-        except (rospy.ServiceException, rospy.ROSException):
-            beliefs = []
-        result.unknown_reason = next((m.group(1) for m in map(UNKNOWN_BECAUSE.match, beliefs)
-                                      if m), "")
+
+
+def _unknown_reason(mind) -> str:
+    """Why Faulty concluded ``unknown`` (its ``unknownBecause`` belief), or ""."""
+    import rospy
+
+    try:
+        beliefs = mind().beliefs
+    except (rospy.ServiceException, rospy.ROSException):
+        beliefs = []
+    return next((m.group(1) for m in map(UNKNOWN_BECAUSE.match, beliefs) if m), "")
 
 
 def _diagnosis(mind) -> str | None:
