@@ -101,13 +101,14 @@ helperOf(helper) :- not found(_).
 +!execute(retry)
    <- +retried;
       .print("EXECUTE: going on alone").
-// The contract: offer the remaining waypoints; Helper accepts (or refuses), tells done(I) per
-// waypoint and finished at the end (or failed(R)).
+// The contract: offer the remaining waypoints, saying where Faulty stands (by its odometry, so
+// Helper drives around it); Helper accepts (or refuses), tells done(I) per waypoint and finished
+// at the end (or failed(R)).
 +!execute(delegate)
-   : remaining(Ws) & helperOf(H)
+   : remaining(Ws) & helperOf(H) & pose(X, Y, _)
    <- .print("EXECUTE: offering waypoints ", Ws, " to ", H);
       +delegated(H);
-      .send(H, achieve, offer(Ws)).
+      .send(H, achieve, offer(Ws, at(X, Y))).
 
 +accept(Ws)[source(H)] : delegated(H) <- .print(H, " accepted waypoints ", Ws).
 +refuse(Why)[source(H)]
