@@ -35,6 +35,12 @@
 #       --drivers sim|stock         as for demo
 #       --vision nodelets|raw       as for demo
 #       --report-only               rewrite report.md and the plots from --out's runs.csv
+#   ./run.sh mission [OPTIONS]      Faulty visits the world's waypoints; a fault strikes on the way and
+#                                   the team diagnoses it and recovers (docs/mission.md)
+#       --fault NAME                as for demo (default: drawn by the seed, none included)
+#       --at SECONDS                inject it this long after Faulty's first motion (simulated)
+#       --seed N, --world FILE.yaml, --out DIR, --json, --quiet, --timeout S   as for demo
+#       --no-recovery               the baseline: after the diagnosis Faulty gives the mission up
 #   ./run.sh bench NAME [ARGS...]   a benchmark of benchmarks/ (./run.sh bench lists them)
 #   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs), or a part: a file, -k NAME
 #   ./run.sh env                    a shell with ROS and the workspace ready (or: source env.sh)
@@ -82,6 +88,10 @@ case "$cmd" in
   demo)
     ensure_setup
     exec python3 -m rason_diagnosis "$@"
+    ;;
+  mission)
+    ensure_setup
+    exec python3 -m rason_diagnosis.mission "$@"
     ;;
   campaign)
     ensure_setup

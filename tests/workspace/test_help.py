@@ -16,7 +16,8 @@ SRC = Path(__file__).resolve().parents[2] / "catkin_ws" / "src"
 NODES = {("kobuki_fault_injector", "fault_injector"), ("rason", "agent"), ("rason", "mas"),
          ("rason", "echo_decomposer"), ("rason", "mind_inspector"),
          ("rason", "motion_decomposer"), ("rason_vision", "robot_synthesizer"),
-         ("rason_vision", "calibrate"), ("turtlebot_sim", "sim")}
+         ("rason_vision", "calibrate"), ("turtlebot_sim", "sim"),
+         ("rason_diagnosis", "pose_synthesizer")}
 #: command-line tools: their --help lists their options (argparse)
 TOOLS = {("rason", "act"), ("rason", "asl_run"), ("rason_diagnosis", "campaign"),
          ("rason_diagnosis", "demo"), ("rason_diagnosis", "workstation"),

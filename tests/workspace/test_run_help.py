@@ -1,8 +1,9 @@
 """``./run.sh --help`` lists every command and every option users have; ``./run.sh bench`` with
 no name (or an unknown one) lists the benchmarks and exits 2.
 
-The options are those of the demo's and the campaign's own parsers (``--help`` of
-``python -m rason_diagnosis`` and ``python -m rason_diagnosis.campaign``), so an option added
+The options are those of the demo's, the campaign's and the mission's own parsers (``--help`` of
+``python -m rason_diagnosis``, ``python -m rason_diagnosis.campaign`` and
+``python -m rason_diagnosis.mission``), so an option added
 there and not to run.sh's help fails here.
 """
 
@@ -17,7 +18,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 RUN = str(REPO / "run.sh")
-COMMANDS = ("demo", "campaign", "bench", "test", "env")
+COMMANDS = ("demo", "campaign", "mission", "bench", "test", "env")
 BENCHMARKS = sorted(p.stem for p in (REPO / "benchmarks").glob("*.py"))
 
 
@@ -41,10 +42,11 @@ def test_help_lists_every_command_and_nothing_of_the_script(flag):
         assert f"./run.sh {command}" in done.stdout, command
 
 
-@pytest.mark.parametrize("module", ["rason_diagnosis", "rason_diagnosis.campaign"])
-def test_help_lists_every_option_of_the_demo_and_the_campaign(module):
+@pytest.mark.parametrize("module", ["rason_diagnosis", "rason_diagnosis.campaign",
+                                    "rason_diagnosis.mission"])
+def test_help_lists_every_option_of_the_demo_the_campaign_and_the_mission(module):
     options = _options(module)
-    assert {"--out", "--hosts"} <= options          # the parser's help was read
+    assert {"--out", "--seed" if module.endswith("mission") else "--hosts"} <= options
     shown = set(re.findall(r"(?<![\w-])--[a-z][a-z-]*", _run("--help").stdout))
     assert not options - shown, f"./run.sh --help misses {sorted(options - shown)} of {module}"
 

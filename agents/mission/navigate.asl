@@ -1,0 +1,65 @@
+// Navigation to a point of the room by odometry (issue 38's missions), for Faulty and Helper.
+// Included by agents/mission/faulty.asl and helper.asl, whose included diagnosis agents define
+// wrap/2 (angles into (-180, 180]).
+// Percepts (rason_diagnosis' pose_synthesizer, from the robot's own odometry):
+//   pose(X, Y, Yaw)   world frame: m, degrees counter-clockwise
+//   heading(H)        the same heading as turn_to reads one (odometry frame, positive clockwise)
+
+arrivalTolerance(0.1).  // m: a point is reached closer than this (by odometry)
+maxLegs(3).             // turn_to + move legs tried before a point counts as not reached
+poseWait(500).          // ms after a move before the pose is read again (percepts at 5 Hz)
+clearance(0.8).         // m between centres kept from avoid(X, Y), a stopped robot, when passing
+standOff(0.45).         // m between centres at least, when a point is next to it (bodies: 0.354)
+
+distanceTo(X, Y, D)
+   :- pose(X0, Y0, _) & D = math.sqrt((X - X0) * (X - X0) + (Y - Y0) * (Y - Y0)).
+// The world bearing (degrees, counter-clockwise) of (X, Y) at distance D > 0 from the pose.
+bearingTo(X, Y, D, B)
+   :- pose(X0, Y0, _) & C = math.max(-1, math.min(1, (X - X0) / D))
+    & S = math.acos(C) * 180 / 3.14159265 & ((Y >= Y0 & B = S) | (Y < Y0 & B = -S)).
+// One leg: the turn_to heading H that faces (X, Y), and the distance D to it.
+legTo(X, Y, H, D)
+   :- distanceTo(X, Y, D) & bearingTo(X, Y, D, B) & pose(_, _, Yaw) & heading(H0)
+    & wrap(B - Yaw, T) & wrap(H0 - T, HW) & H = math.round(HW * 10) / 10.
+
+// A detour: when the straight line to (X, Y) passes closer than the clearance to avoid(OX, OY),
+// first to the via point at the clearance from it, square to the line (or on the line's left
+// when the line runs through it).
+viaPoint(X, Y, OX, OY, VX, VY)
+   :- pose(X0, Y0, _) & DX = X - X0 & DY = Y - Y0 & L2 = DX * DX + DY * DY & L2 > 0
+    & T = ((OX - X0) * DX + (OY - Y0) * DY) / L2 & T > 0 & T < 1
+    & QX = X0 + T * DX & QY = Y0 + T * DY
+    & E = math.sqrt((QX - OX) * (QX - OX) + (QY - OY) * (QY - OY)) & clearance(C) & E < C
+    & awayFrom(QX - OX, QY - OY, E, DX, DY, UX, UY)
+    & VX = math.round((OX + C * UX) * 1000) / 1000 & VY = math.round((OY + C * UY) * 1000) / 1000.
+awayFrom(EX, EY, E, _, _, UX, UY) :- E > 0.05 & UX = EX / E & UY = EY / E.
+awayFrom(_, _, E, DX, DY, UX, UY)
+   :- E <= 0.05 & L = math.sqrt(DX * DX + DY * DY) & UX = -DY / L & UY = DX / L.
+
+// A point closer than standOff to the stopped robot: the nearest point standOff from it.
+standIn(X, Y, OX, OY, SX, SY)
+   :- standOff(S) & D = math.sqrt((X - OX) * (X - OX) + (Y - OY) * (Y - OY)) & D < S & D > 0.01
+    & SX = math.round((OX + (X - OX) * S / D) * 1000) / 1000
+    & SY = math.round((OY + (Y - OY) * S / D) * 1000) / 1000.
+
++!goto(X, Y)
+   : avoid(OX, OY) & standIn(X, Y, OX, OY, SX, SY)
+   <- .print("(", X, ", ", Y, ") is next to the robot at (", OX, ", ", OY, "): going to (", SX, ", ", SY, ")");
+      !route(SX, SY).
++!goto(X, Y) <- !route(X, Y).
+
++!route(X, Y)
+   : avoid(OX, OY) & viaPoint(X, Y, OX, OY, VX, VY) & maxLegs(N)
+   <- .print("detour by (", VX, ", ", VY, ") around (", OX, ", ", OY, ")");
+      !leg(VX, VY, N);
+      !leg(X, Y, N).
++!route(X, Y) : maxLegs(N) <- !leg(X, Y, N).
+
++!leg(X, Y, _) : distanceTo(X, Y, D) & arrivalTolerance(E) & D < E.
++!leg(X, Y, 0) <- .fail(error(not_arrived)).
++!leg(X, Y, N)
+   : legTo(X, Y, H, D) & poseWait(W)
+   <- turn_to(H);
+      move(math.round(D * 1000) / 1000);
+      .wait(W);
+      !leg(X, Y, N - 1).
