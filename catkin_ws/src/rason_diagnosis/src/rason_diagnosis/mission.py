@@ -26,7 +26,7 @@ from typing import Any
 
 import yaml
 
-from rason.testing.harness import HarnessError, RosHarness, echo_line
+from rason.process.harness import HarnessError, RosHarness, echo_line
 from rason_diagnosis.hosts import interrupt
 from rason_diagnosis.paths import agents_dir, world_file
 from rason_diagnosis.scenario import FAULTS, HELPER_MOTION, HELPER_VISION, NO_FAULT, ROBOTS

@@ -27,7 +27,7 @@ import yaml
 from nav_msgs.msg import Odometry
 
 from rason.execution.synthesizer import BadFrame, Synthesizer, SynthesizerParams, run
-from rason.ros.params import param
+from rosnode_kit.params import param
 from turtlebot_model.geometry import wrap_deg, yaw_from_quaternion
 
 
