@@ -105,7 +105,8 @@ label: "@" literal              -> label
      | "@" annots               -> label_anon
      | "@" var                  -> label_var
 context: ":" log_expr
-plan_body: "<-" stmt_list
+plan_body: BODY_ARROW stmt_list
+BODY_ARROW: "<-"
 trigger: top [goaltype] literal_or_var
 !top: "+" | "-" | "^"
 !goaltype: "!" | "?"
@@ -130,6 +131,9 @@ simple: "!" literal_or_var     -> s_achieve
       | "++" literal_or_var    -> s_add_new
       | "--" literal_or_var    -> s_del_new
       | log_expr               -> s_expr
+      | "(" fork ")"           -> s_group
+?fork: par_and "|||" par       -> s_fork_or
+     | simple "|&|" par_and    -> s_fork_and
 
 ctrl: "if" "(" log_expr ")" block elif_part* [else_part]  -> s_if
     | "while" "(" log_expr ")" block                      -> s_while
@@ -302,6 +306,9 @@ class _ToAst:
         self.filename = filename
         self.src = filename
         self.exact = exact
+        #: the line of the ``:`` / ``<:`` / ``<-`` that starts a context, goal condition or
+        #: body, by the id of the object made from it (a plan's ``code_line``, see :meth:`plan`)
+        self.opened_at: dict[int, int] = {}
 
     # ---------------- terms
     def number(self, meta: Any, c: builtins.list) -> float:
@@ -477,6 +484,10 @@ class _ToAst:
     def s_fork_or(self, meta: Any, c: builtins.list) -> Deed:
         return _fork_deed("or", c[0], c[1], meta.line)
 
+    def s_group(self, meta: Any, c: builtins.list) -> Deed:
+        """``( a ||| b )``: a fork in parentheses, a deed of the body around it."""
+        return c[0]
+
     def s_achieve(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_ACHIEVE, c[0], meta.line)
 
@@ -574,10 +585,14 @@ class _ToAst:
         return ("block", _fix(c[1]), meta)
 
     def context(self, meta: Any, c: builtins.list) -> Any:
-        return _fix(c[0])
+        made = _fix(c[0])
+        self.opened_at[id(made)] = meta.line
+        return made
 
     def plan_body(self, meta: Any, c: builtins.list) -> tuple:
-        return tuple(c[0])
+        made = tuple(c[1])   # (c[0]: the arrow, a token of its own so that meta is its line)
+        self.opened_at[id(made)] = meta.line
+        return made
 
     def trigger(self, meta: Any, c: builtins.list) -> Trigger:
         op = {"+": ADD, "-": DEL}.get(str(c[0]), GOAL_STATE)
@@ -585,13 +600,19 @@ class _ToAst:
         return Trigger(op, gt, _fix(c[2]))
 
     def goal_condition(self, meta: Any, c: builtins.list) -> Any:
+        self.opened_at[id(c[0])] = meta.line
         return c[0]
 
     def plan(self, meta: Any, c: builtins.list) -> tuple:
         label, trigger, context, goal_condition, body = c
         if goal_condition is not None and not (trigger.op == ADD and trigger.type == ACHIEVE):
             raise _SemErr(meta, "a goal condition (<:) belongs to a +!g plan")
-        return ("plan", Plan(label, trigger, context, body or (), meta.line, self.src,
+        # Jason's code_line: the label's line, else that of what follows the trigger
+        line = meta.line
+        if label is None:
+            after = next((x for x in (context, goal_condition, body) if x is not None), None)
+            line = self.opened_at.get(id(after), line) if after is not None else line
+        return ("plan", Plan(label, trigger, context, body or (), line, self.src,
                              goal_condition=goal_condition), meta)
 
     def start(self, meta: Any, c: builtins.list) -> builtins.list:
