@@ -1,10 +1,17 @@
-"""Jason 3.3 behaviours the programs shipped with Jason (demos, examples) rely on: the
-four-item ``=..``, a forked group in parentheses, a plan's ``code_line``. Each expected
-output is what a Jason 3.3 build prints for the same program."""
+"""Jason 3.3 behaviours the programs shipped with Jason (demos, examples) rely on: a failure
+plan answering its caller's goal, the four-item ``=..``, a forked group in parentheses, a rule
+added through a variable, ``system.time``. Each expected output is what a Jason 3.3 build
+prints for the same program."""
 
 from __future__ import annotations
 
-from asl_helpers import lines, run_source
+from asl_helpers import lines, run_agents, run_source
+
+
+def test_failure_plan_binds_the_callers_variable() -> None:
+    src = ("!t. !t2.\n+!t <- !g(X); .print(X).\n+!g(_) <- .fail.\n-!g(failure).\n"
+           "+!t2 <- !k(Y); .print(Y).\n+!k(A) <- .fail.\n-!k(A)[error(E)] <- A = E.\n")
+    assert lines(run_source(src)) == ["failure", "ia_failed"]
 
 
 def test_univ_gives_and_takes_the_namespace() -> None:
@@ -30,6 +37,28 @@ def test_a_fork_in_parentheses_is_a_body_formula() -> None:
     src = ("!s.\n+!s <- !a |&| (!b ||| !c); .print(done).\n+!a <- .print(a).\n"
            "+!b <- .print(b).\n+!c <- .print(c).\n")
     assert lines(run_source(src)) == ["a", "b", "c", "done"]
+
+
+def test_a_rule_in_a_variable_is_added_and_removed() -> None:
+    src = ("!s.\n+!s <- R = {a :- b}; +R; +b; if (a) { .print(added) }; "
+           ".findall(X, .relevant_rules(a, X), L); .print(L); -R; "
+           "if (a) { .print(still) } else { .print(removed) }.\n")
+    assert lines(run_source(src)) == ["added", "[[{ a :- b }]]", "removed"]
+
+
+def test_system_time_is_the_agents_clock_in_milliseconds() -> None:
+    src = "!s.\n+!s <- T = system.time; .wait(250); .print(system.time - T); .time(U); .print(U - T).\n"
+    assert lines(run_source(src)) == ["250", "250"]
+
+
+def test_plans_answered_to_an_ask_how_name_their_sender() -> None:
+    out = run_agents({
+        "a": "!s.\n+!s <- .send(b, askHow, {+!hello(_)}, P); .print(P); "
+             ".relevant_plans({+!hello(_)}, L); .print(L).\n",
+        "b": "@h +!hello(X) <- .print(hi, X).\n"})
+    shown = lines(out, "a")
+    assert shown[0].startswith('[{ @h[source(b),url("file:b.asl")] +!hello(')
+    assert shown[1] == "[]"   # only returned, not added
 
 
 def test_code_line_of_a_plan_is_its_label_or_what_follows_its_trigger() -> None:

@@ -34,7 +34,7 @@ from .intentions import (
     has_goal,
     java_map_order,
 )
-from .kqml import KQML_SRC, kqml_plans
+from .kqml import KQML_SRC, kqml_plans, plans_answered_by
 from .logic import query_bb, solve
 from .parser import AgentSource, AslSyntaxError, parse_source, parse_term, path_include_resolver
 from .plans import ACHIEVE, ADD, BELIEF, DEL, GOAL_STATE, K_INTERNAL, PlanLibrary, Trigger, body_deeds
@@ -437,6 +437,10 @@ class Agent:
     def count_solutions(self, query: Any) -> int:
         """``.count(Q)``: how many solutions Q has in the current mental state."""
         return sum(1 for _ in solve(self, query, {}))
+
+    def clock_millis(self) -> float:
+        """``system.time`` and ``.time(T)``: whole milliseconds of the agent's clock."""
+        return float(int(self.arch.clock.now() * 1000))
 
     def mind_state(self, blocking: bool = True) -> MindState | None:
         """Structured snapshot of the mental state, for a mind inspector (read-only); None when
@@ -1161,6 +1165,8 @@ class Agent:
         elif isinstance(content, Literal) or (perf == "askAll" and isinstance(content, ListTerm)):
             # TransitionSystem: the answer's sources are nested in source(Sender)
             content = with_nested_source(content, sender)
+        elif perf == "askHow" and isinstance(content, ListTerm):
+            content = plans_answered_by(content, m.sender)   # labelled source(Sender)
         if n is not None:
             got.append(content)
             if len(got) < n:

@@ -37,8 +37,19 @@ from .plans import (
     Plan,
     Trigger,
 )
-from .terms import ListTerm, Literal, NsLit, PlanTerm, RelExpr, Rule, is_ground, is_internal_action, term_str
-from .unify import ArithError, rename_vars, resolve, unify
+from .terms import (
+    ListTerm,
+    Literal,
+    NsLit,
+    PlanTerm,
+    RelExpr,
+    Rule,
+    Var,
+    is_ground,
+    is_internal_action,
+    term_str,
+)
+from .unify import ArithError, rename_vars, resolve, unify, walk
 
 if TYPE_CHECKING:  # pragma: no cover
     from .agent import Agent
@@ -474,7 +485,7 @@ def _exec_add_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
     """``+b``: add a belief; its event belongs to this intention."""
     u = im.u
     im.stack.pop()
-    if type(d.term) is PlanTerm:
+    if type(d.term) is PlanTerm or (type(d.term) is Var and type(walk(d.term, u)) is PlanTerm):
         return _change_rule(ag, im, d, ADD)
     lit = _self_sourced(ag, d, u, "cannot add {} as a belief")
     return _await_own_event(i, im, d, ag.add_belief(lit, front=True, focus=i))
@@ -563,7 +574,7 @@ def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) ->
 def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``-b``: remove a belief; its event belongs to this intention."""
     im.stack.pop()
-    if type(d.term) is PlanTerm:
+    if type(d.term) is PlanTerm or (type(d.term) is Var and type(walk(d.term, im.u)) is PlanTerm):
         return _change_rule(ag, im, d, DEL)
     lit = _belief_to_remove(ag, im, d)
     if lit is None:
@@ -771,17 +782,25 @@ def clr_int(ag: Agent, i: Intention) -> None:
                 return
             caller = ims[-1]
             if caller.stack and caller.stack[-1] is caller.current:
-                caller.stack.pop()   # the deed that failed (an internal action is gone already)
+                d = caller.stack.pop()   # the deed that failed (an internal action is gone already)
+                if d.kind == K_ACHIEVE:
+                    # as Jason, the failure plan's goal answers the caller's !g(X) (X bound)
+                    _answer_caller(ag, caller, d, im)
             continue
         caller = ims[-1]
         if caller.stack:
             d = caller.stack.pop()
             if d.kind in (K_ACHIEVE, K_TEST):
-                res = means_answer(ag, im)
-                goal = resolve(d.term, caller.u, ag)
-                s2 = dict(caller.u)
-                if unify(goal, res, s2, ag):
-                    caller.u = s2
+                _answer_caller(ag, caller, d, im)
+
+
+def _answer_caller(ag: Agent, caller: IntendedMeans, d: Deed, im: IntendedMeans) -> None:
+    """Unify the caller's goal deed ``d`` with what the finished means ``im`` achieved."""
+    res = means_answer(ag, im)
+    goal = resolve(d.term, caller.u, ag)
+    s2 = dict(caller.u)
+    if unify(goal, res, s2, ag):
+        caller.u = s2
 
 
 # ====================================================================== failure

@@ -182,7 +182,7 @@ def wait(ctx: IAContext, args: list) -> Any:
 def time_(ctx: IAContext, args: list) -> bool:
     """``.time(H, M, S[, MS])`` wall time; ``.time(T)``: milliseconds from the agent's clock."""
     if len(args) == 1:
-        return ctx.unify(args[0], float(int(ctx.ag.arch.clock.now() * 1000)))
+        return ctx.unify(args[0], ctx.ag.clock_millis())
     now = datetime.datetime.now()
     vals = [now.hour, now.minute, now.second, now.microsecond // 1000]
     return all(ctx.unify(a, float(v)) for a, v in zip(args, vals, strict=False))
