@@ -518,6 +518,8 @@ def _exec_achieve(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     i.suspended = Suspension.SUBGOAL
     trig = Trigger(ADD, ACHIEVE, lit)
     ag.events.append(Event(trig, i))
+    if type(lit) is Literal and len(lit.annots) > 1:
+        _check_hard_deadline(ag, trig, i)
     if ag.pl.goal_state_plans:
         ag.goal_state(trig, "pending")
     return False
@@ -530,11 +532,23 @@ def _exec_achieve_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed)
     trig = d.self_trigger
     if trig is None:
         trig = Trigger(ADD, ACHIEVE, _goal_literal(ag, d, u))
+    if type(trig.literal) is Literal and len(trig.literal.annots) > 1:
+        _check_hard_deadline(ag, trig, None)
     if ag.event_waits or ag.pl.goal_state_plans:
         ag.add_event(Event(trig))   # (its goal-state event "pending" is posted there)
     else:
         ag.events.append(Event(trig))   # (add_event inlined: a goal's event is always kept)
     return True
+
+
+def _check_hard_deadline(ag: Agent, trig: Trigger, i: Intention | None) -> None:
+    """A goal annotated ``hard_deadline(ms)`` (Jason's checkHardDeadline): ``ms`` from now it
+    fails with ``deadline_reached`` if it is still pursued."""
+    for a in trig.literal.annots:
+        if type(a) is Literal and a.functor == "hard_deadline" and len(a.args) == 1 \
+                and type(a.args[0]) is float:
+            ag.schedule_deadline(trig, i, a.args[0] / 1000.0)
+            return
 
 
 def _exec_constraint(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
@@ -906,8 +920,9 @@ def _post_failure_of(ag: Agent, i: Intention, t: Trigger, annots: list, idx: int
     ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
 
 
-def fail_goal_at(ag: Agent, i: Intention, idx: int) -> None:
-    """``.fail_goal``: fail the goal of ``i.ims[idx]`` (its ``-!g`` event has no annotations)."""
+def fail_goal_at(ag: Agent, i: Intention, idx: int, annots: tuple = ()) -> None:
+    """``.fail_goal``: fail the goal of ``i.ims[idx]`` (its ``-!g`` event has no annotations
+    but ``annots``)."""
     ims = i.ims
     j = idx
     while j >= 0:
@@ -918,6 +933,8 @@ def fail_goal_at(ag: Agent, i: Intention, idx: int) -> None:
                 if ag.pl.goal_state_plans:
                     ag.goal_state(t, "failed")
                 lit = t.literal.no_annots() if isinstance(t.literal, Literal) else t.literal
+                if annots and isinstance(lit, Literal):
+                    lit = lit.add_annots(annots)
                 ag.detach(i)
                 i.suspended = Suspension.FAILURE
                 ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=j))

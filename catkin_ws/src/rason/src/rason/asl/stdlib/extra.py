@@ -272,9 +272,13 @@ def kill_agent(ctx: IAContext, args: list) -> bool:
 
 @internal_action(".clone", arity=1)
 def clone(ctx: IAContext, args: list) -> bool:
-    """``.clone(Name)``: a new agent running this agent's program."""
+    """``.clone(Name)``: a new agent with this agent's beliefs, plans and pending events (a host
+    that cannot copy a mind starts the agent's program anew)."""
     arch = _runtime(ctx)
     try:
+        if hasattr(arch, "clone_agent"):   # a copy of the mind, as Jason (LocalMas)
+            arch.clone_agent(ctx.ag, to_print_str(args[0]))
+            return True
         arch.create_agent(ctx.ag, to_print_str(args[0]), ctx.ag.filename)
     except (OSError, ValueError) as e:
         raise IAError(f"cannot clone to {to_print_str(args[0])}: {e}", "internal_action") from None
