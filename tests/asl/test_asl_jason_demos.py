@@ -5,7 +5,11 @@ a Jason 3.3 build prints for the same program."""
 
 from __future__ import annotations
 
+import io
+
 from asl_helpers import lines, run_agents, run_source
+
+from rason.asl import LocalMas, VirtualClock
 
 
 def test_failure_plan_binds_the_callers_variable() -> None:
@@ -106,3 +110,22 @@ def test_stop_mas_with_a_delay_warns_every_agent_and_waits() -> None:
              "!tick.\n+!tick <- .wait(1000); .print(tick); !tick.\n"})
     assert lines(out, "a") == ["leaving_in 2000", "packed"]
     assert lines(out, "b") == ["tick", "tick"]
+
+
+def test_a_module_in_a_namespace_fills_in_its_own_namespace(tmp_path) -> None:
+    (tmp_path / "mod.asl").write_text(
+        "c.\n+!m <- .my_name(Me); .send(Me, tell, ::c); .print(this_ns); X = this_ns; .print(X).\n")
+    src = ("!s.\n+!s <- .include(\"mod.asl\", foo); !foo::m; .wait(100); "
+           ".findall(N::c, N::c, L); .print(L); .print(this_ns).\n")
+    out = io.StringIO()
+    mas = LocalMas(clock=VirtualClock(), out=out)
+    mas.add_agent("main", src, str(tmp_path / "main.asl"))
+    mas.run(timeout=5)
+    assert lines(out.getvalue()) == ["foo", "this_ns", "[foo::c]", "default"]
+
+
+def test_the_state_of_a_waiting_intention_says_why_it_waits() -> None:
+    src = ("!w. !s.\n+!w <- .wait(1000.7).\n"
+           "+!s <- .wait(100); .intention(1, S, _); .print(S); .intention(I, S2, _, current); "
+           ".print(I, \" \", S2).\n")
+    assert lines(run_source(src)) == ["waiting[reason(wait(1)[time(1000)])]", "2 running"]

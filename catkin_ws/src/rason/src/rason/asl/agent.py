@@ -662,7 +662,8 @@ class Agent:
     def suspend_timer(self, i: Intention, deadline: float, ms: float = 0.0) -> None:
         self.suspend(i, Suspension.WAIT)
         i.pi_key = f"{i.id}/time{int(ms)}"
-        i.wait_reason = Literal("wait", (float(i.id),), (Literal("time", (float(ms),)),))
+        # whole milliseconds in the reason, as Jason (its wait time is a long)
+        i.wait_reason = Literal("wait", (float(i.id),), (Literal("time", (float(int(ms)),)),))
         heapq.heappush(self.timers, Timer(deadline, next(self._seq), TimerKind.WAIT, i))
         self._goal_waiting(i, i.wait_reason)
 

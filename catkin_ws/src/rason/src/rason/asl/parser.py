@@ -306,6 +306,9 @@ class _ToAst:
         self.filename = filename
         self.src = filename
         self.exact = exact
+        #: the text has ``::lit`` or ``this_ns``, filled in with the namespace in effect once the
+        #: items are known (see :func:`_fill_namespace`)
+        self.abstract_ns = False
         #: the line of the ``:`` / ``<:`` / ``<-`` that starts a context, goal condition or
         #: body, by the id of the object made from it (a plan's ``code_line``, see :meth:`plan`)
         self.opened_at: dict[int, int] = {}
@@ -354,6 +357,11 @@ class _ToAst:
         # block's, as a literal without one; outside blocks the default one, as ``default::``)
         if ns is not None and str(ns) not in ("default::", "::"):
             atom = str(ns) + str(atom)
+        elif ns is not None and str(ns) == "::":
+            atom = "::" + str(atom)   # the namespace in effect, filled in by _fill_namespace
+            self.abstract_ns = True
+        elif not args and annots is None and str(atom) == "this_ns":
+            self.abstract_ns = True
         annots_t: tuple = ()
         tail = None
         if annots is not None:
@@ -813,6 +821,8 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
             if len(blocks) > 1:
                 blocks.pop()
             continue
+        if tr.abstract_ns and kind != "directive":
+            obj = _fill_namespace(kind, obj, ns or "default")
         if local and kind != "directive":
             obj = _rename_namespaces(kind, obj, local)
         if ns is not None and kind != "directive":
@@ -948,6 +958,44 @@ def _ns_deeds(body: tuple, ns: str) -> tuple:
             d = Deed(K_INTERNAL, Literal(".include", (d.term.args[0], Literal(ns))), d.line)
         out.append(d)
     return tuple(out)
+
+
+def _fill_ns(t: Any, ns: str, in_relation: bool = False) -> Any:
+    """``t`` with ``::lit`` in namespace ``ns`` and, as Jason's parser, the atom ``this_ns``
+    made ``ns`` (not inside a relation such as ``X = this_ns``, where Jason keeps it)."""
+    if isinstance(t, Literal):
+        functor = t.functor
+        if functor.startswith("::"):
+            functor = functor[2:] if ns == "default" else ns + functor
+        elif functor == "this_ns" and not t.args and not t.annots and not in_relation:
+            return Literal(ns)
+        lit = Literal(functor, tuple(_fill_ns(a, ns, in_relation) for a in t.args),
+                      tuple(_fill_ns(a, ns, in_relation) for a in t.annots), t.tail, t.neg)
+        is_constant(lit)
+        return lit
+    if isinstance(t, ListTerm):
+        return ListTerm(tuple(_fill_ns(a, ns, in_relation) for a in t.items),
+                        None if t.tail is None else _fill_ns(t.tail, ns, in_relation))
+    if isinstance(t, RelExpr):
+        return RelExpr(t.op, _fill_ns(t.left, ns, True), _fill_ns(t.right, ns, True))
+    if isinstance(t, (ArithExpr, LogExpr)):
+        return type(t)(t.op, _fill_ns(t.left, ns, in_relation),
+                       None if t.right is None else _fill_ns(t.right, ns, in_relation))
+    if isinstance(t, NsLit):
+        return NsLit(t.ns, _fill_ns(t.lit, ns, in_relation))
+    if isinstance(t, PlanTerm):
+        return t.map_terms(lambda x: _fill_ns(x, ns, in_relation))
+    return t
+
+
+def _fill_namespace(kind: str, obj: Any, ns: str) -> Any:
+    """A belief, rule, goal or plan with ``::lit`` and ``this_ns`` in namespace ``ns`` (the
+    one in effect where it is written: the file's or the block's, else ``default``)."""
+    if kind == "rule":
+        return Rule(_fill_ns(obj.head, ns), _fill_ns(obj.body, ns))
+    if kind == "plan":
+        return obj.map_terms(lambda t: _fill_ns(t, ns))
+    return _fill_ns(obj, ns)
 
 
 def in_namespace(kind: str, obj: Any, ns: str) -> Any:
