@@ -129,3 +129,13 @@ def test_the_state_of_a_waiting_intention_says_why_it_waits() -> None:
            "+!s <- .wait(100); .intention(1, S, _); .print(S); .intention(I, S2, _, current); "
            ".print(I, \" \", S2).\n")
     assert lines(run_source(src)) == ["waiting[reason(wait(1)[time(1000)])]", "2 running"]
+
+
+def test_a_told_rule_is_added_with_its_source_and_every_rule_is_relevant_to_a_variable() -> None:
+    out = run_agents({
+        "receiver": "b.\nc.\n+!test : a <- .print(ok).\n+!test <- .print(not_ok).\n"
+                    "+!kqml_received(A, tellRule, Rules, _) <- "
+                    "for (.member(R, Rules)) { +R[source(A)] }; .relevant_rules(_, L); .print(L).\n",
+        "sender": "!s.\n+!s <- .send(receiver, tellRule, [{a :- b & c}]); .wait(100); "
+                  ".send(receiver, achieve, test).\n"})
+    assert lines(out, "receiver") == ["[{ a :- (b & c) }]", "ok"]

@@ -38,6 +38,7 @@ from .plans import (
     Trigger,
 )
 from .terms import (
+    AnnotVar,
     ListTerm,
     Literal,
     NsLit,
@@ -485,7 +486,7 @@ def _exec_add_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
     """``+b``: add a belief; its event belongs to this intention."""
     u = im.u
     im.stack.pop()
-    if type(d.term) is PlanTerm or (type(d.term) is Var and type(walk(d.term, u)) is PlanTerm):
+    if type(d.term) is PlanTerm or (type(d.term) in (Var, AnnotVar) and _holds_rule(d.term, u)):
         return _change_rule(ag, im, d, ADD)
     lit = _self_sourced(ag, d, u, "cannot add {} as a belief")
     return _await_own_event(i, im, d, ag.add_belief(lit, front=True, focus=i))
@@ -588,7 +589,7 @@ def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) ->
 def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``-b``: remove a belief; its event belongs to this intention."""
     im.stack.pop()
-    if type(d.term) is PlanTerm or (type(d.term) is Var and type(walk(d.term, im.u)) is PlanTerm):
+    if type(d.term) is PlanTerm or (type(d.term) in (Var, AnnotVar) and _holds_rule(d.term, im.u)):
         return _change_rule(ag, im, d, DEL)
     lit = _belief_to_remove(ag, im, d)
     if lit is None:
@@ -596,15 +597,25 @@ def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> 
     return _await_own_event(i, im, d, ag.remove_belief(lit, focus=i))
 
 
+def _holds_rule(v: Var | AnnotVar, u: dict) -> bool:
+    """``+R`` / ``+R[source(A)]`` where R is bound to a rule term."""
+    return type(walk(Var(v.name), u)) is PlanTerm
+
+
 def _change_rule(ag: Agent, im: IntendedMeans, d: Deed, op: str) -> bool:
     """``+{ h :- b }`` adds a rule at the beginning of the rules for ``h``; ``-{ h :- b }``
-    removes the first rule that unifies with it."""
-    t = resolve(d.term, im.u)
+    removes the first rule that unifies with it (also through a variable, ``+R[a]``: the
+    annotations go to the head)."""
+    term, extra = d.term, ()
+    if type(term) is AnnotVar:
+        term, extra = Var(term.name), tuple(resolve(a, im.u) for a in term.annots)
+    t = resolve(term, im.u)
     rule = t.rule if type(t) is PlanTerm else None
     if rule is None or not isinstance(rule.head, Literal):
         raise IAError(f"cannot add {term_str(t)} as a belief")
     if op == ADD:
-        ag.bb.add_rule(Rule(rule.head.with_self_source(), rule.body), front=True)
+        head = rule.head.add_annots(extra) if extra else rule.head
+        ag.bb.add_rule(Rule(head.with_self_source(), rule.body), front=True)
         return True
     for r in list(ag.bb.candidates(rule.head.key)):
         if isinstance(r, Rule):

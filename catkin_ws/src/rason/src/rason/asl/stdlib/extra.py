@@ -147,10 +147,13 @@ def _rule_term(r: Rule) -> PlanTerm:
 
 @internal_action(".relevant_rules", arity=2)
 def relevant_rules(ctx: IAContext, args: list) -> bool:
-    """``.relevant_rules(Head, List)``: the rules whose head unifies with Head, as terms."""
+    """``.relevant_rules(Head, List)``: the rules whose head unifies with Head, as terms (a
+    free Head: every rule, in the belief base's order, as Jason)."""
     pat = args[0]
     out = []
-    if isinstance(pat, Literal):
+    if isinstance(pat, Var):
+        out = [_rule_term(r) for r in ctx.ag.bb.rules()]
+    elif isinstance(pat, Literal):
         for r in ctx.ag.bb.candidates(pat.key):
             if isinstance(r, Rule) and unify(pat, r.head, dict(ctx.s)):
                 out.append(_rule_term(r))
