@@ -78,4 +78,11 @@ CURRENT_STEP="compiled modules"
 step "rason.asl compiled with mypyc (python -m rason.asl native build)"
 PYTHONPATH="$ROOT/catkin_ws/src/rason/src" RASON_NATIVE=0 "$VENV/bin/python3" -m rason.asl native build \
   --log "$ROOT/catkin_ws/native.log" > /dev/null
+
+CURRENT_STEP="bytecode"
+# as pip does for the packages it installs: start-up then does not depend on whether the
+# user's Python may write bytecode (PYTHONDONTWRITEBYTECODE); a no-op for unchanged files
+step "bytecode of the workspace's Python packages (python -m compileall)"
+"$VENV/bin/python3" -m compileall -q "$ROOT"/catkin_ws/src/*/src \
+  "$ROOT/catkin_ws/devel/lib/python3/dist-packages" > /dev/null
 step "done: source $ROOT/env.sh to use rosrun, rostopic, rosservice"
