@@ -606,9 +606,11 @@ def _change_rule(ag: Agent, im: IntendedMeans, d: Deed, op: str) -> bool:
     """``+{ h :- b }`` adds a rule at the beginning of the rules for ``h``; ``-{ h :- b }``
     removes the first rule that unifies with it (also through a variable, ``+R[a]``: the
     annotations go to the head)."""
-    term, extra = d.term, ()
-    if type(term) is AnnotVar:
-        term, extra = Var(term.name), tuple(resolve(a, im.u) for a in term.annots)
+    term: Any = d.term
+    extra: tuple = ()
+    if isinstance(term, AnnotVar):
+        extra = tuple(resolve(a, im.u) for a in term.annots)
+        term = Var(term.name)
     t = resolve(term, im.u)
     rule = t.rule if type(t) is PlanTerm else None
     if rule is None or not isinstance(rule.head, Literal):
