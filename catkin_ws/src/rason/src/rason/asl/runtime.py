@@ -64,7 +64,10 @@ class LocalArch(AgentArch):
         copies: dict[int, Intention] = {}
         for i in creator.running:
             if i is not creator.current and i.fork is None and i.reply is None:
-                copies[i.id] = copy.deepcopy(i)
+                try:
+                    copies[i.id] = copy.deepcopy(i)
+                except TypeError:   # compiled (mypyc) intentions cannot be copied so: left out
+                    continue
         clone.running = deque(copies.values())
         clone.events = deque(Event(ev.trigger, None if ev.intention is None else copies.get(ev.intention.id))
                              for ev in creator.events
