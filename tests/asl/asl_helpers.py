@@ -32,6 +32,16 @@ def run_source(source: str, name: str = "main", timeout: float = 10.0, **kw: Any
     return out.getvalue()
 
 
+def run_agents(sources: dict[str, str], timeout: float = 10.0) -> str:
+    """Run several agents (name: source) in one LocalMas with a virtual clock; their output."""
+    out = io.StringIO()
+    mas = LocalMas(clock=VirtualClock(), out=out)
+    for name, src in sources.items():
+        mas.add_agent(name, src, f"{name}.asl")
+    mas.run(timeout=timeout)
+    return out.getvalue()
+
+
 def lines(text: str, agent: str = "main") -> list[str]:
     prefix = f"[{agent}] "
     return [ln[len(prefix):] for ln in text.splitlines() if ln.startswith(prefix)]

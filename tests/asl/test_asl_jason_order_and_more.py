@@ -4,11 +4,7 @@ management corner cases, the ``.set``/``.map``/``.queue`` families, ``.fork``/``
 
 from __future__ import annotations
 
-import io
-
-from asl_helpers import lines, run_source
-
-from rason.asl import LocalMas, VirtualClock
+from asl_helpers import lines, run_agents, run_source
 
 
 def run(body: str, extra: str = "", timeout: float = 10.0) -> list[str]:
@@ -169,15 +165,6 @@ def test_done_ends_a_goal_of_the_current_intention() -> None:
 
 
 # ------------------------------------------------------------------ directory facilitator
-def run_agents(sources: dict[str, str], timeout: float = 10.0) -> str:
-    out = io.StringIO()
-    mas = LocalMas(clock=VirtualClock(), out=out)
-    for name, src in sources.items():
-        mas.add_agent(name, src, f"{name}.asl")
-    mas.run(timeout=timeout)
-    return out.getvalue()
-
-
 def test_directory_facilitator_in_one_process() -> None:
     out = run_agents({
         "bob": '!s.\n+!s <- .df_register("sell(book)"); .df_register(buy(pen), "shop"); .wait(300); '

@@ -34,7 +34,7 @@ from .intentions import (
     has_goal,
     java_map_order,
 )
-from .kqml import KQML_SRC, kqml_plans
+from .kqml import KQML_SRC, kqml_plans, plans_answered_by
 from .logic import query_bb, solve
 from .parser import AgentSource, AslSyntaxError, parse_source, parse_term, path_include_resolver
 from .plans import ACHIEVE, ADD, BELIEF, DEL, GOAL_STATE, K_INTERNAL, PlanLibrary, Trigger, body_deeds
@@ -329,6 +329,8 @@ class Agent:
                 # without an environment or mail pays no call for sensing
                 did = False
                 if self._perceives or self._inbox or self._mail or self.timers:
+                    if self.sleeping and (self._inbox or self._mail):
+                        self._wake_up()   # as Jason: +jag_awaking before what woke the agent
                     did = self.sense()
                     if did and self.sleeping:
                         self._wake_up()
@@ -363,6 +365,13 @@ class Agent:
         self.sleeping = False
         if self.pl.has_key(_JAG_AWAKING.key):
             self.events.append(Event(_JAG_AWAKING))
+
+    def post_external(self, ev: Event) -> None:
+        """An external event from the host (Jason's ``addExternalEv``); a sleeping agent wakes
+        after it (``+jag_awaking`` comes after the event)."""
+        self.add_event(ev)
+        if self.sleeping:
+            self._wake_up()
 
     def run(self, stop: threading.Event) -> None:
         """Reason until ``stop`` is set; block (no polling) while idle."""
@@ -408,6 +417,7 @@ class Agent:
     def next_deadline(self) -> float | None:
         """Earliest ``.wait`` deadline (clock seconds), or None."""
         while (self.timers and self.timers[0].kind is not TimerKind.AT
+               and self.timers[0].kind is not TimerKind.DEADLINE
                and (self.timers[0].intention is None
                     or self.timers[0].intention.id not in self.suspended)):
             heapq.heappop(self.timers)
@@ -430,6 +440,10 @@ class Agent:
     def count_solutions(self, query: Any) -> int:
         """``.count(Q)``: how many solutions Q has in the current mental state."""
         return sum(1 for _ in solve(self, query, {}))
+
+    def clock_millis(self) -> float:
+        """``system.time`` and ``.time(T)``: whole milliseconds of the agent's clock."""
+        return float(int(self.arch.clock.now() * 1000))
 
     def mind_state(self, blocking: bool = True) -> MindState | None:
         """Structured snapshot of the mental state, for a mind inspector (read-only); None when
@@ -519,6 +533,10 @@ class Agent:
             kind, i = timer.kind, timer.intention
             if kind is TimerKind.AT:
                 self.add_event(Event(timer.data))
+                did = True
+                continue
+            if kind is TimerKind.DEADLINE:
+                self._deadline_reached(*timer.data)
                 did = True
                 continue
             if i is None or i.id not in self.suspended or i.dropped:   # only .at has no intention
@@ -642,7 +660,8 @@ class Agent:
     def suspend_timer(self, i: Intention, deadline: float, ms: float = 0.0) -> None:
         self.suspend(i, Suspension.WAIT)
         i.pi_key = f"{i.id}/time{int(ms)}"
-        i.wait_reason = Literal("wait", (float(i.id),), (Literal("time", (float(ms),)),))
+        # whole milliseconds in the reason, as Jason (its wait time is a long)
+        i.wait_reason = Literal("wait", (float(i.id),), (Literal("time", (float(int(ms)),)),))
         heapq.heappush(self.timers, Timer(deadline, next(self._seq), TimerKind.WAIT, i))
         self._goal_waiting(i, i.wait_reason)
 
@@ -914,7 +933,8 @@ class Agent:
             self.events.append(ev)
         return s
 
-    def fail_goal(self, pattern: Any, s: dict) -> None:
+    def fail_goal(self, pattern: Any, s: dict, annots: tuple = ()) -> None:
+        """``.fail_goal(G)``: each goal G is failed (its ``-!G`` event gets ``annots``)."""
         for ev in self._goal_events(pattern, s):
             if ev.intention is not None:
                 continue
@@ -922,9 +942,30 @@ class Agent:
             if self.pl.goal_state_plans:
                 self.goal_state(ev.trigger, "failed", Literal("drop_by_fail_goal"))
             k = self.events.index(ev)
-            self.events[k] = Event(Trigger(DEL, ACHIEVE, ev.trigger.literal))
+            lit = ev.trigger.literal
+            self.events[k] = Event(Trigger(DEL, ACHIEVE, lit.add_annots(annots) if annots else lit))
         for i, idx in list(self._goal_positions(pattern, s)):
-            reasoning.fail_goal_at(self, i, idx)
+            reasoning.fail_goal_at(self, i, idx, annots)
+
+    def schedule_deadline(self, trig: Trigger, i: Intention | None, delay: float) -> None:
+        """A goal's ``hard_deadline``: ``delay`` clock seconds from now, the goal ``trig`` of
+        intention ``i`` (None: a ``!!g``) fails if it is still pursued."""
+        size = len(i.ims) if i is not None else 0
+        heapq.heappush(self.timers, Timer(self.arch.clock.now() + delay, next(self._seq),
+                                          TimerKind.DEADLINE, None, data=(trig, i, size)))
+
+    def _deadline_reached(self, trig: Trigger, i: Intention | None, size: int) -> None:
+        """Jason's hard deadline check: the goal is still desired (``!!g``), or its intention
+        is as deep as it was and still has the goal; then it fails with ``deadline_reached``."""
+        goal = trig.literal
+        if i is None:
+            drop = bool(self._goal_events(goal, {})) or any(True for _ in self._goal_positions(goal, {}))
+        else:
+            drop = (not i.dropped and len(i.ims) >= size
+                    and any(im.trigger.op == ADD and im.trigger.type == ACHIEVE
+                            and unify(goal, im.trigger.literal, {}, self) for im in i.ims))
+        if drop:
+            self.fail_goal(goal, {}, _DEADLINE_REACHED)
 
     # ================================================================ beliefs
     def add_event(self, ev: Event) -> None:
@@ -1161,6 +1202,8 @@ class Agent:
         elif isinstance(content, Literal) or (perf == "askAll" and isinstance(content, ListTerm)):
             # TransitionSystem: the answer's sources are nested in source(Sender)
             content = with_nested_source(content, sender)
+        elif perf == "askHow" and isinstance(content, ListTerm):
+            content = plans_answered_by(content, m.sender)   # labelled source(Sender)
         if n is not None:
             got.append(content)
             if len(got) < n:
@@ -1189,6 +1232,9 @@ class Agent:
 
 #: what an intention waits for when its own event is queued (it is not blocking then)
 _OWN_EVENT_WAITS = frozenset({None, Suspension.SUBGOAL, Suspension.EVENT, Suspension.FAILURE})
+
+#: the annotations of a goal failed by its hard_deadline (Jason's basic error annotations)
+_DEADLINE_REACHED = (Literal("error", (Literal("deadline_reached"),)), Literal("error_msg", ("",)))
 
 _JAG_SLEEPING = Trigger(ADD, BELIEF, Literal("jag_sleeping"))
 _JAG_AWAKING = Trigger(ADD, BELIEF, Literal("jag_awaking"))

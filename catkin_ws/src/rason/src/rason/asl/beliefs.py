@@ -217,6 +217,7 @@ class BeliefBase:
 
     def remove_rule(self, rule: Rule) -> None:
         key = rule.head.key
+        self._snapshots.pop(key, None)
         lst = [r for r in self.by_key.get(key, ()) if r is not rule]
         if lst:
             self.by_key[key] = deque(lst)

@@ -84,6 +84,10 @@ class FunctionHost(Protocol):
 
     def count_solutions(self, query: Any) -> int: ...
 
+    def clock_millis(self) -> float:
+        """``system.time``: milliseconds of the agent's clock (as ``.time(T)``)."""
+        ...
+
 
 def power(a: float, b: float) -> float:
     try:
@@ -134,4 +138,4 @@ def java_mod(a: float, b: float) -> float:
 
 #: Functors that evaluate to a number (``math.random`` needs the agent's generator; ``.length``
 #: and ``.count`` only with one argument, else they are the internal actions).
-ARITH_NAMES = frozenset(ARITH_FUNCTIONS) | {"math.random", ".length", ".count"}
+ARITH_NAMES = frozenset(ARITH_FUNCTIONS) | {"math.random", ".length", ".count", "system.time"}

@@ -190,6 +190,7 @@ class TimerKind(Enum):
     EVENT_TIMEOUT = "event_timeout"   # ``.wait(E, ms)``: the intention fails
     ASK_TIMEOUT = "ask_timeout"       # ``.send(.., askOne, .., A, ms)``: A is ``timeout``
     AT = "at"                         # ``.at(When, Event)``: the event is posted
+    DEADLINE = "deadline"             # ``!g[hard_deadline(ms)]``: the goal fails if still pursued
 
 
 class Timer(NamedTuple):
@@ -200,7 +201,8 @@ class Timer(NamedTuple):
     kind: TimerKind
     intention: Intention | None
     msg_id: str | None = None   # for ASK_TIMEOUT: the question
-    data: Any = None            # AT: the trigger; EVENT_TIMEOUT: the wait it ends (its reason)
+    data: Any = None            # AT: the trigger; EVENT_TIMEOUT: the wait it ends (its reason);
+    #                             DEADLINE: the goal's trigger and the intention's size then
 
 
 class EventWait(NamedTuple):

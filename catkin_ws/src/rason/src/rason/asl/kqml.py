@@ -12,8 +12,8 @@ import re
 import zlib
 
 from .parser import parse_source, user_cache_folder
-from .plans import Plan
-from .terms import Var
+from .plans import Plan, named_plan
+from .terms import ListTerm, Literal, PlanTerm, Var, make_list, source
 from .unify import rename_vars
 
 KQML_PLANS = r"""
@@ -191,3 +191,20 @@ def _stored_plans() -> list[Plan]:
         except (OSError, pickle.PicklingError, TypeError, AttributeError):
             pass                               # a read-only cache folder: parse every time
     return parsed
+
+
+def plans_answered_by(content: ListTerm, sender: str) -> ListTerm:
+    """The plans of an askHow answer as the asker gets them (Jason's TransitionSystem): each
+    plan's label names the sender as its source; what is not a plan is left out."""
+    out = []
+    for t in content.items:
+        if not isinstance(t, PlanTerm) or t.plan is None:
+            continue
+        plan = named_plan(t.plan)
+        label = plan.label if isinstance(plan.label, Literal) else Literal("p__")
+        annots = [a for a in label.annots if not (isinstance(a, Literal) and a.functor == "source")]
+        label = label.with_annots(()).add_annots([source(sender), *annots])
+        made = Plan(label, plan.trigger, plan.context, plan.body, plan.line, plan.src,
+                    in_file=plan.in_file, goal_condition=plan.goal_condition)
+        out.append(made.as_term())
+    return make_list(out)

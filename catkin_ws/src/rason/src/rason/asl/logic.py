@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 from .functions import FunctionHost
 from .ia import IAContext, call_ia
+from .plans import Plan, body_str, plan_term_trigger
 from .terms import (
     LOCAL_NS_PREFIX,
     AnnotVar,
@@ -16,6 +17,7 @@ from .terms import (
     Literal,
     LogExpr,
     NsLit,
+    PlanTerm,
     RelExpr,
     Rule,
     Var,
@@ -23,6 +25,7 @@ from .terms import (
     is_constant,
     is_internal_action,
     make_list,
+    split_ns,
 )
 from .unify import (
     ArithError,
@@ -225,18 +228,68 @@ def eval_rel(f: RelExpr, s: dict, ag: FunctionHost | None = None) -> dict | None
 
 
 def _univ(f: RelExpr, s: dict, ag: FunctionHost | None) -> dict | None:
+    """``T =.. L`` as Jason 3: a literal is ``[Namespace, Functor, Args, Annots]`` (a list of
+    three items leaves the namespace out), a labelled plan term ``[Label, {Trigger}, {Context},
+    {Body}]``; a list builds the literal, or the plan when its fourth item is a body term."""
     a = resolve(f.left, s, ag)
     s2 = dict(s)
-    if isinstance(a, Literal):
-        lst = make_list([Literal(a.functor), make_list(a.args), make_list(a.annots)])
-        return s2 if unify(f.right, lst, s2, ag) else None
     b = resolve(f.right, s, ag)
-    if isinstance(b, ListTerm) and len(b.items) >= 1 and isinstance(b.items[0], Literal):
-        args = b.items[1].items if len(b.items) > 1 and isinstance(b.items[1], ListTerm) else ()
-        annots = b.items[2].items if len(b.items) > 2 and isinstance(b.items[2], ListTerm) else ()
-        lit = Literal(b.items[0].functor, tuple(args), tuple(annots))
-        return s2 if unify(f.left, lit, s2, ag) else None
-    return None
+    if isinstance(a, PlanTerm) and a.plan is not None:
+        plan = a.plan
+        if not isinstance(plan.label, Literal):
+            return None   # as Jason (it has no label to put first)
+        trig = Plan(None, plan.trigger, None, (), in_file=False)
+        lst = make_list([plan.label, PlanTerm((), str(plan.trigger), trig, braces=False),
+                         Literal("true") if plan.context is None else plan.context,
+                         PlanTerm(plan.body, body_str(plan.body), braces=False)])
+        return s2 if unify(f.right, lst, s2, ag) else None
+    if isinstance(a, Literal):
+        ns, bare = split_ns(a)
+        items = [Literal(ns), Literal(bare.functor, neg=bare.neg), make_list(a.args), make_list(a.annots)]
+        if isinstance(b, ListTerm) and b.tail is None and len(b.items) == 3:
+            items = items[1:]
+        return s2 if unify(f.right, make_list(items), s2, ag) else None
+    if not isinstance(b, ListTerm) or b.tail is not None or not b.items:
+        return None
+    items = list(b.items)
+    if len(items) == 4 and isinstance(items[3], PlanTerm) and items[3].plan is None:
+        made = _plan_from_items(items)
+        return s2 if made is not None and unify(f.left, made, s2, ag) else None
+    ns = "default"
+    if len(items) == 4:
+        if not isinstance(items[0], Literal) or items[0].args:
+            return None
+        ns = items[0].functor
+        items = items[1:]
+    head = items[0]
+    if isinstance(head, str):
+        functor, neg = head, False
+    elif isinstance(head, Literal):
+        functor, neg = head.functor, head.neg
+    else:
+        return None
+    args = items[1].items if len(items) > 1 and isinstance(items[1], ListTerm) else ()
+    annots = items[2].items if len(items) > 2 and isinstance(items[2], ListTerm) else ()
+    lit = in_ns(ns, Literal(functor, tuple(args), tuple(annots), neg=neg))
+    return s2 if unify(f.left, lit, s2, ag) else None
+
+
+def _plan_from_items(items: list) -> PlanTerm | None:
+    """The plan term of ``[Label, {Trigger}, {Context}, {Body}]`` (Jason's
+    ``Plan.newFromListOfTerms``), or None when the items do not make one."""
+    label, trig_t, ctx_t, body_t = items
+    if not isinstance(label, Literal) or not isinstance(trig_t, PlanTerm):
+        return None
+    trigger = plan_term_trigger(trig_t)
+    if trigger is None:
+        return None
+    context: Any = ctx_t   # the formula itself, or a body term holding it
+    if isinstance(ctx_t, PlanTerm):
+        if ctx_t.plan is not None or len(ctx_t.body) != 1:
+            return None
+        context = ctx_t.body[0].term
+    plan = Plan(label, trigger, context, body_t.body, in_file=False)
+    return PlanTerm(plan.body, plan.as_text(), plan, braces=False)   # printed as Jason's Plan
 
 
 def query_bb(ag: Agent, lit: Literal, s: dict) -> Iterator[dict]:

@@ -121,7 +121,8 @@ label: "@" literal              -> label
      | "@" annots               -> label_anon
      | "@" var                  -> label_var
 context: ":" log_expr
-plan_body: "<-" stmt_list
+plan_body: BODY_ARROW stmt_list
+BODY_ARROW: "<-"
 trigger: top [goaltype] literal_or_var
 !top: "+" | "-" | "^"
 !goaltype: "!" | "?"
@@ -146,6 +147,9 @@ simple: "!" literal_or_var     -> s_achieve
       | "++" literal_or_var    -> s_add_new
       | "--" literal_or_var    -> s_del_new
       | log_expr               -> s_expr
+      | "(" fork ")"           -> s_group
+?fork: par_and "|||" par       -> s_fork_or
+     | simple "|&|" par_and    -> s_fork_and
 
 ctrl: "if" "(" log_expr ")" block elif_part* [else_part]  -> s_if
     | "while" "(" log_expr ")" block                      -> s_while
@@ -318,6 +322,12 @@ class _ToAst:
         self.filename = filename
         self.src = filename
         self.exact = exact
+        #: the text has ``::lit`` or ``this_ns``, filled in with the namespace in effect once the
+        #: items are known (see :func:`_fill_namespace`)
+        self.abstract_ns = False
+        #: the line of the ``:`` / ``<:`` / ``<-`` that starts a context, goal condition or
+        #: body, by the id of the object made from it (a plan's ``code_line``, see :meth:`plan`)
+        self.opened_at: dict[int, int] = {}
 
     # ---------------- terms
     def number(self, meta: Any, c: builtins.list) -> float:
@@ -363,6 +373,11 @@ class _ToAst:
         # block's, as a literal without one; outside blocks the default one, as ``default::``)
         if ns is not None and str(ns) not in ("default::", "::"):
             atom = str(ns) + str(atom)
+        elif ns is not None and str(ns) == "::":
+            atom = "::" + str(atom)   # the namespace in effect, filled in by _fill_namespace
+            self.abstract_ns = True
+        elif not args and annots is None and str(atom) == "this_ns":
+            self.abstract_ns = True
         annots_t: tuple = ()
         tail = None
         if annots is not None:
@@ -493,6 +508,10 @@ class _ToAst:
     def s_fork_or(self, meta: Any, c: builtins.list) -> Deed:
         return _fork_deed("or", c[0], c[1], meta.line)
 
+    def s_group(self, meta: Any, c: builtins.list) -> Deed:
+        """``( a ||| b )``: a fork in parentheses, a deed of the body around it."""
+        return c[0]
+
     def s_achieve(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_ACHIEVE, c[0], meta.line)
 
@@ -590,10 +609,14 @@ class _ToAst:
         return ("block", _fix(c[1]), meta)
 
     def context(self, meta: Any, c: builtins.list) -> Any:
-        return _fix(c[0])
+        made = _fix(c[0])
+        self.opened_at[id(made)] = meta.line
+        return made
 
     def plan_body(self, meta: Any, c: builtins.list) -> tuple:
-        return tuple(c[0])
+        made = tuple(c[1])   # (c[0]: the arrow, a token of its own so that meta is its line)
+        self.opened_at[id(made)] = meta.line
+        return made
 
     def trigger(self, meta: Any, c: builtins.list) -> Trigger:
         op = {"+": ADD, "-": DEL}.get(str(c[0]), GOAL_STATE)
@@ -601,13 +624,19 @@ class _ToAst:
         return Trigger(op, gt, _fix(c[2]))
 
     def goal_condition(self, meta: Any, c: builtins.list) -> Any:
+        self.opened_at[id(c[0])] = meta.line
         return c[0]
 
     def plan(self, meta: Any, c: builtins.list) -> tuple:
         label, trigger, context, goal_condition, body = c
         if goal_condition is not None and not (trigger.op == ADD and trigger.type == ACHIEVE):
             raise _SemErr(meta, "a goal condition (<:) belongs to a +!g plan")
-        return ("plan", Plan(label, trigger, context, body or (), meta.line, self.src,
+        # Jason's code_line: the label's line, else that of what follows the trigger
+        line = meta.line
+        if label is None:
+            after = next((x for x in (context, goal_condition, body) if x is not None), None)
+            line = self.opened_at.get(id(after), line) if after is not None else line
+        return ("plan", Plan(label, trigger, context, body or (), line, self.src,
                              goal_condition=goal_condition), meta)
 
     def start(self, meta: Any, c: builtins.list) -> builtins.list:
@@ -820,6 +849,8 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
             if len(blocks) > 1:
                 blocks.pop()
             continue
+        if tr.abstract_ns and kind != "directive":
+            obj = _fill_namespace(kind, obj, ns or "default")
         if local and kind != "directive":
             obj = _rename_namespaces(kind, obj, local)
         if ns is not None and kind != "directive":
@@ -969,6 +1000,44 @@ def _ns_deeds(body: tuple, ns: str) -> tuple:
             d = Deed(K_INTERNAL, Literal(".include", (d.term.args[0], Literal(ns))), d.line)
         out.append(d)
     return tuple(out)
+
+
+def _fill_ns(t: Any, ns: str, in_relation: bool = False) -> Any:
+    """``t`` with ``::lit`` in namespace ``ns`` and, as Jason's parser, the atom ``this_ns``
+    made ``ns`` (not inside a relation such as ``X = this_ns``, where Jason keeps it)."""
+    if isinstance(t, Literal):
+        functor = t.functor
+        if functor.startswith("::"):
+            functor = functor[2:] if ns == "default" else ns + functor
+        elif functor == "this_ns" and not t.args and not t.annots and not in_relation:
+            return Literal(ns)
+        lit = Literal(functor, tuple(_fill_ns(a, ns, in_relation) for a in t.args),
+                      tuple(_fill_ns(a, ns, in_relation) for a in t.annots), t.tail, t.neg)
+        is_constant(lit)
+        return lit
+    if isinstance(t, ListTerm):
+        return ListTerm(tuple(_fill_ns(a, ns, in_relation) for a in t.items),
+                        None if t.tail is None else _fill_ns(t.tail, ns, in_relation))
+    if isinstance(t, RelExpr):
+        return RelExpr(t.op, _fill_ns(t.left, ns, True), _fill_ns(t.right, ns, True))
+    if isinstance(t, (ArithExpr, LogExpr)):
+        return type(t)(t.op, _fill_ns(t.left, ns, in_relation),
+                       None if t.right is None else _fill_ns(t.right, ns, in_relation))
+    if isinstance(t, NsLit):
+        return NsLit(t.ns, _fill_ns(t.lit, ns, in_relation))
+    if isinstance(t, PlanTerm):
+        return t.map_terms(lambda x: _fill_ns(x, ns, in_relation))
+    return t
+
+
+def _fill_namespace(kind: str, obj: Any, ns: str) -> Any:
+    """A belief, rule, goal or plan with ``::lit`` and ``this_ns`` in namespace ``ns`` (the
+    one in effect where it is written: the file's or the block's, else ``default``)."""
+    if kind == "rule":
+        return Rule(_fill_ns(obj.head, ns), _fill_ns(obj.body, ns))
+    if kind == "plan":
+        return obj.map_terms(lambda t: _fill_ns(t, ns))
+    return _fill_ns(obj, ns)
 
 
 def in_namespace(kind: str, obj: Any, ns: str) -> Any:

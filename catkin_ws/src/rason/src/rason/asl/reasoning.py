@@ -38,8 +38,20 @@ from .plans import (
     Trigger,
 )
 from .selection import Option
-from .terms import ListTerm, Literal, NsLit, PlanTerm, RelExpr, Rule, is_ground, is_internal_action, term_str
-from .unify import ArithError, rename_vars, resolve, unify
+from .terms import (
+    AnnotVar,
+    ListTerm,
+    Literal,
+    NsLit,
+    PlanTerm,
+    RelExpr,
+    Rule,
+    Var,
+    is_ground,
+    is_internal_action,
+    term_str,
+)
+from .unify import ArithError, rename_vars, resolve, unify, walk
 
 if TYPE_CHECKING:  # pragma: no cover
     from .agent import Agent
@@ -536,7 +548,7 @@ def _exec_add_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> boo
     """``+b``: add a belief; its event belongs to this intention."""
     u = im.u
     im.stack.pop()
-    if type(d.term) is PlanTerm:
+    if type(d.term) is PlanTerm or (type(d.term) in (Var, AnnotVar) and _holds_rule(d.term, u)):
         return _change_rule(ag, im, d, ADD)
     lit = _self_sourced(ag, d, u, "cannot add {} as a belief")
     return _await_own_event(i, im, d, ag.add_belief(lit, front=True, focus=i))
@@ -569,6 +581,8 @@ def _exec_achieve(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     i.suspended = Suspension.SUBGOAL
     trig = Trigger(ADD, ACHIEVE, lit)
     ag.events.append(Event(trig, i))
+    if type(lit) is Literal and len(lit.annots) > 1:
+        _check_hard_deadline(ag, trig, i)
     if ag.pl.goal_state_plans:
         ag.goal_state(trig, "pending")
     return False
@@ -581,11 +595,23 @@ def _exec_achieve_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed)
     trig = d.self_trigger
     if trig is None:
         trig = Trigger(ADD, ACHIEVE, _goal_literal(ag, d, u))
+    if type(trig.literal) is Literal and len(trig.literal.annots) > 1:
+        _check_hard_deadline(ag, trig, None)
     if ag.event_waits or ag.pl.goal_state_plans:
         ag.add_event(Event(trig))   # (its goal-state event "pending" is posted there)
     else:
         ag.events.append(Event(trig))   # (add_event inlined: a goal's event is always kept)
     return True
+
+
+def _check_hard_deadline(ag: Agent, trig: Trigger, i: Intention | None) -> None:
+    """A goal annotated ``hard_deadline(ms)`` (Jason's checkHardDeadline): ``ms`` from now it
+    fails with ``deadline_reached`` if it is still pursued."""
+    for a in trig.literal.annots:
+        if type(a) is Literal and a.functor == "hard_deadline" and len(a.args) == 1 \
+                and type(a.args[0]) is float:
+            ag.schedule_deadline(trig, i, a.args[0] / 1000.0)
+            return
 
 
 def _exec_constraint(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
@@ -625,7 +651,7 @@ def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) ->
 def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``-b``: remove a belief; its event belongs to this intention."""
     im.stack.pop()
-    if type(d.term) is PlanTerm:
+    if type(d.term) is PlanTerm or (type(d.term) in (Var, AnnotVar) and _holds_rule(d.term, im.u)):
         return _change_rule(ag, im, d, DEL)
     lit = _belief_to_remove(ag, im, d)
     if lit is None:
@@ -633,15 +659,27 @@ def _exec_remove_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> 
     return _await_own_event(i, im, d, ag.remove_belief(lit, focus=i))
 
 
+def _holds_rule(v: Var | AnnotVar, u: dict) -> bool:
+    """``+R`` / ``+R[source(A)]`` where R is bound to a rule term."""
+    return type(walk(Var(v.name), u)) is PlanTerm
+
+
 def _change_rule(ag: Agent, im: IntendedMeans, d: Deed, op: str) -> bool:
     """``+{ h :- b }`` adds a rule at the beginning of the rules for ``h``; ``-{ h :- b }``
-    removes the first rule that unifies with it."""
-    t = resolve(d.term, im.u)
+    removes the first rule that unifies with it (also through a variable, ``+R[a]``: the
+    annotations go to the head)."""
+    term: Any = d.term
+    extra: tuple = ()
+    if isinstance(term, AnnotVar):
+        extra = tuple(resolve(a, im.u) for a in term.annots)
+        term = Var(term.name)
+    t = resolve(term, im.u)
     rule = t.rule if type(t) is PlanTerm else None
     if rule is None or not isinstance(rule.head, Literal):
         raise IAError(f"cannot add {term_str(t)} as a belief")
     if op == ADD:
-        ag.bb.add_rule(Rule(rule.head.with_self_source(), rule.body), front=True)
+        head = rule.head.add_annots(extra) if extra else rule.head
+        ag.bb.add_rule(Rule(head.with_self_source(), rule.body), front=True)
         return True
     for r in list(ag.bb.candidates(rule.head.key)):
         if isinstance(r, Rule):
@@ -833,17 +871,25 @@ def clr_int(ag: Agent, i: Intention) -> None:
                 return
             caller = ims[-1]
             if caller.stack and caller.stack[-1] is caller.current:
-                caller.stack.pop()   # the deed that failed (an internal action is gone already)
+                d = caller.stack.pop()   # the deed that failed (an internal action is gone already)
+                if d.kind == K_ACHIEVE:
+                    # as Jason, the failure plan's goal answers the caller's !g(X) (X bound)
+                    _answer_caller(ag, caller, d, im)
             continue
         caller = ims[-1]
         if caller.stack:
             d = caller.stack.pop()
             if d.kind in (K_ACHIEVE, K_TEST):
-                res = means_answer(ag, im)
-                goal = resolve(d.term, caller.u, ag)
-                s2 = dict(caller.u)
-                if unify(goal, res, s2, ag):
-                    caller.u = s2
+                _answer_caller(ag, caller, d, im)
+
+
+def _answer_caller(ag: Agent, caller: IntendedMeans, d: Deed, im: IntendedMeans) -> None:
+    """Unify the caller's goal deed ``d`` with what the finished means ``im`` achieved."""
+    res = means_answer(ag, im)
+    goal = resolve(d.term, caller.u, ag)
+    s2 = dict(caller.u)
+    if unify(goal, res, s2, ag):
+        caller.u = s2
 
 
 # ====================================================================== failure
@@ -949,8 +995,9 @@ def _post_failure_of(ag: Agent, i: Intention, t: Trigger, annots: list, idx: int
     ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
 
 
-def fail_goal_at(ag: Agent, i: Intention, idx: int) -> None:
-    """``.fail_goal``: fail the goal of ``i.ims[idx]`` (its ``-!g`` event has no annotations)."""
+def fail_goal_at(ag: Agent, i: Intention, idx: int, annots: tuple = ()) -> None:
+    """``.fail_goal``: fail the goal of ``i.ims[idx]`` (its ``-!g`` event has no annotations
+    but ``annots``)."""
     ims = i.ims
     j = idx
     while j >= 0:
@@ -961,6 +1008,8 @@ def fail_goal_at(ag: Agent, i: Intention, idx: int) -> None:
                 if ag.pl.goal_state_plans:
                     ag.goal_state(t, "failed")
                 lit = t.literal.no_annots() if isinstance(t.literal, Literal) else t.literal
+                if annots and isinstance(lit, Literal):
+                    lit = lit.add_annots(annots)
                 ag.detach(i)
                 i.suspended = Suspension.FAILURE
                 ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=j))

@@ -2,16 +2,22 @@
 
 from __future__ import annotations
 
+import copy
 import gc
 import os
 import sys
 import threading
+from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, WallClock
+from .beliefs import BeliefBase
 from .df import DF_NAME, ProviderNotice, ServiceDirectory
+from .intentions import Event, Intention
+from .plans import ADD, BELIEF, PlanLibrary, Trigger
+from .terms import Literal, Rule
 
 if TYPE_CHECKING:
     from .environment import Environment
@@ -39,8 +45,43 @@ class LocalArch(AgentArch):
         """``.create_agent``: a new agent of this MAS (its file found as the project's are)."""
         return self.mas.create_agent(name, source, creator)
 
+    def clone_agent(self, creator: Agent, name: str) -> str:
+        """``.clone``: a new agent with a copy of ``creator``'s beliefs, plans, pending events
+        and the intentions waiting their turn (not the one running ``.clone``)."""
+        final = self.mas.create_agent(name, None, creator)
+        clone = self.mas.agents[final]
+        clone.filename = creator.filename
+        clone.bb = BeliefBase()
+        for b in creator.bb:
+            if isinstance(b, Rule):
+                clone.bb.add_rule(b)
+            else:
+                clone.bb.add(b)
+        clone.pl = PlanLibrary()
+        for p in creator.pl.plans:
+            clone.pl.add(p)
+        # Jason's Circumstance.clone: the queued events and the intentions waiting their turn
+        # (not the one running .clone, nor the suspended ones)
+        copies: dict[int, Intention] = {}
+        for i in creator.running:
+            if i is not creator.current and i.fork is None and i.reply is None:
+                try:
+                    copies[i.id] = copy.deepcopy(i)
+                except TypeError:   # compiled (mypyc) intentions cannot be copied so: left out
+                    continue
+        clone.running = deque(copies.values())
+        clone.events = deque(Event(ev.trigger, None if ev.intention is None else copies.get(ev.intention.id))
+                             for ev in creator.events
+                             if ev.intention is None or ev.intention.id in copies)
+        self.mas.notify()
+        return final
+
     def kill_agent(self, name: str) -> bool:
         return self.mas.kill_agent(name)
+
+    def stop_mas(self, ms: float) -> None:
+        """``.stopMAS(T)``: ``+jag_shutting_down(T)`` for every agent, the stop T ms later."""
+        self.mas.stop_in(ms)
 
     def service_directory(self) -> ServiceDirectory:
         return self.mas.df
@@ -63,6 +104,8 @@ class LocalMas:
                  out=None) -> None:
         self.clock = clock or WallClock()
         self.agents: dict[str, Agent] = {}
+        #: when ``.stopMAS(T)`` stops the run (clock seconds), None: not asked
+        self.stop_at: float | None = None
         #: the agents in the order they run, a new tuple whenever one is added or killed
         #: (a round iterates the one it started with)
         self._roster: tuple[Agent, ...] = ()
@@ -195,6 +238,16 @@ class LocalMas:
         self.notify()
         return True
 
+    def stop_in(self, ms: float) -> None:
+        """Jason's ``stopAgs(deadline)``: each agent gets the event ``+jag_shutting_down(ms)``
+        (kept only where a plan wants it), and the run stops ``ms`` milliseconds from now."""
+        trig = Trigger(ADD, BELIEF, Literal("jag_shutting_down", (ms,)))
+        for ag in self.agents.values():
+            ag.post_external(Event(trig))
+        when = self.clock.now() + ms / 1000.0
+        self.stop_at = when if self.stop_at is None else min(self.stop_at, when)
+        self.notify()
+
     # ------------------------------------------------------------ run
     def step_all(self) -> bool:
         did = False
@@ -228,6 +281,8 @@ class LocalMas:
             for ag in roster:
                 if ag.stop_requested:
                     return True
+            if self.stop_at is not None and clock.now() >= self.stop_at:
+                return True
             if not busy:
                 # a wake-up during a busy round stays set: the wait below returns at once then
                 self._wake.clear()
@@ -244,6 +299,8 @@ class LocalMas:
             if idle_hook is not None and idle_hook():
                 continue
             deadlines = [d for d in (ag.next_deadline() for ag in self.agents.values()) if d is not None]
+            if self.stop_at is not None:
+                deadlines.append(self.stop_at)
             pending = any(ag.pending_actions for ag in self.agents.values())
             if not deadlines and not pending:
                 return True

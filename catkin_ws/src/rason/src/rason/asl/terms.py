@@ -357,7 +357,7 @@ class PlanTerm:
             return self if text == self.text else PlanTerm(deeds, text, braces=self.braces)
         plan = self.plan.map_terms(fn)
         text = plan.as_text()
-        return self if text == self.text else PlanTerm(plan.body, text, plan)
+        return self if text == self.text else PlanTerm(plan.body, text, plan, braces=self.braces)
 
 
 class Rule:
@@ -479,7 +479,10 @@ def term_str(t: Any) -> str:
             return "not (" + term_str(t.left) + ")"
         return "(" + term_str(t.left) + " " + t.op + " " + term_str(t.right) + ")"
     if isinstance(t, PlanTerm):
-        return "{ " + t.text + " }" if t.braces else t.text
+        if t.braces:
+            return "{ " + t.text + " }"
+        # a labelled plan out of braces is Jason's Plan (made by ``=..``), printed with its dot
+        return t.text + "." if t.plan is not None and t.plan.label is not None else t.text
     if isinstance(t, int):
         return format_number(float(t))
     return str(t)

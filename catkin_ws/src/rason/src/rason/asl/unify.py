@@ -143,6 +143,8 @@ def eval_arith(t: Any, s: Subst, ag: FunctionHost | None = None) -> float:
             args = [eval_arith(a, s, ag) for a in t.args]
             r = ag.random.random()
             return r * args[0] if args else r
+        if t.functor == "system.time" and not t.args and ag is not None:
+            return ag.clock_millis()
     raise ArithError(f"not a number: {t!r}")
 
 

@@ -182,7 +182,7 @@ def wait(ctx: IAContext, args: list) -> Any:
 def time_(ctx: IAContext, args: list) -> bool:
     """``.time(H, M, S[, MS])`` wall time; ``.time(T)``: milliseconds from the agent's clock."""
     if len(args) == 1:
-        return ctx.unify(args[0], float(int(ctx.ag.arch.clock.now() * 1000)))
+        return ctx.unify(args[0], ctx.ag.clock_millis())
     now = datetime.datetime.now()
     vals = [now.hour, now.minute, now.second, now.microsecond // 1000]
     return all(ctx.unify(a, float(v)) for a, v in zip(args, vals, strict=False))
@@ -373,8 +373,17 @@ def _with_label_sources(p: Plan, sources: list) -> Plan:
     return Plan(label, p.trigger, p.context, p.body, p.line, p.src, in_file=p.in_file)
 
 
-@internal_action(".stopMAS")
+@internal_action(".stopMAS", arity=(0, 2))
 def stop_mas(ctx: IAContext, args: list) -> bool:
+    """``.stopMAS``: stop every agent; ``.stopMAS(T)``: every agent gets ``+jag_shutting_down(T)``
+    and the system stops T milliseconds later (on a host that can delay it, LocalMas)."""
+    ms = args[0] if args else 0.0
+    if not isinstance(ms, float):
+        raise wrong_arg("the first argument of .stopMAS must be a number of milliseconds")
+    stop_later = getattr(ctx.ag.arch, "stop_mas", None)
+    if ms > 0 and stop_later is not None:
+        stop_later(ms)
+        return True
     ctx.ag.request_stop()
     return True
 

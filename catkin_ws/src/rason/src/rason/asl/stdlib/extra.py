@@ -147,10 +147,13 @@ def _rule_term(r: Rule) -> PlanTerm:
 
 @internal_action(".relevant_rules", arity=2)
 def relevant_rules(ctx: IAContext, args: list) -> bool:
-    """``.relevant_rules(Head, List)``: the rules whose head unifies with Head, as terms."""
+    """``.relevant_rules(Head, List)``: the rules whose head unifies with Head, as terms (a
+    free Head: every rule, in the belief base's order, as Jason)."""
     pat = args[0]
     out = []
-    if isinstance(pat, Literal):
+    if isinstance(pat, Var):
+        out = [_rule_term(r) for r in ctx.ag.bb.rules()]
+    elif isinstance(pat, Literal):
         for r in ctx.ag.bb.candidates(pat.key):
             if isinstance(r, Rule) and unify(pat, r.head, dict(ctx.s)):
                 out.append(_rule_term(r))
@@ -272,9 +275,13 @@ def kill_agent(ctx: IAContext, args: list) -> bool:
 
 @internal_action(".clone", arity=1)
 def clone(ctx: IAContext, args: list) -> bool:
-    """``.clone(Name)``: a new agent running this agent's program."""
+    """``.clone(Name)``: a new agent with this agent's beliefs, plans and pending events (a host
+    that cannot copy a mind starts the agent's program anew)."""
     arch = _runtime(ctx)
     try:
+        if hasattr(arch, "clone_agent"):   # a copy of the mind, as Jason (LocalMas)
+            arch.clone_agent(ctx.ag, to_print_str(args[0]))
+            return True
         arch.create_agent(ctx.ag, to_print_str(args[0]), ctx.ag.filename)
     except (OSError, ValueError) as e:
         raise IAError(f"cannot clone to {to_print_str(args[0])}: {e}", "internal_action") from None

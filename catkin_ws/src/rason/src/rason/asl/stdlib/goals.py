@@ -115,6 +115,26 @@ _STATE = {"SE": "running", "SI": "running", "E": "running", "I": "running",
           "PE": "suspended", "PA": "waiting"}
 
 
+def _state_term(ag: Any, place: str, i: Intention, state: str) -> Literal:
+    """An intention's state as Jason's ``.intention`` gives it: ``waiting`` carries what it
+    waits for, ``[action(A)]`` (an environment action) or ``[reason(R)]`` (as ``.suspended``)."""
+    if state != "waiting":
+        return Literal(state)
+    if place == "PA":
+        act = next((pa.action for pa in ag.pending_actions.values() if pa.intention is i), None)
+        return Literal(state, (), (Literal("action", (act,)),)) if act is not None else Literal(state)
+    return Literal(state, (), (Literal("reason", (_waiting_reason(i),)),))
+
+
+def _waiting_reason(i: Intention) -> Any:
+    """Why an intention pending in PI waits (Jason's suspended reason)."""
+    if i.wait_reason is not None and i.suspended in (Suspension.WAIT, Suspension.EVENT_WAIT):
+        return i.wait_reason
+    if i.sus_ia and (i.pi_key or "").startswith("suspended-"):
+        return Literal("suspend_ia")
+    return Literal(i.suspended.value if i.suspended is not None else "no_reason")
+
+
 @internal_action(".intention", arity=(2, 4))
 def intention(ctx: IAContext, args: list) -> Any:
     """``.intention(Id, State[, Stack[, current]])`` (jason.stdlib.intention): states as
@@ -135,7 +155,7 @@ def intention(ctx: IAContext, args: list) -> Any:
         for place, i in _places(ag):
             state = ("suspended" if i.sus_ia else "waiting") if place == "PI" else _STATE[place]
             s2 = dict(ctx.s)
-            if not (unify(args[0], float(i.id), s2) and unify(args[1], Literal(state), s2)):
+            if not (unify(args[0], float(i.id), s2) and unify(args[1], _state_term(ag, place, i, state), s2)):
                 continue
             if len(args) >= 3 and not unify(args[2], intention_term(i).args[1], s2):
                 continue
@@ -227,14 +247,7 @@ def suspended(ctx: IAContext, args: list) -> Any:
         s2 = has_goal(i, args[0], ctx.s)
         if s2 is None:
             continue
-        if place == "PA":
-            reason: Any = Literal("act")
-        elif i.wait_reason is not None and i.suspended in (Suspension.WAIT, Suspension.EVENT_WAIT):
-            reason = i.wait_reason
-        elif i.sus_ia and (i.pi_key or "").startswith("suspended-"):
-            reason = Literal("suspend_ia")
-        else:
-            reason = Literal(i.suspended.value if i.suspended is not None else "no_reason")
+        reason = Literal("act") if place == "PA" else _waiting_reason(i)
         return s2 if unify(args[1], reason, s2) else False
     return False
 

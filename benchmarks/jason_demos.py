@@ -1,0 +1,161 @@
+#!/usr/bin/env python3
+"""The projects that ship with Jason, run on Jason and on rason, what each agent prints compared.
+
+Takes the path of a Jason source tree (a checkout of jason-lang/jason, kept outside this
+repository) and the class path of a Jason build. Every ``.mas2j`` project of ``demos/``,
+``examples/`` and ``doc/tutorials/`` that needs no Java class of its own (no ``.java`` file in
+its folder, no ``environment:``, no agent, architecture or belief-base class, no CArtAgO or
+JADE) runs for a fixed time on Jason (``--jason-runs`` times: Jason's own scheduling varies
+from run to run) and once on rason (``python -m rason.asl run``), each in a copy of its folder.
+
+A project is the same when, for every agent, the lines it printed (``[agent] text``; variable
+numbers such as ``_32`` made alike) form the same multiset on rason as on one of Jason's runs.
+
+    python benchmarks/jason_demos.py JASON_TREE --classpath CP [--time S] [--jason-runs N] [-k NAME]
+
+Prints a table: project | agents | same? | first difference.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+from collections import Counter
+from dataclasses import dataclass
+from pathlib import Path
+
+#: folders of the source tree whose projects are run
+PROJECT_FOLDERS = ("demos", "examples", "doc/tutorials")
+#: what in a ``.mas2j`` file (comments removed) names a Java class that is not Jason's own, or
+#: an infrastructure other than the local one
+NEEDS_JAVA = re.compile(r"(\benvironment\s*:|agentClass|agentArchClass|beliefBaseClass)\s*(?![\s]|jason\.)"
+                        r"|infrastructure\s*:\s*(?![\s]|Local)|cartago", re.I)
+COMMENT = re.compile(r"/\*.*?\*/|//[^\n]*", re.S)
+#: the console logging set-up of Jason (inside the source tree)
+LOG_CONF = "jason-interpreter/src/main/resources/templates/console-info-logging.properties"
+#: a line an agent printed (agent names are atoms: ``[TextPersistentBB]`` is a Java logger's)
+AGENT_LINE = re.compile(r"^\[([a-z][^\]\s]*)\] (.*)$")
+VAR_NUMBER = re.compile(r"\b_\d+")
+
+
+@dataclass
+class Outcome:
+    """One project's comparison."""
+
+    project: str
+    agents: int
+    same: bool
+    difference: str
+
+
+def find_projects(tree: Path) -> list[Path]:
+    """The ``.mas2j`` files of the tree's project folders that need no Java class of their own."""
+    found = []
+    for folder in PROJECT_FOLDERS:
+        for mas in sorted((tree / folder).rglob("*.mas2j")):
+            if any(mas.parent.rglob("*.java")):
+                continue
+            if NEEDS_JAVA.search(COMMENT.sub("", mas.read_text(errors="replace"))):
+                continue
+            found.append(mas)
+    return found
+
+
+def run_for(cmd: list[str], cwd: Path, seconds: float) -> str:
+    """Run ``cmd`` in ``cwd`` for at most ``seconds``; what it printed (stdout and stderr)."""
+    with subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          stdin=subprocess.DEVNULL, start_new_session=True) as proc:
+        try:
+            out, _ = proc.communicate(timeout=seconds)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGTERM)
+            try:
+                out, _ = proc.communicate(timeout=5)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                out, _ = proc.communicate()
+        finally:   # this script stopped (Ctrl-C): the run must not outlive it
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGKILL)
+    return out.decode(errors="replace")
+
+
+def per_agent(output: str) -> dict[str, Counter]:
+    """The lines each agent printed, as multisets (variable numbers made alike)."""
+    agents: dict[str, Counter] = {}
+    for line in output.splitlines():
+        m = AGENT_LINE.match(line.rstrip())
+        if m:
+            agents.setdefault(m.group(1), Counter())[VAR_NUMBER.sub("_", m.group(2))] += 1
+    return agents
+
+
+def first_difference(jason: dict[str, Counter], rason: dict[str, Counter]) -> str:
+    """The first agent line that one side printed more often than the other, shortened."""
+    for agent in sorted(set(jason) | set(rason)):
+        j, r = jason.get(agent, Counter()), rason.get(agent, Counter())
+        if j == r:
+            continue
+        extra, missing = r - j, j - r
+        if missing:
+            text = f"{agent}: rason lacks {next(iter(missing))!r}"
+        else:
+            text = f"{agent}: rason adds {next(iter(extra))!r}"
+        return text if len(text) <= 110 else text[:107] + "..."
+    return ""
+
+
+def compare(mas: Path, tree: Path, args: argparse.Namespace) -> Outcome:
+    """Run one project on both and compare what its agents print."""
+    name = str(mas.relative_to(tree))
+    java = ["java", "-cp", args.classpath, "jason.infra.local.RunLocalMAS", mas.name,
+            "--log-conf", str(tree / LOG_CONF)]
+    rason = [sys.executable, "-m", "rason.asl", "run", mas.name]
+    with tempfile.TemporaryDirectory(prefix="jason-demo-") as tmp:
+        runs = []
+        for _ in range(args.jason_runs):
+            work = Path(tmp) / f"jason{len(runs)}"
+            shutil.copytree(mas.parent, work)
+            runs.append(per_agent(run_for(java, work, args.time)))
+        work = Path(tmp) / "rason"
+        shutil.copytree(mas.parent, work)
+        ours = per_agent(run_for(rason, work, args.time))
+    agents = len(set().union(*runs, ours))
+    for theirs in runs:
+        if all(theirs.get(a, Counter()) == ours.get(a, Counter()) for a in set(theirs) | set(ours)):
+            return Outcome(name, agents, True, "")
+    return Outcome(name, agents, False, first_difference(runs[0], ours))
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("tree", type=Path, help="a Jason source tree (jason-lang/jason checkout)")
+    ap.add_argument("--classpath", required=True, help="class path of a Jason build (java -cp)")
+    ap.add_argument("--time", type=float, default=10.0, help="seconds each run may take")
+    ap.add_argument("--jason-runs", type=int, default=2, help="runs of Jason per project")
+    ap.add_argument("-k", default="", help="only projects whose path contains this text")
+    args = ap.parse_args()
+    projects = [m for m in find_projects(args.tree) if args.k in str(m.relative_to(args.tree))]
+    if not projects:
+        print(f"no project found under {args.tree}", file=sys.stderr)
+        return 1
+    print("| project | agents | same? | first difference |")
+    print("|---|---|---|---|")
+    same = 0
+    for mas in projects:
+        o = compare(mas, args.tree, args)
+        same += o.same
+        diff = o.difference.replace("|", "\\|")
+        print(f"| {o.project} | {o.agents} | {'yes' if o.same else 'no'} | {diff} |", flush=True)
+    print(f"\n{same} of {len(projects)} projects print the same")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
