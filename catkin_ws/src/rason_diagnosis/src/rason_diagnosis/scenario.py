@@ -164,6 +164,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
          cuts: Sequence[LinkCut] = (), world: Path | None = None,
          wiring: Wiring = SIM, colours: Path | None = None) -> None:
     import rospy  # the demo process joins the run as an observer
+    from jason_msgs.msg import Perception
 
     from rason_diagnosis.monitor import RunMonitor
     from rason_diagnosis.plots import save_run_picture
@@ -189,6 +190,9 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         ros.wait_for_subscriber(f"/{robot}/jason/action", timeout=30)
     ros.wait_for_topic("/helper/jason/perception", timeout=60, watch=[sim])
     ros.init_rospy("rason_demo")
+    # the camera's frames reach the synthesizer before Helper may look: under the stock drivers
+    # the image nodelets subscribe lazily, and a sweep made before they deliver sees nothing
+    rospy.wait_for_message("/helper/jason/perception", Perception, timeout=60)
     monitor = RunMonitor(odom_topic=wiring.odom_topic, image_topic=wiring.image_topic,
                          cloud_topic=wiring.cloud_topic)
     if record:
