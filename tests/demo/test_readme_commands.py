@@ -5,8 +5,9 @@ study by hand) run line after line in test_first_agent.py and test_manual.py. Ev
 runs here exactly as typed, through bash from the repository root:
 
 * ``./run.sh demo ...`` to the end: exit status 0 (the diagnosis was right);
-* ``./run.sh campaign|bench ...``: too long for the suite, so their arguments are checked by
-  running the line with ``--help`` appended (argparse parses the given arguments first);
+* ``./run.sh campaign|bench|mission ...``: too long for the suite (a mission takes minutes and
+  test_mission.py runs it end to end), so their arguments are checked by running the line with
+  ``--help`` appended (argparse parses the given arguments first);
 * ``./run.sh test``: this suite itself (not run again);
 * ``rosrun ...``: against a private roscore; a one-shot tool must exit 0, a node must come up
   (register with the master and stay up) until it is stopped.
@@ -60,7 +61,7 @@ def test_page_command_works_as_written(page, command, tmp_path):
     if verb == "test":
         return                              # the suite running this test
     with RosHarness(log_dir=tmp_path / "logs") as ros:
-        if verb in ("campaign", "bench"):
+        if verb in ("campaign", "bench", "mission"):
             out = ros.check_output(["bash", "-c", f"{command} --help"], timeout=120)
             assert "usage" in out.lower()
         elif verb != "rosrun":
