@@ -341,10 +341,23 @@ class RasonNode:
             threading.Thread(target=guarded("clock watch")(self._watch_clock),
                              name="clock-watch", daemon=True).start()
         rospy.Timer(rospy.Duration(self._presence_period), guarded("presence")(self.on_presence))
+        self._wait_for_first_clock()
         for name in list(self.agents):
             self._announce(name, HELLO)
         for hosted in list(self.agents.values()):
             hosted.thread.start()
+
+    def _wait_for_first_clock(self) -> None:
+        """Under simulated time ROS time reads 0 until the first /clock arrives: the agents start
+        after it, so that no .wait or timeout is measured from 0 (it would end at once)."""
+        if rospy.rostime.is_wallclock():
+            return
+        started, warned = time.monotonic(), False
+        while rospy.get_time() == 0.0 and not self.stop.wait(0.02) and not rospy.is_shutdown():
+            if not warned and time.monotonic() - started >= FROZEN_CLOCK_S:
+                rospy.logwarn("use_sim_time is set and no /clock has come yet: the agents start "
+                              "once it does (is the simulator running?)")
+                warned = True
 
     def _watch_clock(self) -> None:
         """Warn (once per stop) when ROS time stands still for FROZEN_CLOCK_S of wall time
