@@ -63,3 +63,4 @@ def test_a_frozen_clock_is_warned_about_by_name(ros: RosHarness, tmp_path: Path)
         stop.set()
         thread.join()
         clock.unregister()
+        rospy.delete_param("/use_sim_time")     # the session's master is shared with later tests
