@@ -69,14 +69,14 @@ def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo) -> Itera
 
 @pytest.fixture
 def ros(ros_session: RosHarness, request: pytest.FixtureRequest) -> Iterator[RosHarness]:
-    mark = len(ros_session.processes)
+    checkpoint = ros_session.checkpoint()
     ros_session.set_param("/use_sim_time", False)
     try:
         yield ros_session
     finally:
         if request.node.stash.get(_FAILED, set()):
-            print_process_tails(ros_session.processes[mark:])
-        ros_session.stop_started_since(mark)
+            print_process_tails(ros_session.processes[checkpoint.processes:])
+        ros_session.rollback(checkpoint)
         ros_session.set_param("/use_sim_time", False)
 
 

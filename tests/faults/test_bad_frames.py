@@ -97,7 +97,7 @@ def camera(ros_session: RosHarness) -> Iterator[Camera]:
     ros = ros_session
     ros.init_rospy()
     ros.set_param("/use_sim_time", False)
-    mark = len(ros.processes)
+    checkpoint = ros.checkpoint()
     try:
         node = ros.rosrun("rason_vision", "robot_synthesizer", ns=NS)
         ros.wait_for_subscriber(f"{NS}/camera/depth_registered/points", watch=[node])
@@ -117,7 +117,7 @@ def camera(ros_session: RosHarness) -> Iterator[Camera]:
         cam.images.unregister()
         cam.clouds.unregister()
     finally:
-        ros.stop_started_since(mark)
+        ros.rollback(checkpoint)
 
 
 def xyz_cloud(xyz: np.ndarray) -> dict:

@@ -161,7 +161,7 @@ def rig(ros_session: RosHarness, tmp_path_factory: pytest.TempPathFactory) -> It
     ros = ros_session
     ros.init_rospy()
     ros.set_param("/use_sim_time", False)
-    mark = len(ros.processes)
+    checkpoint = ros.checkpoint()
     tmp = tmp_path_factory.mktemp("unsupervised")
     world = tmp / "world.yaml"
     world.write_text(WORLD)
@@ -180,15 +180,15 @@ def rig(ros_session: RosHarness, tmp_path_factory: pytest.TempPathFactory) -> It
         yield handle
         handle.close()
     finally:
-        ros.stop_started_since(mark)
+        ros.rollback(checkpoint)
 
 
 @pytest.fixture
 def log(rig: Rig, ros_session: RosHarness) -> Iterator[Log]:
-    mark = len(ros_session.processes)
+    checkpoint = ros_session.checkpoint()
     rig.log.clear()
     yield rig.log
-    ros_session.stop_started_since(mark)
+    ros_session.rollback(checkpoint)
     time.sleep(0.3)
 
 

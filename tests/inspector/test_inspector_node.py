@@ -63,12 +63,12 @@ def graph(ros_session, tmp_path_factory):
     """Two agents in their own namespaces and an inspector keeping 5 states per agent, shared
     by the tests of this module (the one that stops bob comes last)."""
     ros = ros_session
-    mark = len(ros.processes)
+    checkpoint = ros.checkpoint()
     ros.set_param("/use_sim_time", False)
     try:
         yield _start_graph(ros, tmp_path_factory.mktemp("inspector"))
     finally:
-        ros.stop_started_since(mark)
+        ros.rollback(checkpoint)
 
 
 def _start_graph(ros, tmp_path: Path):

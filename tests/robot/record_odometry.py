@@ -98,13 +98,13 @@ def main() -> int:
         ros.init_rospy("record_odometry")
         ros.set_param("/use_sim_time", True)
         for fault, seconds in SCENARIOS.items():
-            mark = len(ros.processes)
+            checkpoint = ros.checkpoint()
             sim = ros.rosrun("turtlebot_sim", "sim", f"_world:={world}", "_real_time_factor:=1")
             injector = ros.rosrun("kobuki_fault_injector", "fault_injector", ns="/faulty")
             ros.wait_for_service("/faulty/fault_injector", watch=[sim, injector])
             ros.wait_for_topic("/faulty/odom", watch=[sim, injector])
             rows = record(fault, seconds, rospy.ServiceProxy("/faulty/fault_injector", FaultInjector))
-            ros.stop_started_since(mark)
+            ros.rollback(checkpoint)
             path = DATA / f"odom_{fault}.csv"
             with open(path, "w", newline="", encoding="utf-8") as f:
                 writer = csv.writer(f)

@@ -157,7 +157,7 @@ def robot(ros_session: RosHarness, tmp_path_factory: pytest.TempPathFactory) -> 
     """Sim (sim time, Faulty alone) + injector + decomposer in /faulty, for the whole module."""
     ros = ros_session
     ros.init_rospy()                     # before /use_sim_time: this process keeps wall time
-    mark = len(ros.processes)
+    checkpoint = ros.checkpoint()
     world = Path(tmp_path_factory.mktemp("world")) / "faulty_alone.yaml"
     world.write_text(WORLD)
     ros.set_param("/use_sim_time", True)
@@ -180,7 +180,7 @@ def robot(ros_session: RosHarness, tmp_path_factory: pytest.TempPathFactory) -> 
         yield handle
         handle.close()
     finally:
-        ros.stop_started_since(mark)
+        ros.rollback(checkpoint)
         ros.set_param("/use_sim_time", False)
 
 
@@ -321,7 +321,7 @@ def test_bad_parameters_and_other_actions(robot: Robot):
 def test_agents_parameter_restricts_and_silent_odometry_is_no_progress(robot: Robot, ros_session):
     # A second decomposer, for agent "faulty" only, in a namespace where no odometry arrives.
     ros = ros_session
-    mark = len(ros.processes)
+    checkpoint = ros.checkpoint()
     try:
         node = ros.rosrun("rason", "motion_decomposer", ns="/lonely", params={"agents": ["faulty"]})
         ros.wait_for_subscriber("/lonely/jason/action", watch=[node])
@@ -344,4 +344,4 @@ def test_agents_parameter_restricts_and_silent_odometry_is_no_progress(robot: Ro
             ("faulty", "action_accepted", "2"), ("faulty", "action_feedback", "no_progress")]
         assert "no odometry" in events[1].parameters[2]
     finally:
-        ros.stop_started_since(mark)
+        ros.rollback(checkpoint)

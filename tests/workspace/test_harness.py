@@ -78,6 +78,20 @@ def test_teardown_leaves_no_process_even_after_an_error():
             os.killpg(pid, 0)
 
 
+def test_rollback_clears_the_private_parameters_a_node_left(fresh_ros):
+    fresh_ros.set_param("/kept", 1)
+    checkpoint = fresh_ros.checkpoint()
+    node = fresh_ros.rosrun("rason", "act", "x", "noop", "--timeout", "60", "_leaked:=7",
+                            ns="/leak")
+    fresh_ros.wait_for_topic("/leak/jason/action", watch=[node])
+    assert any(name.endswith("/leaked") for name in fresh_ros.param_names())
+    fresh_ros.rollback(checkpoint)
+    assert not node.alive()
+    names = fresh_ros.param_names()
+    assert "/kept" in names
+    assert not any(name.endswith("/leaked") for name in names), names
+
+
 def test_waiting_for_a_topic_that_never_comes_fails_clearly(fresh_ros):
     with pytest.raises(HarnessError, match="did not appear"):
         fresh_ros.wait_for_topic("/nobody/publishes/this", timeout=0.5)

@@ -32,6 +32,7 @@ import time
 import urllib.parse
 import xmlrpc.client
 from collections.abc import Callable, Iterable, Iterator, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -41,6 +42,14 @@ from rason.process.netns import Host
 
 #: The master this process's rospy node was initialised against (rospy allows only one).
 _ROSPY_MASTER: str | None = None
+
+
+@dataclass(frozen=True)
+class Checkpoint:
+    """The processes started and the parameters set at one moment (see ``rollback``)."""
+
+    processes: int
+    params: frozenset[str]
 
 
 def processes_left_by(parent_pid: int) -> list[str]:
@@ -402,6 +411,22 @@ class RosHarness:
         if leftovers:
             raise HarnessError(f"processes survived teardown: {leftovers}")
 
+    def checkpoint(self) -> Checkpoint:
+        """What runs and which parameters are set now, for :meth:`rollback`."""
+        return Checkpoint(processes=len(self.processes), params=frozenset(self.param_names()))
+
+    def rollback(self, checkpoint: Checkpoint) -> None:
+        """Stop the processes started since `checkpoint`, then delete the parameters set since.
+
+        On a master shared by many tests, a node's private parameters (``_name:=value``) stay
+        after it exits and would change the next node of that name; the rollback clears them.
+        """
+        try:
+            self.stop_started_since(checkpoint.processes)
+        finally:
+            for name in sorted(set(self.param_names()) - checkpoint.params):
+                self._master().deleteParam("/rason_harness", name)
+
     def stop_started_since(self, mark: int) -> None:
         """Stop the processes started after ``mark = len(ros.processes)`` (newest first)."""
         started, self.processes = self.processes[mark:], self.processes[:mark]
@@ -506,6 +531,10 @@ class RosHarness:
             for _, providers in group:
                 names.update(providers)
         return names
+
+    def param_names(self) -> list[str]:
+        """Every parameter set on the master (leaf names)."""
+        return list(self._master().getParamNames("/rason_harness")[2])
 
     def set_param(self, key: str, value: object) -> None:
         self._master().setParam("/rason_harness", key, value)
