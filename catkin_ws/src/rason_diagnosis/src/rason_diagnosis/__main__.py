@@ -29,15 +29,11 @@ from rason_diagnosis.scenario import (
     FAULTS,
     INJECTED_FAULTS,
     NO_FAULT,
-    Outcome,
+    VERDICTS,
     default_fault,
     run_scenario,
 )
 from turtlebot_sim.config import resolve
-
-#: What the demo prints for each outcome of the run.
-VERDICTS = {Outcome.RIGHT: "CORRECT", Outcome.UNKNOWN: "UNKNOWN (no component named)",
-            Outcome.WRONG: "WRONG"}
 
 
 def _link_cut(text: str) -> LinkCut:

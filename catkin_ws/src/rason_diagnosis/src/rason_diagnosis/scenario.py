@@ -49,6 +49,11 @@ class Outcome(StrEnum):
     WRONG = "wrong"        # a wrong component
 
 
+#: What the demo and the workstation print for each outcome of a run.
+VERDICTS = {Outcome.RIGHT: "CORRECT", Outcome.UNKNOWN: "UNKNOWN (no component named)",
+            Outcome.WRONG: "WRONG"}
+
+
 def outcome_of(correct: object, diagnosis: str | None) -> Outcome:
     if correct:
         return Outcome.RIGHT
@@ -93,7 +98,8 @@ class RunResult:
         return json.dumps(asdict(self), indent=2)
 
 
-def _diff(a: float | None, b: float | None) -> float | None:
+def seconds_between(a: float | None, b: float | None) -> float | None:
+    """``b - a`` in seconds, rounded to 0.01 s; None when either moment is unknown."""
     return round(b - a, 2) if a is not None and b is not None else None
 
 
@@ -148,7 +154,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
         try:
             with ros:
                 if inspector_port is not None:
-                    result.inspector = _start_inspector(ros, inspector_port)
+                    result.inspector = start_inspector(ros, inspector_port)
                 _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor,
                      network, cuts, world or world_file(), wiring, colours)
         except HarnessError as err:
@@ -204,7 +210,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
     if result.fault != NO_FAULT:
         reply = ros.check_output(["rosservice", "call", "/faulty/fault_injector",
                                   f"fault: '{result.fault}'"])
-        _say(echo, f"[demo] injected {result.fault}: {reply.strip()}")
+        say(echo, f"[demo] injected {result.fault}: {reply.strip()}")
 
     prefix = {robot: (f"{robot:>6} | " if echo else False) for robot in ROBOTS}
     agents = {robot: ros.rosrun("rason", "agent", robot,
@@ -228,7 +234,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         if not all(p.alive() for p in watched.values()):
             dead = [n for n, p in watched.items() if not p.alive()]
             raise HarnessError(f"process died: {dead}")
-        diagnosis = _diagnosis(mind)
+        diagnosis = read_diagnosis(mind)
         if diagnosis is not None:
             result.diagnosis = diagnosis
             if monitor.times.diagnosis is None:
@@ -243,20 +249,20 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         result.unknown_reason = _unknown_reason(mind)
 
     t = monitor.times
-    result.detection_s = _diff(t.move_start, t.help_request)
-    result.location_s = _diff(t.help_request, t.found)
-    result.diagnosis_s = _diff(t.found, t.diagnosis)
-    result.total_s = _diff(t.move_start, t.diagnosis)
+    result.detection_s = seconds_between(t.move_start, t.help_request)
+    result.location_s = seconds_between(t.help_request, t.found)
+    result.diagnosis_s = seconds_between(t.found, t.diagnosis)
+    result.total_s = seconds_between(t.move_start, t.diagnosis)
     result.correct = result.diagnosis == result.expected and not result.error
     result.console = [line for a in agents.values() for line in a.lines() if line.startswith("[")]
     try:
         save_run_picture(monitor, result, out_dir / "run.png")
     except Exception as err:
-        _say(echo, f"[demo] could not draw the run picture: {err}")
+        say(echo, f"[demo] could not draw the run picture: {err}")
     monitor.close()
 
 
-def _start_inspector(ros: RosHarness, port: int) -> str:
+def start_inspector(ros: RosHarness, port: int) -> str:
     """Start ``rosrun rason mind_inspector`` and print its address; "" if it cannot listen."""
     inspector = ros.rosrun("rason", "mind_inspector", params={"port": port})
     try:
@@ -302,7 +308,7 @@ def _unknown_reason(mind) -> str:
     return next((m.group(1) for m in map(UNKNOWN_BECAUSE.match, beliefs) if m), "")
 
 
-def _diagnosis(mind) -> str | None:
+def read_diagnosis(mind) -> str | None:
     """Faulty's ``diagnosis(D)`` belief, read through its mind service, or None."""
     import rospy
 
@@ -317,7 +323,8 @@ def _diagnosis(mind) -> str | None:
     return None
 
 
-def _say(echo: bool, text: str) -> None:
+def say(echo: bool, text: str) -> None:
+    """Print `text` as one whole console line when `echo` is set."""
     if echo:
         echo_line(text)
 

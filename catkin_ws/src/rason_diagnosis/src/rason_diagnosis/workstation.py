@@ -31,13 +31,14 @@ from rason_diagnosis.scenario import (
     FAULTS,
     ROBOTS,
     UNKNOWN_BECAUSE,
+    VERDICTS,
     Outcome,
-    _diagnosis,
-    _diff,
-    _say,
-    _start_inspector,
     expected_diagnosis,
     outcome_of,
+    read_diagnosis,
+    say,
+    seconds_between,
+    start_inspector,
 )
 
 #: What each robot must already run, as (kind, name, what it is), before the agents start.
@@ -113,7 +114,7 @@ def run_workstation(out_dir: Path, fault: str | None = None, record: bool = Fals
     ros = RosHarness(log_dir=out_dir / "logs")
     try:
         ros.attach(master_uri or os.environ.get("ROS_MASTER_URI", "http://localhost:11311"))
-        _say(echo, f"{PREFIX} master {ros.master_uri}; checking the robots' nodes")
+        say(echo, f"{PREFIX} master {ros.master_uri}; checking the robots' nodes")
         check_robot_side(ros, robots_timeout)
         _run(ros, result, out_dir, fault, record, echo, timeout, inspector_port)
     except HarnessError as err:
@@ -131,7 +132,7 @@ def _run(ros: RosHarness, result: RealResult, out_dir: Path, fault: str | None, 
     from rason_diagnosis.monitor import RunMonitor
 
     if inspector_port is not None:
-        _start_inspector(ros, inspector_port)
+        start_inspector(ros, inspector_port)
     ros.init_rospy("rason_workstation")
     monitor = RunMonitor(sensors=False)
     if record:
@@ -140,12 +141,12 @@ def _run(ros: RosHarness, result: RealResult, out_dir: Path, fault: str | None, 
     if fault is not None and fault != "none":
         reply = ros.check_output(["rosservice", "call", "/faulty/fault_injector",
                                   f"fault: '{fault}'"])
-        _say(echo, f"{PREFIX} injected {fault} on Faulty: {reply.strip()}")
+        say(echo, f"{PREFIX} injected {fault} on Faulty: {reply.strip()}")
     agents: dict[str, Process] = {
         robot: ros.rosrun("rason", "agent", robot, str(agent_file(robot)), ns=f"/{robot}",
                           echo=f"{robot:>6} | " if echo else False)
         for robot in ("helper", "faulty")}
-    _say(echo, f"{PREFIX} started on this machine: the agents "
+    say(echo, f"{PREFIX} started on this machine: the agents "
                f"{', '.join(f'/{r}/jason/{r}' for r in agents)}; nothing robot-side")
     ros.wait_for_service("/faulty/jason/faulty/mind", watch=agents.values())
     mind = rospy.ServiceProxy("/faulty/jason/faulty/mind", Mind)
@@ -154,7 +155,7 @@ def _run(ros: RosHarness, result: RealResult, out_dir: Path, fault: str | None, 
         dead = [name for name, proc in agents.items() if not proc.alive()]
         if dead:
             raise HarnessError(f"agent died: {dead}")
-        diagnosis = _diagnosis(mind)
+        diagnosis = read_diagnosis(mind)
         if diagnosis is not None:
             result.diagnosis = diagnosis
             monitor.times.diagnosis = monitor.times.diagnosis or rospy.get_time()
@@ -170,17 +171,15 @@ def _run(ros: RosHarness, result: RealResult, out_dir: Path, fault: str | None, 
         result.unknown_because = next((m.group(1) for m in map(UNKNOWN_BECAUSE.match, beliefs)
                                        if m), "")
     t = monitor.times
-    result.detection_s = _diff(t.move_start, t.help_request)
-    result.location_s = _diff(t.help_request, t.found)
-    result.diagnosis_s = _diff(t.found, t.diagnosis)
-    result.total_s = _diff(t.move_start, t.diagnosis)
+    result.detection_s = seconds_between(t.move_start, t.help_request)
+    result.location_s = seconds_between(t.help_request, t.found)
+    result.diagnosis_s = seconds_between(t.found, t.diagnosis)
+    result.total_s = seconds_between(t.move_start, t.diagnosis)
     result.agent_lines = [line for proc in agents.values() for line in proc.lines()
                           if line.startswith("[")]
     monitor.close()
 
 
-VERDICTS = {Outcome.RIGHT: "CORRECT", Outcome.UNKNOWN: "UNKNOWN (no component named)",
-            Outcome.WRONG: "WRONG"}
 
 
 def print_result(result: RealResult) -> None:
