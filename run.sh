@@ -59,6 +59,7 @@ list_benchmarks() {
   local file name
   for file in "$ROOT"/benchmarks/*.py; do
     name="$(basename "$file" .py)"
+    [ "${name#_}" = "$name" ] || continue     # _name.py: shared code, not a benchmark
     # the first line of its docstring
     printf '  %-20s %s\n' "$name" "$(grep -m1 -o '"""[^"]*' "$file" | cut -c4-)"
   done
@@ -98,7 +99,7 @@ case "$cmd" in
     exec python3 -m rason_diagnosis.campaign "$@"
     ;;
   bench)
-    if [ $# -eq 0 ] || [ ! -f "$ROOT/benchmarks/$1.py" ]; then
+    if [ $# -eq 0 ] || [ ! -f "$ROOT/benchmarks/$1.py" ] || [ "${1#_}" != "$1" ]; then
       if [ $# -eq 0 ]; then
         echo "./run.sh bench: which benchmark? usage: ./run.sh bench NAME [ARGS...]" >&2
       else

@@ -20,22 +20,20 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import re
 import statistics
-import threading
 import time
 
 import numpy as np
+from _moving import COMMANDS, robots_moving
 
 from rason.process.harness import RosHarness
 from turtlebot_model.cloud import pack_cloud
 from turtlebot_sim import kinect
 from turtlebot_sim.render import RenderPool
+from turtlebot_sim.stats import read_stats
 from turtlebot_sim.world import World
 
 WORLD = "case_study.yaml"
-FAULTY_CMD = (0.3, 0.3)      # m/s, rad/s
-HELPER_CMD = (0.0, 0.4)
 
 
 def single_frame(frames: int = 20) -> tuple[float, float]:
@@ -59,8 +57,8 @@ def single_frame(frames: int = 20) -> tuple[float, float]:
 def pipeline(rate: float, workers: int, seconds: float) -> tuple[float, float, int]:
     """Library loop as the node runs it: (real-time factor, worker ms per frame, frames)."""
     with World.from_yaml(WORLD) as world, RenderPool(world.config, workers=workers) as pool:
-        world.set_cmd_vel("faulty", *FAULTY_CMD)
-        world.set_cmd_vel("helper", *HELPER_CMD)
+        world.set_cmd_vel("faulty", *COMMANDS["faulty"])
+        world.set_cmd_vel("helper", *COMMANDS["helper"])
         next_frame, ms, frames = 0.0, [], 0
         start = time.perf_counter()
         while world.time < seconds:
@@ -86,7 +84,6 @@ def pipeline(rate: float, workers: int, seconds: float) -> tuple[float, float, i
 def node(ros: RosHarness, rate: float, workers: int, seconds: float) -> tuple[float, float, int]:
     """The ROS node at full speed: (real-time factor from /clock, worker ms per frame, frames)."""
     import rospy
-    from geometry_msgs.msg import Twist
     from rosgraph_msgs.msg import Clock
     from sensor_msgs.msg import Image, PointCloud2
 
@@ -105,36 +102,18 @@ def node(ros: RosHarness, rate: float, workers: int, seconds: float) -> tuple[fl
             rospy.Subscriber(f"{ns}/helper/camera/depth_registered/points", PointCloud2,
                              lambda m: frames.__setitem__(0, frames[0] + 1), queue_size=2,
                              buff_size=2 ** 24)]
-    pubs = {name: rospy.Publisher(f"{ns}/{name}/mobile_base/commands/velocity", Twist,
-                                  queue_size=1) for name in ("faulty", "helper")}
-    stop = threading.Event()
-
-    def command() -> None:        # keep both robots moving (the sim stops them after 0.6 s)
-        while not stop.is_set():
-            for name, (v, w) in (("faulty", FAULTY_CMD), ("helper", HELPER_CMD)):
-                msg = Twist()
-                msg.linear.x, msg.angular.z = v, w
-                pubs[name].publish(msg)
-            time.sleep(0.02)
-
-    driver = threading.Thread(target=command, daemon=True)
-    driver.start()
-    time.sleep(3.0)                                   # connections up, warm
-    sim_start, frames_start, wall_start = clock[0], frames[0], time.monotonic()
-    log_mark = len(sim.lines())
-    time.sleep(seconds)
-    sim_span, wall = clock[0] - sim_start, time.monotonic() - wall_start
-    got = frames[0] - frames_start
-    stop.set()
-    driver.join()
+    with robots_moving(ns, period=0.02):
+        time.sleep(3.0)                                   # connections up, warm
+        sim_start, frames_start, wall_start = clock[0], frames[0], time.monotonic()
+        log_mark = len(sim.lines())
+        time.sleep(seconds)
+        sim_span, wall = clock[0] - sim_start, time.monotonic() - wall_start
+        got = frames[0] - frames_start
     for sub in subs:
         sub.unregister()
-    for pub in pubs.values():
-        pub.unregister()
     sim.stop()
-    stats = [line for line in sim.lines()[log_mark:] if "turtlebot_sim stats" in line]
-    ms = float(re.search(r"render ([\d.]+) ms", stats[-1]).group(1)) if stats else math.nan
-    return sim_span / wall, ms, got
+    stats = read_stats(sim.lines()[log_mark:])
+    return sim_span / wall, stats[-1].render_ms if stats else math.nan, got
 
 
 def main() -> int:

@@ -15,19 +15,18 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import re
-import threading
+import statistics
 import time
+
+from _moving import robots_moving
 
 from rason.process.harness import RosHarness
 from rason_diagnosis.paths import world_file
-
-COMMANDS = {"faulty": (0.3, 0.3), "helper": (0.0, 0.4)}      # m/s, rad/s: keep both moving
+from turtlebot_sim.stats import read_stats
 
 
 def run(ros: RosHarness, rate: float, width: int, seconds: float) -> dict[str, float]:
     import rospy
-    from geometry_msgs.msg import Twist
     from sensor_msgs.msg import Image
 
     ns = f"/stock{rate:.0f}w{width}"
@@ -46,41 +45,20 @@ def run(ros: RosHarness, rate: float, width: int, seconds: float) -> dict[str, f
                              queue_size=2, buff_size=2 ** 24),
             rospy.Subscriber(f"{ns}/helper/camera/depth_registered/image_raw", Image,
                              counter("depth"), queue_size=2, buff_size=2 ** 24)]
-    pubs = {name: rospy.Publisher(f"{ns}/{name}/mobile_base/commands/velocity", Twist,
-                                  queue_size=1) for name in COMMANDS}
-    stop = threading.Event()
-
-    def command() -> None:
-        while not stop.is_set():
-            for name, (v, w) in COMMANDS.items():
-                msg = Twist()
-                msg.linear.x, msg.angular.z = v, w
-                pubs[name].publish(msg)
-            time.sleep(0.05)
-
-    driver = threading.Thread(target=command, daemon=True)
-    driver.start()
-    time.sleep(3.0)
-    start, wall0, mark = dict(counts), time.monotonic(), len(sim.lines())
-    time.sleep(seconds)
-    wall = time.monotonic() - wall0
-    got = {k: (counts[k] - start[k]) / wall for k in counts}
-    stop.set()
-    driver.join()
+    with robots_moving(ns):
+        time.sleep(3.0)
+        start, wall0, mark = dict(counts), time.monotonic(), len(sim.lines())
+        time.sleep(seconds)
+        wall = time.monotonic() - wall0
+        got = {k: (counts[k] - start[k]) / wall for k in counts}
     for sub in subs:
         sub.unregister()
-    for pub in pubs.values():
-        pub.unregister()
     sim.stop()
-    stats = [line for line in sim.lines()[mark:] if "turtlebot_sim stats" in line]
-
-    def figure(pattern: str) -> float:
-        found = [float(m.group(1)) for m in (re.search(pattern, s) for s in stats) if m]
-        return sum(found) / len(found) if found else math.nan
-
-    dropped = sum(int(m.group(1)) for m in (re.search(r"dropped (\d+)", s) for s in stats) if m)
-    return {"rgb": got["rgb"], "depth": got["depth"], "ms": figure(r"render ([\d.]+) ms"),
-            "rtf": figure(r"rtf ([\d.]+)"), "dropped": dropped}
+    stats = read_stats(sim.lines()[mark:])
+    return {"rgb": got["rgb"], "depth": got["depth"],
+            "ms": statistics.fmean(s.render_ms for s in stats) if stats else math.nan,
+            "rtf": statistics.fmean(s.rtf for s in stats) if stats else math.nan,
+            "dropped": sum(s.dropped for s in stats)}
 
 
 def main() -> int:

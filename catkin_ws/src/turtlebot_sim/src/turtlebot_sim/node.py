@@ -47,6 +47,7 @@ from turtlebot_sim import config as worldcfg
 from turtlebot_sim import msgs, stock
 from turtlebot_sim.base_events import BaseEventScript, BumperSwitches, ScriptedEvent, Side
 from turtlebot_sim.render import Frame, RenderPool
+from turtlebot_sim.stats import Stats
 from turtlebot_sim.world import World
 
 #: The world used without ~world: the case study's, found through the ROS package path
@@ -212,34 +213,6 @@ class StockRobotIO(RobotIO):
         if self.image.get_num_connections() or self.image_info.get_num_connections():
             self.image.publish(stock.bayer_image(t, stock.bayer_grbg(frame.rgb)))
             self.image_info.publish(stock.camera_info(t, *self.info))
-
-
-class Stats:
-    """Running figures, logged every ``period`` wall seconds (what the benchmark reads)."""
-
-    def __init__(self, period: float = 10.0):
-        self.period = period
-        self.reset(0.0)
-
-    def reset(self, sim_time: float) -> None:
-        self.wall0 = time.monotonic()
-        self.sim0 = sim_time
-        self.frames = 0
-        self.render_ms = 0.0
-        self.waited = 0.0
-        self.dropped = 0          # frames not rendered because the renderer was busy (stock)
-
-    def due(self) -> bool:
-        return time.monotonic() - self.wall0 >= self.period
-
-    def line(self, sim_time: float) -> str:
-        wall = time.monotonic() - self.wall0
-        sim = sim_time - self.sim0
-        per_frame = self.render_ms / self.frames if self.frames else 0.0
-        return (f"turtlebot_sim stats: rtf {sim / wall:.3f} sim {sim:.2f} s wall {wall:.2f} s "
-                f"frames {self.frames} ({self.frames / max(sim, 1e-9):.1f}/sim s) "
-                f"render {per_frame:.1f} ms/frame, waited {self.waited:.2f} s for the renderer, "
-                f"dropped {self.dropped} frames")
 
 
 @dataclass(frozen=True)
