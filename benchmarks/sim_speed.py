@@ -27,13 +27,14 @@ import numpy as np
 from _moving import COMMANDS, robots_moving
 
 from rason.process.harness import RosHarness
+from rason_diagnosis.paths import world_file
 from turtlebot_model.cloud import pack_cloud
 from turtlebot_sim import kinect
 from turtlebot_sim.render import RenderPool
 from turtlebot_sim.stats import read_stats
 from turtlebot_sim.world import World
 
-WORLD = "case_study.yaml"
+WORLD = str(world_file())          # the case study's world
 
 
 def single_frame(frames: int = 20) -> tuple[float, float]:
