@@ -27,6 +27,10 @@ from rason.ros.perceptions import parse_percept
 #: Shapes of one level of nesting (``%s``: the level below); plain and grammar-only ones.
 LEVELS = ["f(%s)", "[%s]", "[a|%s]", "g(1, [b, %s])", "p[%s]", "(%s)", "-(%s)", "not (%s)",
           "1 + (%s)", "a & %s", "%s ** 2", "x(\"(\", %s)", "ns::f(%s)", "~h(%s)"]
+#: Parentheses that only group: a level of the text, not of the term read from it.
+GROUPING = "(%s)"
+#: The levels that nest the term one deeper.
+DEEPER = [shape for shape in LEVELS if shape != GROUPING]
 LIMITS = settings(max_examples=60, deadline=None,
                   suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 
@@ -81,9 +85,13 @@ def check_readers(text: str, deep: bool | None) -> None:
 
 
 @LIMITS
-@given(st.lists(st.sampled_from(LEVELS), min_size=MAX_TERM_DEPTH + 5, max_size=3000))
-def test_deep_texts_are_refused_by_every_reader(shapes: list[str]) -> None:
-    check_readers(nested(shapes), deep=True)
+@given(st.lists(st.sampled_from(DEEPER), min_size=MAX_TERM_DEPTH + 5, max_size=3000),
+       st.lists(st.booleans(), max_size=3000))
+def test_deep_texts_are_refused_by_every_reader(shapes: list[str], grouped: list[bool]) -> None:
+    # grouping parentheses among the levels make the text deeper, never the term
+    levels = [level for shape, group in zip(shapes, grouped + [False] * len(shapes), strict=False)
+              for level in ([shape, GROUPING] if group else [shape])]
+    check_readers(nested(levels), deep=True)
 
 
 @LIMITS
