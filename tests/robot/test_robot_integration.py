@@ -388,7 +388,10 @@ def test_reload_and_configure_change_settings_without_a_restart(robot: Robot, se
     assert list(configured.parameters[:1]) == ["OK"] and "~max_distance = 10" in \
         configured.parameters[2]
     assert parse_feedback(robot.wait_feedback(moving)).result == "OK"
-    assert rospy.get_param(f"{DECOMPOSER}/max_distance") == 10.0   # and ~reload keeps it
+    deadline = time.monotonic() + 5                # and ~reload keeps it
+    while rospy.get_param(f"{DECOMPOSER}/max_distance") != 10.0 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert rospy.get_param(f"{DECOMPOSER}/max_distance") == 10.0
     for bad in (["turn_clockwise", "false"], ["linear_gain", "0"], ["reference", "gps"],
                 ["curvature"]):
         answer = robot.wait_feedback(robot.send("configure", *bad), timeout=5)

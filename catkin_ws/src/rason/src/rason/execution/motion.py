@@ -56,6 +56,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import threading
 from dataclasses import dataclass, field
 
 import rosgraph
@@ -264,18 +265,25 @@ class MotionDecomposer(Decomposer):
 
     def answer(self, action: str, parameters: list[str]) -> Verdict:
         """``configure(Key, Value)``: one setting, checked as ``_Key:=Value`` would be, put in
-        force and on the parameter server (so that ``~reload`` keeps it)."""
+        force and written to the parameter server (so that ``~reload`` keeps it)."""
         if len(parameters) != 2:
             raise ValueError(f"configure takes a setting and a value, got {len(parameters)} "
                              "parameters")
         name, text = (t.strip().strip("'\"") for t in parameters)
         self.apply(with_value(self.params, name, text, SETTINGS))
         value = getattr(self.params, name)
+        # written by a thread of its own: the master's answer never holds up the control loop
+        threading.Thread(target=self._store, args=(name, value), daemon=True,
+                         name=f"{self.name}-configure").start()
+        return Verdict(OK, f"~{name} = {value}")
+
+    def _store(self, name: str, value: object) -> None:
+        """Write a setting to ``~name`` (a warning when the master cannot take it)."""
         try:
             rospy.set_param(f"~{name}", value)
         except (OSError, KeyError) as err:
-            return Verdict(OK, f"~{name} = {value} (not stored on the parameter server: {err})")
-        return Verdict(OK, f"~{name} = {value}")
+            rospy.logwarn(f"{self.name}: ~{name} = {value} is in force but not on the "
+                          f"parameter server (a ~reload would undo it): {err}")
 
     # -- the protocol's hooks ----------------------------------------------------------------
     def parse(self, action: str, parameters: list[str]) -> float:
