@@ -28,6 +28,8 @@ APT_PACKAGES=(
   # the stock-driver profile (docs/drivers.md): /tf messages, and Debian's own image pipeline
   # between the Kinect topics and the vision (the -dev packages carry the nodelet plugin lists)
   python3-tf2-msgs ros-tf2-msgs libnodeletlib-tools libimage-proc-dev libdepth-image-proc-dev
+  # the motion decomposer's ~reload service (std_srvs/Trigger, docs/agent-node.md)
+  ros-std-srvs python3-std-srvs
 )
 
 step() { printf '\n==> setup: %s\n' "$*"; }

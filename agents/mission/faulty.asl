@@ -4,20 +4,24 @@
 //   Monitor  a motion of the task fails (-!mission[error(R)]: no_progress, bad_move, ...);
 //   Analyze  the cooperative diagnosis names the component (diagnosis(D));
 //   Plan     a strategy is chosen from D (strategy/2, recovery(S));
-//   Execute  the strategy runs: delegate the remaining waypoints to Helper (a contract: offer,
-//            accept, done ... finished), retry on its own, or give the mission up with a reason.
+//   Execute  the strategy runs: limp on (learn how the base moves now, set the motion
+//            decomposer for it), delegate the remaining waypoints to Helper (a contract:
+//            offer, accept, done ... finished), retry on its own, or give the mission up with a
+//            reason.
 //   Knowledge: waypoint(I, X, Y) (percepts: the task), reached(I, By), diagnosis(D),
-//            recovery(S), delegated(H), gaveUp(Why), missionDone.
+//            recovery(S), limping(K, G, A), delegated(H), gaveUp(Why), missionDone.
 // The runner (rason_diagnosis.mission) reads these beliefs through the mind service.
 
-// ---- Plan: the strategy for each diagnosis. A named fault: Helper takes the remaining
-// waypoints over (limp mode for one actuator and a reference from Helper for odometry are not
-// written yet; until then delegation covers them). A false positive: go on alone. Unknown: go
-// on alone once, then delegate.
+// ---- Plan: the strategy for each diagnosis. One weak wheel: limp on (a second failure while
+// limping: delegate). Both wheels, or the odometry: Helper takes the remaining waypoints over
+// (a reference from Helper for odometry is not written yet). A false positive: go on alone.
+// Unknown: go on alone once, then delegate.
 strategy(both_actuators, delegate).
 strategy(odometry, delegate).
-strategy(left_actuator, delegate).
-strategy(right_actuator, delegate).
+strategy(left_actuator, limp) :- not limping(_, _, _).
+strategy(right_actuator, limp) :- not limping(_, _, _).
+strategy(left_actuator, delegate) :- limping(_, _, _).
+strategy(right_actuator, delegate) :- limping(_, _, _).
 strategy(false_positive, retry).
 strategy(unknown, retry) :- not retried.
 strategy(unknown, delegate) :- retried.
@@ -101,6 +105,56 @@ helperOf(helper) :- not found(_).
 +!execute(retry)
    <- +retried;
       .print("EXECUTE: going on alone").
+// Limp mode (one weak wheel; its encoders are right, so the odometry still is): learn how
+// the base moves now from a test move and a test turn driven open loop (the motion
+// decomposer's configure(reference, command): it commands what a healthy base would need and
+// stops by its own dead reckoning), read by odometry: the curvature K (rad/m, + left) of a
+// straight command, and the base's speed (G) and turn rate (A) over the commanded ones. Then
+// the decomposer is set for them: each move turns first and drives the arc of curvature K
+// whose chord is the move, at compensated speeds; navigate.asl keeps each leg to limpLeg(L),
+// 80% of the longest such chord. A base that cannot be driven this way: delegate instead.
+testMove(0.3).          // m, open loop
+testTurn(-60).          // deg (left), open loop
+limpGains(X0, Y0, A0, X1, Y1, A1, A2, K, G, A)
+   :- testMove(M) & testTurn(T) & C = math.sqrt((X1 - X0) * (X1 - X0) + (Y1 - Y0) * (Y1 - Y0))
+    & wrap(A1 - A0, DA) & R = DA * 3.14159265 / 180 & arcLength(C, R, S)
+    & K = math.round(R / S * 1000) / 1000 & G = math.round(S / M * 1000) / 1000
+    & wrap(A2 - A1, DT) & A = math.round(-DT / T * 1000) / 1000.
+arcLength(C, R, C) :- math.abs(R) < 0.01.
+arcLength(C, R, S) :- math.abs(R) >= 0.01 & S = C * (R / 2) / math.sin(R / 2).
+limpLegFor(K, L) :- math.abs(K) > 0.8 & L = math.round(1600 / math.abs(K)) / 1000.
+limpLegFor(K, 2) :- math.abs(K) <= 0.8.
+
++!execute(limp)
+   : testMove(M) & testTurn(T) & poseWait(W)
+   <- .print("EXECUTE: limp mode: a test move and turn, open loop, to learn how I move now");
+      configure(reference, command);
+      .wait(W);
+      ?pose(X0, Y0, A0);
+      move(M);
+      .wait(W);
+      ?pose(X1, Y1, A1);
+      turn(T);
+      .wait(W);
+      ?pose(_, _, A2);
+      configure(reference, odom);
+      ?limpGains(X0, Y0, A0, X1, Y1, A1, A2, K, G, A);
+      ?limpLegFor(K, L);
+      .print("EXECUTE: limp mode: curvature ", K, " rad/m, speed gain ", G, ", turn gain ", A, ", legs up to ", L, " m");
+      configure(curvature, K);
+      configure(linear_gain, G);
+      configure(angular_gain, A);
+      -+limpLeg(L);
+      +limping(K, G, A).
+-!execute(limp)[error(R)]
+   <- .print("EXECUTE: limp mode failed (", R, "): delegating instead");
+      configure(reference, odom);
+      configure(curvature, 0);
+      -limpLeg(_);
+      +limping(failed, 0, 0);
+      -+recovery(delegate);
+      !execute(delegate).
+
 // The contract: offer the remaining waypoints, saying where Faulty stands (by its odometry, so
 // Helper drives around it); Helper accepts (or refuses), tells done(I) per waypoint and finished
 // at the end (or failed(R)).

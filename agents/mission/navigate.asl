@@ -11,6 +11,14 @@ poseWait(500).          // ms after a move before the pose is read again (percep
 clearance(0.8).         // m between centres kept from avoid(X, Y), a stopped robot, when passing
 standOff(0.45).         // m between centres at least, when a point is next to it (bodies: 0.354)
 
+// A leg's move: the whole distance, or at most limpLeg(L) (a base that curves by itself
+// reaches a point ahead only by an arc, and no arc reaches far: agents/mission/faulty.asl);
+// the legs allowed for a point: maxLegs, plus one per limpLeg of the distance.
+legLength(D, L) :- limpLeg(C) & L = math.min(D, C).
+legLength(D, D) :- not limpLeg(_).
+legBudget(X, Y, N) :- maxLegs(N0) & limpLeg(C) & distanceTo(X, Y, D) & N = N0 + math.ceil(D / C).
+legBudget(_, _, N) :- maxLegs(N) & not limpLeg(_).
+
 distanceTo(X, Y, D)
    :- pose(X0, Y0, _) & D = math.sqrt((X - X0) * (X - X0) + (Y - Y0) * (Y - Y0)).
 // The world bearing (degrees, counter-clockwise) of (X, Y) at distance D > 0 from the pose.
@@ -53,13 +61,13 @@ standIn(X, Y, OX, OY, SX, SY)
    <- .print("detour by (", VX, ", ", VY, ") around (", OX, ", ", OY, ")");
       !leg(VX, VY, N);
       !leg(X, Y, N).
-+!route(X, Y) : maxLegs(N) <- !leg(X, Y, N).
++!route(X, Y) : legBudget(X, Y, N) <- !leg(X, Y, N).
 
 +!leg(X, Y, _) : distanceTo(X, Y, D) & arrivalTolerance(E) & D < E.
 +!leg(X, Y, 0) <- .fail(error(not_arrived)).
 +!leg(X, Y, N)
-   : legTo(X, Y, H, D) & poseWait(W)
+   : legTo(X, Y, H, D) & legLength(D, L) & poseWait(W)
    <- turn_to(H);
-      move(math.round(D * 1000) / 1000);
+      move(math.round(L * 1000) / 1000);
       .wait(W);
       !leg(X, Y, N - 1).

@@ -3,7 +3,8 @@ simulator, fault injectors, motion decomposers, pose and vision synthesizers and
 agents, all started with rosrun; the fault injected with the real service during the task.
 
 A fault-free mission is completed by Faulty; with both actuators broken, the team diagnoses the
-fault and Helper takes the remaining waypoints over (delegation). Every waypoint is reached
+fault and Helper takes the remaining waypoints over (delegation); with one weak wheel, Faulty
+learns how it moves now and limps on to every waypoint itself. Every waypoint is reached
 within 0.3 m by ground truth, and the robots never touch.
 """
 
@@ -58,3 +59,11 @@ def test_both_actuators_broken_the_mission_is_delegated_to_helper(tmp_path):
     assert result["diagnosis"] == "both_actuators" and result["recovery"] == "delegate", shown
     assert result["injected_at_s"] >= 5
     assert result["waypoints"][-1]["reached_by"] == "helper", shown
+
+
+def test_one_weak_wheel_faulty_limps_on_to_every_waypoint(tmp_path):
+    # Injected late (on the way to waypoint 2), so that the run stays short.
+    result, shown = _mission(tmp_path, "--fault", "right_actuator", "--at", "20", "--seed", "4")
+    _assert_completed(result, shown)
+    assert result["diagnosis"] == "right_actuator" and result["recovery"] == "limp", shown
+    assert {p["reached_by"] for p in result["waypoints"]} == {"faulty"}, shown

@@ -24,6 +24,8 @@ from rason.execution.progress import (
     CheckParams,
     MotionMonitor,
     Pose2D,
+    advance,
+    arc_pre_turn,
     parse_target,
 )
 from rason.execution.ramp import SpeedLimits, next_speed
@@ -83,6 +85,32 @@ def test_actuator_fault_curve_is_a_bad_move(w, side):
     # arccos(0.99) = 8.1 deg off the line = half the heading change on a circle.
     assert monitor.alignment < 0.99
     assert monitor.travelled == pytest.approx(2 * 0.5 * math.sin(math.acos(0.99)), abs=0.01)
+
+
+@pytest.mark.parametrize("k", [2.0, -2.0])
+def test_a_limp_move_is_the_arc_of_the_curvature_it_expects(k):
+    # A weak wheel's base curves at k rad/m; turned by arc_pre_turn first, the arc's chord
+    # points along the heading the robot had, and the check follows the arc, not the line.
+    turn = arc_pre_turn(0.8, k)
+    assert turn == pytest.approx(-math.asin(0.8 * k / 2))
+    start = Pose2D(0.0, 0.0, turn)
+    monitor = MotionMonitor(MOVE, 0.8, start, 0.0, curvature=k)
+    result, _, pose = run(monitor, drive(0.1, 0.1 * k, 30, start))
+    assert result == OK
+    assert (pose.x, pose.y) == pytest.approx((0.8, 0.0), abs=0.01)
+    straight = MotionMonitor(MOVE, 0.8, start, 0.0)         # the same arc, checked as a line
+    assert run(straight, drive(0.1, 0.1 * k, 30, start))[0] == BAD_MOVE
+    wrong = MotionMonitor(MOVE, 0.8, start, 0.0, curvature=-k)  # the other wheel: off the arc
+    assert run(wrong, drive(0.1, 0.1 * k, 30, start))[0] == BAD_MOVE
+    with pytest.raises(ValueError, match="longest arc"):
+        arc_pre_turn(1.01, k)
+
+
+def test_advance_follows_the_arc_exactly():
+    quarter = advance(Pose2D(0.0, 0.0, 0.0), 0.5, 1.0, math.pi / 2)   # radius 0.5 m
+    assert (quarter.x, quarter.y, quarter.yaw) == pytest.approx((0.5, 0.5, math.pi / 2))
+    straight = advance(Pose2D(1.0, 1.0, math.pi), 0.2, 0.0, 2.0)
+    assert (straight.x, straight.y) == pytest.approx((0.6, 1.0))
 
 
 def test_reversing_instead_of_advancing_is_a_bad_move():

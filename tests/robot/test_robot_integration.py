@@ -13,7 +13,7 @@ import itertools
 import math
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,8 +23,10 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from jason_msgs.msg import Action, Event
 from nav_msgs.msg import Odometry
 from std_msgs.msg import String
+from std_srvs.srv import Trigger
 
 from kobuki_fault_injector.srv import FaultInjector
+from rason.execution.motion import SETTINGS
 from rason.process.harness import RosHarness
 from rason.ros.feedback import ACTION_RUNNING, parse_accepted, parse_feedback
 from turtlebot_model.geometry import yaw_from_quaternion
@@ -345,3 +347,87 @@ def test_agents_parameter_restricts_and_silent_odometry_is_no_progress(robot: Ro
         assert "no odometry" in events[1].parameters[2]
     finally:
         ros.rollback(checkpoint)
+
+
+# -- run-time settings (docs/agent-node.md, "The motion decomposer's settings") ------------------
+DECOMPOSER = f"{NS}/motion_decomposer"
+
+
+@pytest.fixture
+def settings(robot: Robot, ros_session: RosHarness) -> Iterator[Callable[[], str]]:
+    """Calls ``~reload``, returning its answer; afterwards every setting set by the test is
+    deleted from the parameter server and reloaded (the defaults again)."""
+    reload = rospy.ServiceProxy(f"{DECOMPOSER}/reload", Trigger)
+    reload.wait_for_service(timeout=10)
+
+    def call() -> str:
+        answer = reload()
+        return ("" if answer.success else "refused: ") + answer.message
+
+    yield call
+    for name in SETTINGS:
+        if rospy.has_param(f"{DECOMPOSER}/{name}"):
+            rospy.delete_param(f"{DECOMPOSER}/{name}")
+    assert not call().startswith("refused")
+
+
+def test_reload_and_configure_change_settings_without_a_restart(robot: Robot, settings):
+    rospy.set_param(f"{DECOMPOSER}/max_distance", 0.4)
+    assert "max_distance=0.4" in settings()
+    refused = robot.wait_feedback(robot.send("move", "0.5"), timeout=5)
+    assert refused.parameters[0] == "bad_parameters", refused.parameters
+    # a bad value is refused with the reason and nothing changes
+    rospy.set_param(f"{DECOMPOSER}/min_alignment", 1.5)
+    answer = settings()
+    assert answer.startswith("refused") and "~min_alignment: must be at most 1.0" in answer
+    rospy.delete_param(f"{DECOMPOSER}/min_alignment")
+    # an agent's configure(Key, Value): answered at once, the running move goes on
+    moving = robot.send("move", "0.3")
+    time.sleep(0.3)
+    configured = robot.wait_feedback(robot.send("configure", "max_distance", "10"), timeout=5)
+    assert list(configured.parameters[:1]) == ["OK"] and "~max_distance = 10" in \
+        configured.parameters[2]
+    assert parse_feedback(robot.wait_feedback(moving)).result == "OK"
+    deadline = time.monotonic() + 5                # and ~reload keeps it
+    while rospy.get_param(f"{DECOMPOSER}/max_distance") != 10.0 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert rospy.get_param(f"{DECOMPOSER}/max_distance") == 10.0
+    for bad in (["turn_clockwise", "false"], ["linear_gain", "0"], ["reference", "gps"],
+                ["curvature"]):
+        answer = robot.wait_feedback(robot.send("configure", *bad), timeout=5)
+        assert answer.parameters[0] == "bad_parameters", (bad, list(answer.parameters))
+    out = robot.perform("move", "0.5")
+    assert out.result == "OK", out.message
+    assert out.forward == pytest.approx(0.5, abs=0.02)
+
+
+@pytest.mark.parametrize(("fault", "curvature"), [("left_actuator", "2"),
+                                                  ("right_actuator", "-2")])
+def test_limp_mode_drives_the_arc_to_the_point_ahead(robot: Robot, settings, fault: str,
+                                                     curvature: str):
+    # The weak wheel's fault maths (kobuki_fault_injector.faults): a straight command curves
+    # at 2 rad/m toward the faulty side at half speed; turns run at 3/4 rate.
+    robot.inject(fault)
+    for name, value in (("curvature", curvature), ("linear_gain", "0.5"),
+                        ("angular_gain", "0.75")):
+        answer = robot.wait_feedback(robot.send("configure", name, value), timeout=5)
+        assert answer.parameters[0] == "OK", list(answer.parameters)
+    out = robot.perform("move", "0.8")
+    assert out.result == "OK", out.message
+    assert out.forward == pytest.approx(0.8, abs=0.06)
+    assert abs(out.lateral) < 0.06
+    refused = robot.perform("move", "1.2")           # beyond the longest arc (1 m)
+    assert refused.result == "bad_parameters" and "longest arc" in refused.message
+    assert refused.distance < 0.01
+
+
+def test_open_loop_drives_by_the_commands_when_odometry_is_frozen(robot: Robot, settings):
+    robot.inject("odometry")
+    answer = robot.wait_feedback(robot.send("configure", "reference", "command"), timeout=5)
+    assert answer.parameters[0] == "OK", list(answer.parameters)
+    out = robot.perform("move", "0.5")
+    assert out.result == "OK", out.message
+    assert out.forward == pytest.approx(0.5, abs=0.05)
+    out = robot.perform("turn", "-90")
+    assert out.result == "OK", out.message
+    assert out.turned == pytest.approx(90.0, abs=6.0)

@@ -8,7 +8,16 @@ from dataclasses import dataclass
 
 import pytest
 
-from rosnode_kit.params import ParamError, _kinds, help_text, param, parse, required, unknown_names
+from rosnode_kit.params import (
+    ParamError,
+    _kinds,
+    help_text,
+    param,
+    parse,
+    required,
+    unknown_names,
+    with_value,
+)
 
 
 @dataclass(frozen=True)
@@ -93,3 +102,17 @@ def test_unknown_names_suggest_the_closest_declared_parameter():
         "unknown private parameter ~zzz (ignored); "
         "this node's are: ~path, ~speed, ~count, ~rate, ~enabled, ~names"]
     assert unknown_names(Example, ["path", "speed"]) == []
+
+
+def test_with_value_sets_one_checked_parameter_from_text():
+    p = parse(Example, {"path": "/x"})
+    assert with_value(p, "speed", "0.5").speed == 0.5
+    assert with_value(p, "enabled", "false").enabled is False
+    assert with_value(p, "path", "/y", allowed=["path"]).path == "/y"
+    with pytest.raises(ParamError, match=r"~speed: must be at most 1\.0"):
+        with_value(p, "speed", "2")
+    with pytest.raises(ParamError, match="cannot be set here; these can: speed"):
+        with_value(p, "count", "2", allowed=["speed"])
+    with pytest.raises(ParamError, match="~sped cannot be set here"):
+        with_value(p, "sped", "0.1")
+    assert p.speed == 0.2                       # the original is unchanged

@@ -161,6 +161,22 @@ def parse(cls: type[T], given: dict[str, Any]) -> T:
     return cls(**values)
 
 
+def with_value(params: T, name: str, text: str, allowed: Iterable[str] | None = None) -> T:
+    """A copy of ``params`` (a parameter dataclass) with ``name`` set from ``text`` (YAML, as
+    ``_name:=text`` on a rosrun line), checked as :func:`load` checks it; ParamError (and
+    ``params`` unchanged) for an unknown name, one outside ``allowed``, or a bad value."""
+    specs = {spec.name: spec for spec in dataclasses.fields(params)}  # type: ignore[arg-type]
+    if name not in specs or (allowed is not None and name not in set(allowed)):
+        known = sorted(allowed) if allowed is not None else sorted(specs)
+        raise ParamError(f"~{name} cannot be set here; these can: {', '.join(known)}", name)
+    try:
+        value = yaml.safe_load(text)
+    except yaml.YAMLError:
+        value = text
+    spec = specs[name]
+    return dataclasses.replace(params, **{name: _convert(name, value, spec.type, spec)})  # type: ignore[type-var]
+
+
 def unknown_names(cls: type, names: Iterable[str]) -> list[str]:
     """A warning for each of ``names`` (private parameters set for the node) that ``cls`` does
     not declare, naming the closest declared one: a typo is otherwise silently ignored."""

@@ -160,6 +160,9 @@ class Decomposer:
 
     #: The actions handled (``Action.action``).
     actions: tuple[str, ...] = ()
+    #: Actions answered at once by :meth:`answer` (e.g. a setting): no goal, no preemption of
+    #: the running ones, only an ``action_feedback``.
+    instant: tuple[str, ...] = ()
     #: One action at a time: a new one preempts the running one (False: run side by side).
     exclusive: ClassVar[bool] = True
     #: Acknowledge with ``action_accepted`` (False: a thesis-only decomposer).
@@ -214,6 +217,10 @@ class Decomposer:
     def halt(self, goal: Goal) -> None:
         """Leave the actuators safe: called whenever `goal` ends, however it ends."""
 
+    def answer(self, action: str, parameters: list[str]) -> Verdict:
+        """The verdict of an :attr:`instant` action; ValueError -> ``bad_parameters``."""
+        raise ValueError(f"{action} is not answered by this decomposer")
+
     def preempted(self, goal: Goal, by: Action) -> Verdict:
         """How `goal` ends when action `by` takes over (``exclusive`` decomposers)."""
         return Verdict(PREEMPTED, f"preempted by {by.action}({', '.join(by.parameters)}) "
@@ -267,10 +274,18 @@ class Decomposer:
         return run_locked
 
     def _on_action(self, msg: Action) -> None:
-        if msg.action not in self.actions or (self.agents and msg.agent not in self.agents):
+        if msg.action not in self.actions + self.instant or \
+                (self.agents and msg.agent not in self.agents):
             return
         parameters = self._signed_parameters(msg)
         if parameters is None:
+            return
+        if msg.action in self.instant:
+            try:
+                verdict = self.answer(msg.action, parameters)
+            except (ValueError, TypeError, IndexError) as err:
+                verdict = Verdict(BAD_PARAMETERS, shorten(str(err)))
+            self.feedback(msg.agent, msg.action_id, verdict)
             return
         try:
             target = self.parse(msg.action, parameters)
@@ -413,11 +428,11 @@ def run(decomposer: type[Decomposer], node_name: str, argv: list[str] | None = N
     summary = (decomposer.__doc__ or "").strip().split("\n")[0]
     node = start_node(decomposer, decomposer.Params, node_name, argv, usage,
                       f"{node_name}: {summary} (actions: "
-                      f"{', '.join(decomposer.actions) or 'see ~actions'})")
+                      f"{', '.join(decomposer.actions + decomposer.instant) or 'see ~actions'})")
     if node is None:
         return 2
     watch_master()
-    rospy.loginfo(f"{node_name}: handling {', '.join(node.actions)} in namespace "
+    rospy.loginfo(f"{node_name}: handling {', '.join(node.actions + node.instant)} in namespace "
                   f"{rospy.get_namespace()}")
     rospy.spin()
     return 0

@@ -13,7 +13,10 @@ A :class:`MotionMonitor` watches one ``move`` or ``turn`` through the odometry p
   without a new pose, so a silent odometry topic is caught too.
 * ``bad_move`` (``move`` only) - once the robot is ``min_travel`` from the start, the dot
   product of the unit vectors start->goal and start->current dropped below ``min_alignment``
-  (0.99, about 8.1 degrees off the line).
+  (0.99, about 8.1 degrees off the line). On a base that curves by itself (a ``curvature``
+  k, rad/m, the limp mode of a weak wheel) a move is the arc of that curvature: the expected
+  direction of start->current at chord length c is the start heading plus ``asin(c k / 2)``
+  (:func:`arc_pre_turn` gives the turn that makes the arc's chord point where the move should).
 
 Everything here is plain arithmetic on :class:`Pose2D`, so it is unit-tested on recorded or
 synthetic odometry sequences.
@@ -28,7 +31,7 @@ from rason.execution.results import BAD_MOVE, NO_PROGRESS, OK, Verdict
 from turtlebot_model.geometry import wrap_rad
 
 __all__ = ["BAD_MOVE", "MOVE", "NO_PROGRESS", "OK", "TURN", "CheckParams", "MotionMonitor",
-           "Pose2D", "Verdict", "parse_target"]
+           "Pose2D", "Verdict", "advance", "arc_pre_turn", "parse_target"]
 
 MOVE = "move"
 TURN = "turn"
@@ -68,14 +71,17 @@ class MotionMonitor:
         target: the signed goal.
         start: the odometry pose when the motion started.
         start_time: ROS time (s) of the start.
+        curvature: rad/m (counter-clockwise positive) a forward ``move`` curves by itself: its
+            trajectory check follows that arc (0: the straight line).
     """
 
     def __init__(self, kind: str, target: float, start: Pose2D, start_time: float,
-                 params: CheckParams | None = None):
+                 params: CheckParams | None = None, curvature: float = 0.0):
         if kind not in (MOVE, TURN):
             raise ValueError(f"unknown motion {kind!r}")
         self.kind = kind
         self.target = target
+        self.curvature = curvature
         self.start = start
         self.params = params or CheckParams()
         self.pose = start
@@ -111,7 +117,12 @@ class MotionMonitor:
         if distance == 0.0:
             return 1.0
         dx, dy = self.pose.x - self.start.x, self.pose.y - self.start.y
-        return (dx * self.goal_direction[0] + dy * self.goal_direction[1]) / distance
+        ux, uy = self.goal_direction
+        if self.curvature:
+            heading = math.atan2(uy, ux) + math.asin(
+                max(-1.0, min(1.0, distance * self.curvature / 2.0)))
+            ux, uy = math.cos(heading), math.sin(heading)
+        return (dx * ux + dy * uy) / distance
 
     # -- checks -----------------------------------------------------------------------------
     def update(self, pose: Pose2D, now: float) -> Verdict | None:
@@ -175,6 +186,29 @@ class MotionMonitor:
                                + note)
         return Verdict(OK, f"turned {math.degrees(self.turned):.1f} deg "
                            f"(goal {math.degrees(self.target):.1f} deg)" + note)
+
+
+def arc_pre_turn(chord: float, curvature: float) -> float:
+    """The turn (rad, counter-clockwise) before a forward arc of `curvature` (rad/m) whose chord
+    of `chord` m should point along the heading the robot had: ``-asin(chord * curvature / 2)``.
+    ValueError when no arc of that curvature has such a chord (longer than ``2 / |curvature|``)."""
+    half = chord * curvature / 2.0
+    if abs(half) > 1.0:
+        raise ValueError(f"move: {chord:g} m is longer than the longest arc of curvature "
+                         f"{curvature:g} rad/m can reach ({2.0 / abs(curvature):.3f} m)")
+    return -math.asin(half)
+
+
+def advance(pose: Pose2D, linear: float, angular: float, dt: float) -> Pose2D:
+    """`pose` after `dt` s at (`linear` m/s, `angular` rad/s): exact on the arc."""
+    turned = angular * dt
+    if abs(turned) < 1e-9:
+        return Pose2D(pose.x + linear * dt * math.cos(pose.yaw),
+                      pose.y + linear * dt * math.sin(pose.yaw), pose.yaw)
+    radius = linear / angular
+    yaw = pose.yaw + turned
+    return Pose2D(pose.x + radius * (math.sin(yaw) - math.sin(pose.yaw)),
+                  pose.y - radius * (math.cos(yaw) - math.cos(pose.yaw)), wrap_rad(yaw))
 
 
 def parse_target(kind: str, parameters: list[str], turn_clockwise: bool = True,
