@@ -26,10 +26,18 @@ from typing import Any
 
 import yaml
 
+from rason.inspector.main import InspectorParams
 from rason.process.harness import HarnessError, RosHarness, echo_line
 from rason_diagnosis.hosts import interrupt
 from rason_diagnosis.paths import agents_dir, world_file
-from rason_diagnosis.scenario import FAULTS, HELPER_MOTION, HELPER_VISION, NO_FAULT, ROBOTS
+from rason_diagnosis.scenario import (
+    FAULTS,
+    HELPER_MOTION,
+    HELPER_VISION,
+    NO_FAULT,
+    ROBOTS,
+    _start_inspector,
+)
 from turtlebot_sim.config import resolve
 
 #: The mission's agents, a folder of ``agents/``.
@@ -131,6 +139,7 @@ class MissionResult:
     wall_s: float = 0.0
     error: str = ""
     out_dir: str = ""
+    inspector: str = ""        # the mind inspector's address, when it watched the run
 
     def summary(self) -> dict[str, Any]:
         """The JSON object the run ends with (``reason`` only when not completed)."""
@@ -208,9 +217,10 @@ def read_mind(beliefs: list[str]) -> MindView:
 
 
 def run_mission(fault: str, seed: int, out_dir: Path, at_s: float, world: Path,
-                recovery: bool = True, echo: bool = True,
-                sim_timeout: float = 600.0) -> MissionResult:
-    """Run one mission; returns its result (never raises for a mission that fails)."""
+                recovery: bool = True, echo: bool = True, sim_timeout: float = 600.0,
+                inspector_port: int | None = None) -> MissionResult:
+    """Run one mission; returns its result (never raises for a mission that fails). With
+    `inspector_port` (0: any free port) the mind inspector watches it (its mission view)."""
     if fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
     waypoints = load_mission(world)
@@ -221,6 +231,8 @@ def run_mission(fault: str, seed: int, out_dir: Path, at_s: float, world: Path,
     started = time.monotonic()
     try:
         with RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs") as ros:
+            if inspector_port is not None:
+                result.inspector = _start_inspector(ros, inspector_port, "mission")
             _run(ros, result, waypoints, world, recovery, echo, sim_timeout)
     except HarnessError as err:
         result.error = str(err).splitlines()[0]
@@ -348,6 +360,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--no-recovery", action="store_true",
                    help="the baseline: after the diagnosis Faulty gives the mission up")
     p.add_argument("--timeout", type=float, default=600.0, help="simulated seconds allowed")
+    p.add_argument("--inspector", action=argparse.BooleanOptionalAction, default=True,
+                   help="watch the mission in the mind inspector (web page; default: on)")
+    p.add_argument("--inspector-port", type=int, default=InspectorParams().port,
+                   help="the inspector's port on 127.0.0.1 (0: any free port)")
     return p
 
 
@@ -369,7 +385,8 @@ def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGTERM, interrupt)
     try:
         result = run_mission(fault, seed, out, at_s, world, recovery=not args.no_recovery,
-                             echo=not args.quiet, sim_timeout=args.timeout)
+                             echo=not args.quiet, sim_timeout=args.timeout,
+                             inspector_port=args.inspector_port if args.inspector else None)
     except KeyboardInterrupt:
         print("\n[mission] interrupted: every node of the run was stopped", flush=True)
         return 130
