@@ -44,6 +44,9 @@ def test_a_run_is_timed_against_the_fault_free_mission_of_its_seed():
     assert first.max_error_m == 0.4 and not first.within_bar and first.contact
     assert mc.figures(RESULTS[3], reference).relative_time == 1.5
     assert mc.figures(RESULTS[3], reference).within_bar
+    assert not mc.figures(RESULTS[3], reference).contact
+    touching = {**RESULTS[3], "min_robot_distance_m": 0.354}     # 2 x the body radius, rounded
+    assert mc.figures(touching, reference).contact
     baseline = mc.figures(RESULTS[4], reference)
     assert not baseline.completed and baseline.not_reached == 3 and not baseline.within_bar
     # a seed without its own fault-free run: the mean of those that ran
