@@ -8,7 +8,7 @@ import json
 from dataclasses import asdict
 
 from rason.asl import Agent, AgentArch
-from rason.inspector.mission import mission_of
+from rason.inspector.mission import MAX_WAYPOINTS, mission_of
 from rason.inspector.store import MAX_MISSIONS, InspectorStore
 
 WAYPOINTS = [{"text": f"waypoint({i},{x},{y})", "sources": ["percept"]}
@@ -97,3 +97,12 @@ def test_the_missions_kept_are_bounded():
         store.add_state(name, json.dumps({"agent": name, "mind": {"beliefs": WAYPOINTS}}), 1.0)
     missions = store.robots.snapshot()["missions"]
     assert len(missions) == MAX_MISSIONS and f"a{MAX_MISSIONS + 4}" in missions
+
+
+def test_what_an_agent_believes_cannot_make_the_view_unbounded_or_invalid_json():
+    odd = [_belief("waypoint(1,1e400,0)"), _belief("waypoint(2,0,-1e999)"),
+           *(_belief(f"waypoint({i},1,2)") for i in range(3, 3 + 2 * MAX_WAYPOINTS))]
+    mission = mission_of("faulty", odd)
+    assert mission is not None and len(mission.waypoints) == MAX_WAYPOINTS
+    assert mission.waypoints[0].index == 3
+    json.dumps(mission.to_dict(), allow_nan=False)

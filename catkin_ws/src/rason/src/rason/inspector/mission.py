@@ -6,10 +6,13 @@ beliefs say how far it is: ``reached(I, By)``, ``delegated(H)`` (the remaining w
 offered to H), ``accept(Ws)[source(H)]`` (H took them), ``diagnosis(D)``, ``recovery(S)``,
 ``gaveUp(Why)`` and ``missionDone``. Each waypoint is then reached by someone, assigned to the
 robot that has it now (the agent itself, or H once delegated), or nobody's (given up).
+Waypoints with a coordinate that is not finite are left out, and beyond MAX_WAYPOINTS the
+highest indices.
 """
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import asdict, dataclass, field
 
@@ -17,6 +20,9 @@ NUMBER = r"(-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)"
 WAYPOINT = re.compile(rf"^waypoint\((\d+),{NUMBER},{NUMBER}\)$")
 REACHED = re.compile(r"^reached\((\d+),(\w+)\)$")
 ONE_ARGUMENT = re.compile(r"^(diagnosis|recovery|delegated|gaveUp)\((.*)\)$")
+#: waypoints shown per mission at most (the lowest indices): the page stays small whatever an
+#: agent believes
+MAX_WAYPOINTS = 256
 
 
 @dataclass
@@ -59,8 +65,9 @@ def mission_of(agent: str, beliefs: list[dict]) -> MissionState | None:
     for belief in beliefs:
         text = str(belief.get("text", "")).replace(" ", "")
         if m := WAYPOINT.match(text):
-            index = int(m.group(1))
-            points[index] = WaypointState(index, float(m.group(2)), float(m.group(3)))
+            index, x, y = int(m.group(1)), float(m.group(2)), float(m.group(3))
+            if math.isfinite(x) and math.isfinite(y):      # JSON has no inf
+                points[index] = WaypointState(index, x, y)
         elif m := REACHED.match(text):
             reached[int(m.group(1))] = m.group(2)
         elif text.startswith("accept("):
@@ -79,7 +86,7 @@ def mission_of(agent: str, beliefs: list[dict]) -> MissionState | None:
         return None
     state.accepted = state.delegated_to is not None and state.delegated_to in accepted_by
     holder = None if state.gave_up is not None else state.delegated_to or agent
-    for index in sorted(points):
+    for index in sorted(points)[:MAX_WAYPOINTS]:
         point = points[index]
         point.reached_by = reached.get(index)
         point.assigned_to = holder if point.reached_by is None else None
