@@ -35,12 +35,18 @@
 #       --drivers sim|stock         as for demo
 #       --vision nodelets|raw       as for demo
 #       --report-only               rewrite report.md and the plots from --out's runs.csv
+#       --mission                   run the mission instead of the demo: completion, time against
+#                                   the fault-free mission, waypoint errors, contacts, who reached
+#                                   the waypoints (default --out out/campaign-mission)
+#       --no-recovery               with --mission: only the baseline, without recovery
+#       --baseline                  with --mission: with recovery and without, side by side
 #   ./run.sh mission [OPTIONS]      Faulty visits the world's waypoints; a fault strikes on the way and
 #                                   the team diagnoses it and recovers (docs/mission.md)
 #       --fault NAME                as for demo (default: drawn by the seed, none included)
 #       --at SECONDS                inject it this long after Faulty's first motion (simulated)
 #       --seed N, --world FILE.yaml, --out DIR, --json, --quiet, --timeout S   as for demo
 #       --no-recovery               the baseline: after the diagnosis Faulty gives the mission up
+#       --inspector-port N, --inspector, --no-inspector   as for demo (the inspector's mission view)
 #   ./run.sh bench NAME [ARGS...]   a benchmark of benchmarks/ (./run.sh bench lists them)
 #   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs), or a part: a file, -k NAME
 #   ./run.sh env                    a shell with ROS and the workspace ready (or: source env.sh)

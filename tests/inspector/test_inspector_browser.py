@@ -10,83 +10,24 @@ the screenshot (saved in the test's tmp folder) must not be blank.
 from __future__ import annotations
 
 import os
-import queue
-import re
-import shutil
-import subprocess
 import sys
-import threading
-import time
-from pathlib import Path
 
-import cv2
-import numpy as np
 import pytest
+from browser import (
+    CHROMEDRIVER,
+    CHROMIUM,
+    INSPECTOR_LINE,
+    RunProcess,
+    assert_not_blank,
+    chromium,
+    map_ink,
+)
 from selenium import webdriver
 from selenium.common.exceptions import WebDriverException
-from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
-
-CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
-CHROMEDRIVER = shutil.which("chromedriver") or "/usr/bin/chromedriver"
-CHROMIUM_FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                  "--no-first-run", "--disable-background-networking",
-                  "--disable-component-update", "--disable-sync", "--window-size=1600,1250")
-
-
-class DemoProcess:
-    """``python -m rason_diagnosis`` with its stdout read line by line in a thread."""
-
-    def __init__(self, out: Path) -> None:
-        self.lines: list[str] = []
-        self._queue: queue.Queue[str | None] = queue.Queue()
-        self.proc = subprocess.Popen(
-            [sys.executable, "-m", "rason_diagnosis", "--fault", "both_actuators", "--seed", "11",
-             "--inspector-port", "0", "--quiet", "--out", str(out)],
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        threading.Thread(target=self._read, daemon=True).start()
-
-    def _read(self) -> None:
-        assert self.proc.stdout is not None
-        for line in self.proc.stdout:
-            self.lines.append(line.rstrip("\n"))
-            self._queue.put(line)
-        self._queue.put(None)
-
-    def wait_for(self, pattern: str, timeout: float) -> re.Match[str]:
-        regex = re.compile(pattern)
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            try:
-                line = self._queue.get(timeout=0.5)
-            except queue.Empty:
-                continue
-            if line is None:
-                break
-            match = regex.search(line)
-            if match:
-                return match
-        raise AssertionError(f"the demo did not print /{pattern}/; output:\n" +
-                             "\n".join(self.lines[-40:]))
-
-    def finish(self, timeout: float) -> int:
-        try:
-            return self.proc.wait(timeout)
-        except subprocess.TimeoutExpired:
-            self.proc.terminate()
-            return self.proc.wait(30)
-
-
-def _browser(profile: Path) -> webdriver.Chrome:
-    options = webdriver.ChromeOptions()
-    options.binary_location = CHROMIUM
-    for flag in CHROMIUM_FLAGS:
-        options.add_argument(flag)
-    options.add_argument(f"--user-data-dir={profile}")
-    return webdriver.Chrome(options=options, service=Service(executable_path=CHROMEDRIVER))
 
 
 # The page redraws its lists as pushed events arrive: read them in one script, not element by
@@ -123,11 +64,13 @@ def _diagnosis(driver: webdriver.Chrome) -> str | None:
 def test_page_follows_a_demo_live_and_steps_back(tmp_path):
     assert os.path.exists(CHROMEDRIVER) and os.path.exists(CHROMIUM), \
         "Debian's chromium and chromium-driver are needed: ./setup.sh installs them"
-    demo = DemoProcess(tmp_path / "run")
+    demo = RunProcess([sys.executable, "-m", "rason_diagnosis", "--fault", "both_actuators",
+                       "--seed", "11", "--inspector-port", "0", "--quiet",
+                       "--out", str(tmp_path / "run")])
     driver = None
     try:
-        url = demo.wait_for(r"\[demo\] mind inspector: (http://127\.0\.0\.1:\d+/)", 120).group(1)
-        driver = _browser(tmp_path / "chromium-profile")
+        url = demo.wait_for(INSPECTOR_LINE, 120).group(1)
+        driver = chromium(tmp_path / "chromium-profile")
         driver.get(url)
         driver.execute_script("window.loadedOnce = 'yes';")   # gone if the page ever reloads
         wait = WebDriverWait(driver, 90, poll_frequency=0.2)
@@ -161,12 +104,7 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
         robots = driver.find_element(By.ID, "robots").text
         assert "faulty: fault_injector: fault injected: both_actuators" in robots, robots
         assert "helper sees faulty" in robots or "no perception" not in robots, robots
-        drawn = driver.execute_script("""
-            const c = document.getElementById('map'), ctx = c.getContext('2d');
-            const px = ctx.getImageData(0, 0, c.width, c.height).data;
-            let ink = 0;
-            for (let k = 3; k < px.length; k += 4) if (px[k] > 0) ink++;
-            return ink;""")
+        drawn = map_ink(driver)
         assert drawn > 2000, f"the map is (almost) empty: {drawn} drawn pixels"
 
         # step back from the diagnosis until the state before it (the page's history)
@@ -183,11 +121,7 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
         assert _history(driver)[1] < final_index
         assert _diagnosis(driver) is None, "stepping back never reached a state before it"
 
-        image = cv2.imread(str(shot))
-        assert image is not None and image.shape[0] >= 600 and image.shape[1] >= 1000
-        colours = np.unique(image.reshape(-1, 3) // 8, axis=0)
-        assert image.std() > 20 and len(colours) > 50, \
-            f"blank screenshot? std {image.std():.1f}, {len(colours)} colours"
+        assert_not_blank(shot)
     except WebDriverException as err:
         pytest.fail(f"browser failed: {err.msg}\ndemo output:\n" + "\n".join(demo.lines[-30:]))
     finally:

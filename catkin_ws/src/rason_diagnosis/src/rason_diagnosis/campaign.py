@@ -1,5 +1,7 @@
 """``./run.sh campaign [--runs N] [--world FILE] [--drivers sim|stock] ...``: every scenario N times.
 
+With ``--mission``, the runs are missions instead of demos (rason_diagnosis.mission_campaign).
+
 Each run is a separate demo process (its own roscore, simulator, nodes and agents) with a seed
 that varies start poses, lighting and sensor noise. Writes ``runs.csv``, ``report.md`` (tables in
 the form of thesis Tables 7.1-7.4 beside the thesis' figures, success rate per scenario) and PNG
@@ -192,7 +194,9 @@ def write_plots(results: list[dict], out: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="./run.sh campaign", description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=10, help="runs per scenario (default 10)")
-    parser.add_argument("--out", type=Path, default=Path("out") / "campaign")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="the folder for the report (default: out/campaign, with --mission "
+                             "out/campaign-mission)")
     parser.add_argument("--faults", nargs="+", choices=FAULTS, default=list(FAULTS))
     parser.add_argument("--first-seed", type=int, default=1)
     parser.add_argument("--hosts", action="store_true",
@@ -212,6 +216,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--layouts", choices=("fixed", "random"), default="fixed",
                         help="fixed: the thesis' layout; random: a seeded layout per run index "
                              "(the same N layouts for every fault)")
+    parser.add_argument("--mission", action="store_true",
+                        help="run the mission (./run.sh mission) instead of the demo: completion, "
+                             "time, waypoint errors and contacts per fault (docs/mission.md)")
+    recovery = parser.add_mutually_exclusive_group()
+    recovery.add_argument("--no-recovery", action="store_true",
+                          help="with --mission: only the baseline, every mission without recovery")
+    recovery.add_argument("--baseline", action="store_true",
+                          help="with --mission: every mission with recovery and again without it "
+                               "(the baseline), side by side in one report")
     parser.add_argument("--report-only", action="store_true",
                         help="only rewrite report.md and the plots from the runs.csv in --out "
                              "(e.g. of a campaign cut short)")
@@ -223,6 +236,11 @@ def main(argv: list[str] | None = None) -> int:
     for flag, path in (("--world", args.world), ("--colours", args.colours)):
         if path is not None and not path.is_file():
             parser.error(f"{flag} {path}: no such file")
+    args.out = args.out or Path("out") / ("campaign-mission" if args.mission else "campaign")
+    if args.mission:
+        return mission_campaign(parser, args)
+    if args.no_recovery or args.baseline:
+        parser.error("--no-recovery and --baseline go with --mission")
     if args.report_only:
         return report_only(args)
     (args.out / "runs").mkdir(parents=True, exist_ok=True)
@@ -244,6 +262,32 @@ def main(argv: list[str] | None = None) -> int:
     print(write_report(results, args.out, args.runs))
     print(f"wrote {args.out / 'runs.csv'}, {args.out / 'report.md'}, {args.out / 'plots'}")
     return 0 if all(r.get("correct") and not r.get("orphans") for r in results) else 1
+
+
+def mission_campaign(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
+    """``--mission``: the mission over faults x seeds (rason_diagnosis.mission_campaign)."""
+    from rason_diagnosis import mission_campaign as mc
+
+    if (args.hosts or args.layouts != "fixed" or args.drivers != SIM.drivers.value
+            or args.vision or args.colours):
+        parser.error("--mission runs the simulated mission in one world: --hosts, --layouts "
+                     "random, --drivers stock, --vision and --colours do not apply")
+    if args.report_only:
+        results = mc.load_runs(args.out)
+        if not results:
+            parser.error(f"--report-only: no runs/*/result.json in {args.out}")
+        mc.write_csv(results, args.out)
+        mc.write_plots(results, args.out)
+        print(mc.write_report(results, args.out))
+        return 0
+    modes = ([mc.Mode.BASELINE] if args.no_recovery else
+             [mc.Mode.RECOVERY, mc.Mode.BASELINE] if args.baseline else [mc.Mode.RECOVERY])
+    seeds = [args.first_seed + i for i in range(args.runs)]
+    results = mc.run_campaign(args.faults, seeds, modes, args.out,
+                              ["--world", str(args.world)] if args.world else [])
+    print(f"wrote {args.out / 'runs.csv'}, {args.out / 'report.md'}, {args.out / 'plots'}, "
+          f"{args.out / 'runs'}")
+    return 0 if all(r.get("completed") and not r.get("orphans") for r in results) else 1
 
 
 # -- randomized layouts -----------------------------------------------------------------------

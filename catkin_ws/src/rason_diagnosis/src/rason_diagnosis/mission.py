@@ -26,10 +26,19 @@ from typing import Any
 
 import yaml
 
-from rason.process.harness import HarnessError, RosHarness, echo_line
+from rason.inspector.main import InspectorParams
+from rason.process.harness import HarnessError, RosHarness
 from rason_diagnosis.hosts import interrupt
 from rason_diagnosis.paths import agents_dir, world_file
-from rason_diagnosis.scenario import FAULTS, HELPER_MOTION, HELPER_VISION, NO_FAULT, ROBOTS
+from rason_diagnosis.scenario import (
+    FAULTS,
+    HELPER_MOTION,
+    HELPER_VISION,
+    NO_FAULT,
+    ROBOTS,
+    say,
+    start_inspector,
+)
 from turtlebot_sim.config import resolve
 
 #: The mission's agents, a folder of ``agents/``.
@@ -131,6 +140,7 @@ class MissionResult:
     wall_s: float = 0.0
     error: str = ""
     out_dir: str = ""
+    inspector: str = ""        # the mind inspector's address, when it watched the run
 
     def summary(self) -> dict[str, Any]:
         """The JSON object the run ends with (``reason`` only when not completed)."""
@@ -208,9 +218,10 @@ def read_mind(beliefs: list[str]) -> MindView:
 
 
 def run_mission(fault: str, seed: int, out_dir: Path, at_s: float, world: Path,
-                recovery: bool = True, echo: bool = True,
-                sim_timeout: float = 600.0) -> MissionResult:
-    """Run one mission; returns its result (never raises for a mission that fails)."""
+                recovery: bool = True, echo: bool = True, sim_timeout: float = 600.0,
+                inspector_port: int | None = None) -> MissionResult:
+    """Run one mission; returns its result (never raises for a mission that fails). With
+    `inspector_port` (0: any free port) the mind inspector watches it (its mission view)."""
     if fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
     waypoints = load_mission(world)
@@ -221,6 +232,8 @@ def run_mission(fault: str, seed: int, out_dir: Path, at_s: float, world: Path,
     started = time.monotonic()
     try:
         with RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs") as ros:
+            if inspector_port is not None:
+                result.inspector = start_inspector(ros, inspector_port, "mission")
             _run(ros, result, waypoints, world, recovery, echo, sim_timeout)
     except HarnessError as err:
         result.error = str(err).splitlines()[0]
@@ -290,7 +303,7 @@ def _run(ros: RosHarness, result: MissionResult, waypoints: list[Waypoint], worl
                 reply = ros.check_output(["rosservice", "call", "/faulty/fault_injector",
                                           f"fault: '{result.fault}'"])
                 result.injected_at_s = round(rospy.get_time() - t0, 2)
-                _say(echo, f"[mission] injected {result.fault} at {result.injected_at_s} s: "
+                say(echo, f"[mission] injected {result.fault} at {result.injected_at_s} s: "
                      f"{reply.strip()}")
             try:
                 view = read_mind(list(mind().beliefs))
@@ -303,7 +316,7 @@ def _run(ros: RosHarness, result: MissionResult, waypoints: list[Waypoint], worl
                     error = truth.error(robot, waypoints[index - 1])
                     arrival.reached_by, arrival.at_s = robot, round(now - t0, 2)
                     arrival.error_m = None if error is None else round(error, 3)
-                    _say(echo, f"[mission] waypoint {index} reached by {robot} at "
+                    say(echo, f"[mission] waypoint {index} reached by {robot} at "
                          f"{arrival.at_s} s, {arrival.error_m} m from it (ground truth)")
             if view.done or view.gave_up is not None:
                 break
@@ -322,11 +335,6 @@ def _run(ros: RosHarness, result: MissionResult, waypoints: list[Waypoint], worl
         result.total_s = round(rospy.get_time() - t0, 2)
     if truth.min_distance is not None:
         result.min_robot_distance_m = round(truth.min_distance, 3)
-
-
-def _say(echo: bool, text: str) -> None:
-    if echo:
-        echo_line(text)
 
 
 def parser() -> argparse.ArgumentParser:
@@ -348,6 +356,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--no-recovery", action="store_true",
                    help="the baseline: after the diagnosis Faulty gives the mission up")
     p.add_argument("--timeout", type=float, default=600.0, help="simulated seconds allowed")
+    p.add_argument("--inspector", action=argparse.BooleanOptionalAction, default=True,
+                   help="watch the mission in the mind inspector (web page; default: on)")
+    p.add_argument("--inspector-port", type=int, default=InspectorParams().port,
+                   help="the inspector's port on 127.0.0.1 (0: any free port)")
     return p
 
 
@@ -369,7 +381,8 @@ def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGTERM, interrupt)
     try:
         result = run_mission(fault, seed, out, at_s, world, recovery=not args.no_recovery,
-                             echo=not args.quiet, sim_timeout=args.timeout)
+                             echo=not args.quiet, sim_timeout=args.timeout,
+                             inspector_port=args.inspector_port if args.inspector else None)
     except KeyboardInterrupt:
         print("\n[mission] interrupted: every node of the run was stopped", flush=True)
         return 130

@@ -262,18 +262,19 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
     monitor.close()
 
 
-def start_inspector(ros: RosHarness, port: int) -> str:
-    """Start ``rosrun rason mind_inspector`` and print its address; "" if it cannot listen."""
+def start_inspector(ros: RosHarness, port: int, run: str = "demo") -> str:
+    """Start ``rosrun rason mind_inspector`` and print its address (lines tagged ``[run]``);
+    "" if it cannot listen."""
     inspector = ros.rosrun("rason", "mind_inspector", params={"port": port})
     try:
         line = inspector.wait_for_line(r"mind inspector: (http://\S+)|cannot listen.*", timeout=30)
     except HarnessError as err:
-        echo_line(f"[demo] mind inspector did not start: {str(err).splitlines()[0]}")
+        echo_line(f"[{run}] mind inspector did not start: {str(err).splitlines()[0]}")
         return ""
     if line.group(1) is None:
-        echo_line(f"[demo] mind inspector not started: {line.group(0)}")
+        echo_line(f"[{run}] mind inspector not started: {line.group(0)}")
         return ""
-    echo_line(f"[demo] mind inspector: {line.group(1)}  (open it in a browser to watch the run)")
+    echo_line(f"[{run}] mind inspector: {line.group(1)}  (open it in a browser to watch the run)")
     return line.group(1)
 
 

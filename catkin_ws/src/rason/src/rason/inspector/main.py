@@ -2,8 +2,8 @@
 
 One web page for every agent on the ROS graph (beliefs, events, intentions, actions, messages,
 with a history to step back through) and for the robots (poses, what Helper's synthesizer sees,
-the camera, the fault injector's diagnostics). It listens on the loopback interface unless
-``_host:=0.0.0.0`` opens it to other machines.
+the camera, the fault injector's diagnostics, a mission's waypoints and who has them). It
+listens on the loopback interface unless ``_host:=0.0.0.0`` opens it to other machines.
 
 Its private parameters: ``rosrun rason mind_inspector --help``.
 """

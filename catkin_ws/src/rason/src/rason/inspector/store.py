@@ -21,6 +21,8 @@ from collections import OrderedDict, deque
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 
+from rason.inspector.mission import mission_of
+
 Notify = Callable[[str, dict], None]
 
 #: Fields a mind_state document must have (rason.ros.mind_state) to be kept.
@@ -35,6 +37,8 @@ MAX_NAME = 100
 #: perception sources kept per robot, and diagnostics kept, before the oldest go
 MAX_SOURCES = 64
 MAX_DIAGNOSTICS = 256
+#: agents whose missions are kept (the latest to change last)
+MAX_MISSIONS = 16
 
 
 @dataclass
@@ -192,6 +196,11 @@ class InspectorStore:
             changed = entry.index == 0 or namespace != record.namespace
             record.namespace = namespace if isinstance(namespace, str) else None
             summary = record.summary()
+        beliefs = state["mind"].get("beliefs")
+        if isinstance(beliefs, list):
+            mission = mission_of(name, [b for b in beliefs if isinstance(b, dict)])
+            if mission is not None:
+                self.robots.mission(name, mission.to_dict())
         if changed:
             self.on_change("agent", summary)        # its namespace is known from now on
         self.on_change("mind", {"agent": name, "index": entry.index, "first": first})
@@ -309,7 +318,8 @@ class CameraFrame:
 
 
 class RobotsView:
-    """Robots' poses, perceptions, camera frames and diagnostics (the page's second view)."""
+    """Robots' poses, perceptions, camera frames, diagnostics and the missions the agents
+    believe they have (the page's second view)."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
@@ -319,6 +329,7 @@ class RobotsView:
         self._perceptions: dict[str, dict[str, list[str]]] = {}   # robot -> source -> list
         self._diagnostics: dict[str, dict] = {}
         self._cameras: dict[str, CameraFrame] = {}
+        self._missions: dict[str, dict] = {}    # agent -> rason.inspector.mission.MissionState
 
     def pose(self, robot: str, truth: bool, pose: Pose) -> None:
         with self._lock:
@@ -341,6 +352,17 @@ class RobotsView:
             self._diagnostics[name] = {"name": name, "level": level, "message": message,
                                        "values": values, "stamp": stamp}
             _keep_newest(self._diagnostics, MAX_DIAGNOSTICS)
+            self.version += 1
+
+    def mission(self, agent: str, mission: dict) -> None:
+        """The mission `agent` believes it has (a MissionState as a dict); a change only when
+        it differs from the last one."""
+        with self._lock:
+            if self._missions.get(agent) == mission:
+                return
+            self._missions.pop(agent, None)
+            self._missions[agent] = mission
+            _keep_newest(self._missions, MAX_MISSIONS)
             self.version += 1
 
     def camera(self, robot: str, frame: CameraFrame) -> None:
@@ -367,7 +389,8 @@ class RobotsView:
                     "camera": ({"seq": frame.seq, "stamp": frame.stamp, "width": frame.width,
                                 "height": frame.height} if frame else None)}
             return {"version": self.version, "robots": robots,
-                    "diagnostics": sorted(self._diagnostics.values(), key=lambda d: d["name"])}
+                    "diagnostics": sorted(self._diagnostics.values(), key=lambda d: d["name"]),
+                    "missions": dict(sorted(self._missions.items()))}
 
 
 def _keep_newest(items: dict, most: int) -> None:

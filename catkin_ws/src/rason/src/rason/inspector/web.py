@@ -6,7 +6,8 @@ Routes (anything else is 404; a wrong method 405; a malformed query 400):
   GET /static/{file}                 its JavaScript and CSS, served from the package
   GET /api/agents                    the agents present: name, topic, namespace, history bounds
   GET /api/agents/{name}/mind        the latest mind state; ?index=N for state N of the history
-  GET /api/robots                    poses, trails, perceptions, diagnostics, camera frame info
+  GET /api/robots                    poses, trails, perceptions, diagnostics, camera frame info,
+                                     the missions the agents believe they have
   GET /api/camera/{robot}.jpg        the robot's last camera frame as JPEG
   GET /api/events                    server-sent events: ``hello`` (every agent, the robots),
                                      then ``agent`` (one agent's summary: new or changed),

@@ -314,7 +314,9 @@ function drawRobots(view) {
       }
     }
   }
-  drawMap(view, names, color, seen);
+  const robotColor = (name) => (names.includes(name) ? color(name) : "#6b7280");
+  drawMap(view, names, color, seen, robotColor);
+  drawMissions(view.missions || {}, robotColor);
   fill($("seen"), seen.map((s) => el("li", {class: "term"}, `${s.observer} sees `, s.label || s.text,
                                      el("span", {class: "chip"}, s.source))),
        "no perception from a synthesizer");
@@ -340,10 +342,47 @@ function anchored(robot) {
   return {pose: {x: px, y: py, yaw: odom.pose.yaw + turn}, trail: odom.trail.map(move)};
 }
 
-function drawMap(view, names, color, seen) {
+// What an agent's beliefs say of its mission (the server reads waypoint/3, reached/2,
+// delegated/1, recovery/1...: rason.inspector.mission): one line per waypoint and the recovery.
+function drawMissions(missions, robotColor) {
+  const box = $("missions");
+  const agents = Object.keys(missions);
+  if (!agents.length) {
+    box.replaceChildren(el("p", {class: "empty"}, "no agent believes it has a mission"));
+    return;
+  }
+  box.replaceChildren(...agents.map((agent) => {
+    const m = missions[agent];
+    const state = m.done ? "completed" : m.gave_up !== null ? `given up: ${m.gave_up}` : "under way";
+    const recovery = m.recovery === null ? "no recovery in force"
+      : `recovery in force: ${m.recovery}` + (m.diagnosis !== null ? ` (diagnosis ${m.diagnosis})` : "");
+    const delegation = m.delegated_to === null ? null
+      : el("span", {class: "chip"}, `delegated to ${m.delegated_to}` + (m.accepted ? ", accepted" : ", offered"));
+    const items = m.waypoints.map((p) => {
+      const where = `waypoint ${p.index} (${p.x}, ${p.y}): `;
+      const who = p.reached_by !== null ? `reached by ${p.reached_by}`
+        : p.assigned_to !== null ? `${p.assigned_to}'s` + (p.current ? ", driving to it" : "")
+        : "nobody's";
+      const kind = p.reached_by !== null ? "reached" : p.assigned_to === null ? "nobody" : p.current ? "current" : "";
+      const item = el("li", {class: `term ${kind}`, "data-waypoint": p.index,
+                             "data-reached-by": p.reached_by || "", "data-assigned-to": p.assigned_to || ""},
+                      where, who);
+      item.style.borderLeft = `4px solid ${robotColor(p.reached_by || p.assigned_to || "")}`;
+      item.style.paddingLeft = "4px";
+      return item;
+    });
+    return el("div", {class: "mission", "data-agent": agent, "data-recovery": m.recovery || ""},
+              el("div", {}, el("b", {}, `${agent}'s mission`), ` · ${state}`, delegation),
+              el("div", {class: "recovery"}, recovery),
+              el("ul", {class: "plain"}, ...items));
+  }));
+}
+
+function drawMap(view, names, color, seen, robotColor) {
   const canvas = $("map");
   const ctx = canvas.getContext("2d");
-  const points = [];
+  const waypoints = Object.values(view.missions || {}).flatMap((m) => m.waypoints);
+  const points = waypoints.map((p) => [p.x, p.y]);
   for (const name of names) {
     for (const track of [view.robots[name].truth, anchored(view.robots[name])]) {
       if (!track) continue;
@@ -377,6 +416,23 @@ function drawMap(view, names, color, seen) {
   }
   ctx.fillStyle = "#6b7280"; ctx.font = "11px sans-serif";
   ctx.fillText(`grid ${step} m · x →, y ↑`, 6, canvas.height - 6);
+
+  for (const p of waypoints) {
+    const [a, b] = px(p.x, p.y);
+    const who = p.reached_by || p.assigned_to;
+    ctx.strokeStyle = who ? robotColor(who) : "#b91c1c";
+    ctx.lineWidth = p.current ? 3 : 1.5;
+    ctx.setLineDash([3, 3]);
+    ctx.beginPath(); ctx.arc(a, b, 0.3 * scale, 0, 2 * Math.PI); ctx.stroke();
+    ctx.setLineDash([]);
+    ctx.beginPath(); ctx.arc(a, b, 9, 0, 2 * Math.PI);
+    if (p.reached_by) { ctx.fillStyle = robotColor(p.reached_by); ctx.fill(); }
+    ctx.stroke();
+    ctx.fillStyle = p.reached_by ? "#fff" : ctx.strokeStyle;
+    ctx.font = "bold 11px sans-serif"; ctx.textAlign = "center"; ctx.textBaseline = "middle";
+    ctx.fillText(String(p.index), a, b);
+    ctx.textAlign = "start"; ctx.textBaseline = "alphabetic";
+  }
 
   for (const name of names) {
     const r = view.robots[name];
