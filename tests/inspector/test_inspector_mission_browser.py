@@ -6,6 +6,10 @@ never reloads it. The page must show Faulty's waypoints as its own, then the fir
 by Faulty, then (after the diagnosis) the recovery in force, the rest delegated to Helper and
 accepted, and at the end reached by Helper; the map with the waypoints is drawn and the
 screenshot (kept in the test's tmp folder) is not blank.
+
+This is also the suite's one run of a delegated mission: its result must meet the issue's bar
+(every waypoint within 0.3 m by ground truth, no contact), with Faulty alone and without a
+false alarm until the fault.
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ import sys
 
 import browser
 import pytest
+from missions import assert_completed, assert_faulty_then_helper
 from selenium import webdriver
 from selenium.common.exceptions import WebDriverException
 from selenium.webdriver.support.ui import WebDriverWait
@@ -106,3 +111,8 @@ def test_page_shows_the_mission_its_waypoints_owners_and_the_recovery(tmp_path):
     # loaded machine Helper may not find Faulty: then `unknown`, a retry, and the delegation)
     result = json.loads((tmp_path / "run" / "result.json").read_text())
     assert f"recovery in force: delegate (diagnosis {result['diagnosis']})" in shown["text"]
+    output = "\n".join(run.lines[-40:])
+    assert_completed(result, output)
+    assert result["recovery"] == "delegate" and result["injected_at_s"] >= 20, output
+    faulty_log = (tmp_path / "run" / "logs" / "faulty_agent.log").read_text()
+    assert_faulty_then_helper(result, faulty_log, output)
