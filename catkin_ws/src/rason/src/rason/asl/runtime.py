@@ -63,16 +63,16 @@ class LocalArch(AgentArch):
         # Jason's Circumstance.clone: the queued events and the intentions waiting their turn
         # (not the one running .clone, nor the suspended ones)
         copies: dict[int, Intention] = {}
-        for i in creator.running:
-            if i is not creator.current and i.fork is None and i.reply is None:
+        for i in creator.circ.running:
+            if i is not creator.circ.current and i.fork is None and i.reply is None:
                 try:
                     copies[i.id] = copy.deepcopy(i)
                 except TypeError:   # compiled (mypyc) intentions cannot be copied so: left out
                     continue
-        clone.running = deque(copies.values())
-        clone.events = deque(Event(ev.trigger, None if ev.intention is None else copies.get(ev.intention.id))
-                             for ev in creator.events
-                             if ev.intention is None or ev.intention.id in copies)
+        clone.circ.running = deque(copies.values())
+        clone.circ.events = deque(
+            Event(ev.trigger, None if ev.intention is None else copies.get(ev.intention.id))
+            for ev in creator.circ.events if ev.intention is None or ev.intention.id in copies)
         self.mas.notify()
         return final
 
@@ -298,10 +298,10 @@ class LocalMas:
                 continue
             if idle_hook is not None and idle_hook():
                 continue
-            deadlines = [d for d in (ag.next_deadline() for ag in self.agents.values()) if d is not None]
+            deadlines = [d for d in (ag.circ.next_deadline() for ag in self.agents.values()) if d is not None]
             if self.stop_at is not None:
                 deadlines.append(self.stop_at)
-            pending = any(ag.pending_actions for ag in self.agents.values())
+            pending = any(ag.circ.pending_actions for ag in self.agents.values())
             if not deadlines and not pending:
                 return True
             deadline = min(deadlines) if deadlines else None

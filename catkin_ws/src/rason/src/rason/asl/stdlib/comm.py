@@ -153,7 +153,7 @@ def clear_source_self(ctx: IAContext, args: list) -> bool:
 @internal_action(".signal", arity=1)
 def signal(ctx: IAContext, args: list) -> bool:
     if isinstance(args[0], Literal):
-        ctx.ag.add_event(Event(Trigger(ADD, BELIEF, args[0])))
+        ctx.ag.circ.add_event(Event(Trigger(ADD, BELIEF, args[0])))
     return True
 
 
