@@ -15,39 +15,31 @@ from . import reasoning
 from .arch import AgentArch, JavaRandom, Message
 from .beliefs import BeliefBase
 from .circumstance import Circumstance
+from .communication import Communication, strip_sources
 from .goal_ops import GoalOps
-from .ia import IAError, is_registered
+from .ia import is_registered
 from .inspection import MindState, mind_state, mind_text
 from .intentions import (
     ActionResult,
-    AskWait,
     Event,
     IntendedMeans,
     Intention,
     PendingAction,
     Suspension,
-    TimerKind,
 )
-from .kqml import KQML_SRC, kqml_plans, plans_answered_by
+from .kqml import kqml_plans
 from .logic import query_bb, solve
 from .parser import AgentSource, AslSyntaxError, parse_source, parse_term, path_include_resolver
 from .plans import ACHIEVE, ADD, BELIEF, DEL, K_INTERNAL, PlanLibrary, Trigger, body_deeds
 from .selection import Selection
 from .terms import (
-    FALSE,
     SOURCE_PERCEPT,
-    SOURCE_SELF,
-    ListTerm,
     Literal,
     Rule,
     is_ground,
-    make_list,
     merge_annots,
-    source,
-    term_str,
-    with_nested_source,
 )
-from .unify import rename_vars, resolve, unify
+from .unify import unify
 
 #: cycles a thread that brought input runs for a sleeping agent before handing over to the
 #: agent's runner (see Agent._take_turns)
@@ -78,12 +70,6 @@ class AgentOptions:
         return cls(tro=str(tro).strip().strip('"').lower() not in ("false", "off", "no", "0"),
                    max_intention_depth=int(float(str(depth).strip().strip('"'))))
 
-
-def _strip_sources(t: Any) -> Any:
-    if isinstance(t, Literal) and t.annots:
-        return t.with_annots(tuple(a for a in t.annots
-                                   if not (isinstance(a, Literal) and a.functor == "source")), t.tail)
-    return t
 
 
 class Agent:
@@ -132,6 +118,8 @@ class Agent:
         self.circ = Circumstance(self)
         #: the goal operations (drop, succeed, fail, suspend, resume goals; deadlines)
         self.goals = GoalOps(self)
+        #: the messages: in, out, and the asks waiting for answers
+        self.comm = Communication(self)
         self.random = JavaRandom(seed)
         self._inbox: deque[ActionResult | None] = deque()   # action feedback; None: a wake-up
         self._mail: deque[Message] = deque()                # messages, one taken per cycle
@@ -457,7 +445,7 @@ class Agent:
                     self.circ.action_results.append(it)
             if message is not None:
                 did = True
-                self.process_message(message)
+                self.comm.process_message(message)
         if self.circ.timers:
             did = self.circ.check_timers() or did
         return did
@@ -468,7 +456,7 @@ class Agent:
         order = []
         for p in ps:
             if isinstance(p, Literal):
-                key = _strip_sources(p)
+                key = strip_sources(p)
                 if key not in new:
                     new.add(key)
                     order.append(key)
@@ -484,39 +472,6 @@ class Agent:
         return True
 
     # ================================================================ intentions
-    def register_ask(self, msg_id: str, i: Intention | None, answer: Any, deadline: float | None,
-                     perf: str = "askOne", n: int | None = None) -> None:
-        """An intention waits for the answer to ask ``msg_id`` (``n``: number of receivers when
-        they were given as a list, then the answer is the list of their answers)."""
-        if i is None:
-            return
-        self.circ.suspend(i, Suspension.ASK)
-        i.pi_key = msg_id
-        self.circ.ask_waits[msg_id] = AskWait(i, answer, perf, n)
-        if deadline is not None:
-            self.circ.push_timer(deadline, TimerKind.ASK_TIMEOUT, i, msg_id)
-
-    def ask_timed_out(self, i: Intention, msg_id: str | None) -> bool:
-        """The ask ``msg_id`` of ``i`` timed out: the answer is ``timeout``, or the answers so
-        far for a list of receivers (jason.stdlib.send). True when ``i`` was waiting for it."""
-        w = self.circ.ask_waits.pop(msg_id, None) if msg_id is not None else None
-        if w is None:
-            return False
-        self.circ.resume(i)
-        im = i.top()
-        assert im is not None   # the .send that asked is on top
-        s2 = dict(im.u)
-        got = Literal("timeout") if w.receivers is None else make_list(w.answers)
-        if unify(w.answer, got, s2, self):
-            im.u = s2
-        return True
-
-    def intention_finished(self, i: Intention, last: IntendedMeans) -> None:
-        if i.reply is not None:
-            q: Message = i.reply
-            ans = _strip_sources(reasoning.means_answer(self, last))
-            self.send_message(Message(self.name, q.sender, "tell", ans, in_reply_to=q.msg_id))
-
     # ================================================================ beliefs
     def add_belief(self, lit: Literal, front: bool = True, focus: Intention | None = None) -> bool:
         """Add a belief (with its source annotations) and post the ``+b`` event if it is new.
@@ -635,112 +590,9 @@ class Agent:
                                         code=entry.action, extra=result.annots)
         reasoning.fail_intention(self, i, annots=annots)
 
-    # ================================================================ communication
-    def send_message(self, msg: Message) -> None:
-        if msg.receiver == self.name:
-            self.receive(msg)
-            return
-        try:
-            self.arch.send(self, msg)
-        except Exception as e:
-            raise IAError(f"cannot send to {msg.receiver}: {e}") from None
-
-    def process_message(self, m: Message) -> None:
-        """One message (Jason's ``TransitionSystem.applyProcMsg``): an answer resumes the
-        intention that asked; a literal told/achieved/signalled is handled directly unless the
-        program has its own ``kqml_received`` plans; anything else is a ``+!kqml_received``."""
-        src = SOURCE_SELF if m.sender == self.name else source(m.sender)
-        content = m.content
-        if m.in_reply_to is not None and m.in_reply_to in self.circ.ask_waits:
-            self._ask_answer(m)
-            return
-        if m.in_reply_to is not None and m.in_reply_to.startswith("samid"):
-            return  # an answer after the ask's timeout is ignored
-        if self.accept_message is not None and not self.accept_message(self, m):
-            return  # Jason's socAcc refused it
-        perf = m.performative
-        if (perf in ("tell", "achieve", "signal") and type(content) is Literal
-                and not self._user_kqml_plans()):
-            # TransitionSystem.applyProcMsg: the content's sources are nested in the sender's
-            lit = with_nested_source(content, src.args[0])
-            if perf == "tell":
-                self.add_belief(lit, front=True)
-            elif perf == "achieve":
-                self.circ.add_event(Event(Trigger(ADD, ACHIEVE, lit)))
-            else:
-                self.circ.add_event(Event(Trigger(ADD, BELIEF, lit)))
-            return
-        if perf == "tell" and type(content) is ListTerm and not self._user_kqml_plans():
-            self._tell_all(content, src)
-            return
-        sender = Literal("self") if m.sender == self.name else Literal(m.sender)
-        received = Literal("kqml_received", (sender, Literal(perf), content, Literal(m.msg_id)))
-        self.circ.add_event(Event(Trigger(ADD, ACHIEVE, received)))
-
-    def _tell_all(self, content: ListTerm, src: Literal) -> None:
-        """A ``tell`` of a list, as the default plans do it (each ground literal is added with
-        the sender's source, the rest is skipped) but in one pass: linear in the list's length."""
-        items: Any = content
-        while type(items) is ListTerm:
-            for item in items.items:
-                if type(item) is Literal and (item.known_ground or is_ground(item)):
-                    self.add_belief(item.add_annots([src]), front=True)
-            items = items.tail
-
-    def _user_kqml_plans(self) -> bool:
-        """Jason's ``PlanLibrary.hasUserKqmlReceivedPlans``."""
-        return any(p.src != KQML_SRC for p in self.pl.relevant(_KQML_RECEIVED))
-
-    def _ask_answer(self, m: Message) -> None:
-        """The answer to a ``.send(R, askOne|askAll, C, A)`` that suspended an intention: an
-        untell of an askOne is ``false``, a literal (each literal of an askAll list) gets the
-        sender's source; with a list of receivers ``A`` is the list of all the answers."""
-        mid = m.in_reply_to
-        assert mid is not None      # only answers (in_reply_to set) come here
-        wait = self.circ.ask_waits[mid]
-        i, ans, perf, n, got = wait.intention, wait.answer, wait.performative, wait.receivers, wait.answers
-        sender = Literal(m.sender)
-        # the answer's variables are not the asker's (Jason's messages are copied as text)
-        content = rename_vars(m.content, {})
-        if m.performative == "untell" and perf == "askOne":
-            content = FALSE
-        elif isinstance(content, Literal) or (perf == "askAll" and isinstance(content, ListTerm)):
-            # TransitionSystem: the answer's sources are nested in source(Sender)
-            content = with_nested_source(content, sender)
-        elif perf == "askHow" and isinstance(content, ListTerm):
-            content = plans_answered_by(content, m.sender)   # labelled source(Sender)
-        if n is not None:
-            got.append(content)
-            if len(got) < n:
-                return
-            content = make_list(got)
-        del self.circ.ask_waits[mid]
-        self._resume_ask(i, ans, content)
-
-    def _resume_ask(self, i: Intention, ans: Any, content: Any) -> None:
-        """Unify the answer with the ``.send``'s fourth argument and resume the intention;
-        when they do not unify the intention fails with ``ask_failed`` (resumeSyncAskIntention)."""
-        im = i.top()
-        if i.dropped or i.id not in self.circ.suspended or im is None:
-            return
-        s2 = dict(im.u)
-        if unify(ans, content, s2, self):
-            im.u = s2
-            self.circ.resume(i)
-        elif self.circ.resume(i):
-            self.circ.running.remove(i)
-            msg = (f"reply of an ask message ('{term_str(content)}') does not unify with fourth "
-                   f"argument of .send ('{term_str(resolve(ans, im.u, self))}')")
-            reasoning.fail_intention(self, i, annots=reasoning.error_annots(
-                self, im, im.current, "ask_failed", msg))
-
-
 _JAG_SLEEPING = Trigger(ADD, BELIEF, Literal("jag_sleeping"))
 _JAG_AWAKING = Trigger(ADD, BELIEF, Literal("jag_awaking"))
 
-#: the event of a message handled by (default or user) plans
-_KQML_RECEIVED = Trigger(ADD, ACHIEVE, Literal("kqml_received", (Literal("s"), Literal("p"),
-                                                                  Literal("c"), Literal("m"))))
 
 
 def load_agent_source(path: str | os.PathLike) -> str:

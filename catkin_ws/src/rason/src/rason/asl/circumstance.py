@@ -324,5 +324,5 @@ class Circumstance:
                     ag, top, None, "wait_timeout", "timeout in .wait"))
                 did = True
             elif kind is TimerKind.ASK_TIMEOUT and i.suspended is Suspension.ASK:
-                did = ag.ask_timed_out(i, timer.msg_id) or did
+                did = ag.comm.ask_timed_out(i, timer.msg_id) or did
         return did

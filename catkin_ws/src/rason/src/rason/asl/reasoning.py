@@ -866,12 +866,12 @@ def clr_int(ag: Agent, i: Intention) -> None:
             ag.circ.goal_state(im.trigger, "finished")
         if not ims:
             if i.reply is not None:
-                ag.intention_finished(i, im)
+                ag.comm.intention_finished(i, im)
             return
         if im.fail_target is not None:
             i.truncate(im.fail_target)
             if not ims:
-                ag.intention_finished(i, im)
+                ag.comm.intention_finished(i, im)
                 return
             caller = ims[-1]
             if caller.stack and caller.stack[-1] is caller.current:
