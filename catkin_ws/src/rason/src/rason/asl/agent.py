@@ -1,12 +1,12 @@
-"""The agent (Jason's ``Agent`` + ``Circumstance``): state, public thread-safe API, helpers."""
+"""The agent proper (Jason's ``Agent``): belief base, plan library, options, loading, percepts,
+and the public thread-safe API; its circumstance, goal operations, communication and runner are
+collaborators it owns (:mod:`.circumstance`, :mod:`.goal_ops`, :mod:`.communication`, :mod:`.runner`)."""
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 import threading
-from collections import deque
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
@@ -31,6 +31,7 @@ from .kqml import kqml_plans
 from .logic import query_bb, solve
 from .parser import AgentSource, AslSyntaxError, parse_source, parse_term, path_include_resolver
 from .plans import ACHIEVE, ADD, BELIEF, DEL, K_INTERNAL, PlanLibrary, Trigger, body_deeds
+from .runner import Runner
 from .selection import Selection
 from .terms import (
     SOURCE_PERCEPT,
@@ -40,10 +41,6 @@ from .terms import (
     merge_annots,
 )
 from .unify import unify
-
-#: cycles a thread that brought input runs for a sleeping agent before handing over to the
-#: agent's runner (see Agent._take_turns)
-TURN_STEPS = 64
 
 
 @dataclass(frozen=True)
@@ -100,7 +97,7 @@ class Agent:
         self.arch = arch
         #: the architecture has percepts to give (it overrides ``perceive``, in its class or on
         #: the instance): each cycle asks
-        self._perceives = (type(arch).perceive is not AgentArch.perceive
+        self.perceives = (type(arch).perceive is not AgentArch.perceive
                            or "perceive" in getattr(arch, "__dict__", {}))
         self.filename = filename
         if src_name is None:
@@ -121,26 +118,11 @@ class Agent:
         #: the messages: in, out, and the asks waiting for answers
         self.comm = Communication(self)
         self.random = JavaRandom(seed)
-        self._inbox: deque[ActionResult | None] = deque()   # action feedback; None: a wake-up
-        self._mail: deque[Message] = deque()                # messages, one taken per cycle
-        self._inbox_lock = threading.Lock()
-        self._wake_event = threading.Event()
-        # held by the thread running reasoning cycles: the agent's runner, or a thread that
-        # brought input while the runner slept (see _take_turns)
-        self._turn = threading.Lock()
-        # the runner's wake-up time while it sleeps (math.inf: none), None while it is awake;
-        # written with _turn held
-        self._asleep_until: float | None = None
-        self._runner_stop: threading.Event | None = None   # the running runner's stop event
-        self._caller_turn = False     # a thread that brought input holds _turn (see _take_turns)
-        self._state_lock = threading.RLock()
+        #: the threads and turns that run the reasoning cycle
+        self.runner = Runner(self)
         self._percepts: set = set()
         #: set by :meth:`request_stop` (``.stopMAS``, a killed agent): its runner stops
         self.stop_requested = False
-        # idle (Jason's sleeping agent): +jag_sleeping / +jag_awaking events for plans that want them
-        self.sleeping = False
-        # called (from any thread) whenever input arrives; a runner may use it to wake up
-        self.on_wake: Any = None
         self.load(parsed)
         arch.attach(self)
 
@@ -203,175 +185,43 @@ class Agent:
     # ================================================================ public API
     def receive(self, message: Message, run_here: bool = False) -> None:
         """Thread-safe: queue an incoming message and wake the agent; with ``run_here`` a
-        caller that finds the agent's runner asleep reasons on it itself (:meth:`_take_turns`)."""
-        with self._inbox_lock:
-            self._mail.append(message)
-        self._input_arrived(run_here)
+        caller that finds the agent's runner asleep reasons on it itself
+        (:meth:`.Runner.take_turns`)."""
+        self.runner.receive(message, run_here)
 
     def action_feedback(self, action_id: int, ok: bool, reason: str | None = None, message: str = "",
                         annots: list | None = None, run_here: bool = False) -> None:
         """Thread-safe: the environment finished action ``action_id`` (ok or failed with reason;
         ``annots``: more annotations for the failure event, like Jason's failure reason term;
         ``run_here``: as for :meth:`receive`)."""
-        with self._inbox_lock:
-            self._inbox.append(ActionResult(action_id, ok, reason, message, annots))
-        self._input_arrived(run_here)
+        self.runner.action_feedback(ActionResult(action_id, ok, reason, message, annots), run_here)
 
     def wake(self) -> None:
         """Thread-safe: something changed (e.g. new percepts); run a cycle soon."""
-        with self._inbox_lock:
-            self._inbox.append(None)
-        self._input_arrived(False)
-
-    def _input_arrived(self, run_here: bool) -> None:
-        if run_here and self._take_turns():
-            return
-        self._wake_event.set()
-        if self.on_wake is not None:
-            self.on_wake()
-
-    def _take_turns(self) -> bool:
-        """Reason on the calling thread, now, if the agent's runner (:meth:`run`) sleeps.
-
-        A thread that brings input to a sleeping agent (a ROS node's receiving thread) runs the
-        cycles it causes itself, instead of waking the runner and leaving the CPU to it: on a
-        loaded machine that second thread waited for a core behind every other process woken
-        by the same broadcast. Cycles still run one at a time (``_turn``): input brought while
-        another such thread reasons is left to it (it looks for more input once it has let go
-        of the turn). True when the input is dealt with and the runner sleeps on; False when
-        the runner must take over (see :meth:`_turn_cycles`).
-        """
-        while True:
-            if self._asleep_until is None:
-                return False                      # the runner is awake, or not running
-            if not self._turn.acquire(blocking=False):
-                # a thread that brought input before this one reasons: it finds this input
-                # when it lets go (below); the runner, about to sleep or wake, is woken
-                return self._caller_turn
-            try:
-                self._caller_turn = True
-                handled = self._turn_cycles()
-            finally:
-                self._caller_turn = False
-                self._turn.release()
-            if not handled:
-                return False
-            if not self.has_input():
-                return True
-            # input was brought while this thread reasoned and found the turn taken
-
-    def _turn_cycles(self) -> bool:
-        """The cycles of a bringing thread's turn (``_turn`` held): True when the agent is idle
-        and the runner may sleep on; False when the runner must take over: it woke, or was woken
-        meanwhile (other input, a stop: the turn ends after the cycle under way), the agent is
-        still busy after :data:`TURN_STEPS` cycles, or a timer now falls due before the
-        runner's wake-up time."""
-        asleep_until = self._asleep_until
-        stop = self._runner_stop
-        if asleep_until is None or stop is None:
-            return False                          # the runner woke, or has not started
-        for _ in range(TURN_STEPS):
-            if self._wake_event.is_set() or stop.is_set() or self.stop_requested:
-                return False
-            if not self.step():
-                break
-        else:
-            return False                          # still busy: its runner goes on
-        deadline = self.circ.next_deadline()
-        return deadline is None or deadline >= asleep_until
+        self.runner.wake()
 
     def step(self) -> bool:
         """One reasoning cycle; True if it did anything."""
-        with self._state_lock:
-            try:
-                # each stage is skipped (one test) when it has nothing to do: a busy agent
-                # without an environment or mail pays no call for sensing
-                did = False
-                if self._perceives or self._inbox or self._mail or self.circ.timers:
-                    if self.sleeping and (self._inbox or self._mail):
-                        self._wake_up()   # as Jason: +jag_awaking before what woke the agent
-                    did = self.sense()
-                    if did and self.sleeping:
-                        self._wake_up()
-                if self.circ.events or self.circ.goal_state_events:
-                    did = reasoning.deliberate(self) or did
-                else:
-                    self.circ.selected_event = None
-                if self.circ.running or self.circ.action_results or self.pl.goal_condition_plans:
-                    did = reasoning.act(self) or did
-                if not did and not self.sleeping and not self.circ.events and not self.circ.running:
-                    did = self._fall_asleep()
-            except Exception as e:  # a bug or an odd program must not kill the agent
-                self.log(f"internal error in the reasoning cycle ({type(e).__name__}: {e}); "
-                         "the event/intention at hand was dropped")
-                if self.circ.current is not None:
-                    self.circ.remove_intention(self.circ.current)
-                    self.circ.current = None
-                return True
-            return did
+        return self.runner.step()
 
-    def _fall_asleep(self) -> bool:
-        """Nothing to do: the agent sleeps; with a ``+jag_sleeping`` plan (Jason's sleep
-        event), that event is posted. Returns True when it was."""
-        self.sleeping = True
-        if self.pl.has_key(_JAG_SLEEPING.key):
-            self.circ.events.append(Event(_JAG_SLEEPING))
-            return True
-        return False
+    def run(self, stop: threading.Event) -> None:
+        """Reason until ``stop`` is set; block (no polling) while idle."""
+        self.runner.run(stop)
 
-    def _wake_up(self) -> None:
-        """Input arrived while asleep: ``+jag_awaking`` (when a plan wants it)."""
-        self.sleeping = False
-        if self.pl.has_key(_JAG_AWAKING.key):
-            self.circ.events.append(Event(_JAG_AWAKING))
+    def is_idle(self) -> bool:
+        """No events, no runnable intention, nothing in the inbox."""
+        return self.runner.is_idle()
 
     def post_external(self, ev: Event) -> None:
         """An external event from the host (Jason's ``addExternalEv``); a sleeping agent wakes
         after it (``+jag_awaking`` comes after the event)."""
         self.circ.add_event(ev)
-        if self.sleeping:
-            self._wake_up()
-
-    def run(self, stop: threading.Event) -> None:
-        """Reason until ``stop`` is set; block (no polling) while idle."""
-        def watcher() -> None:
-            stop.wait()
-            self._wake_event.set()
-        threading.Thread(target=watcher, name=f"{self.name}-stop", daemon=True).start()
-        clock = self.arch.clock
-        self._runner_stop = stop
-        while not stop.is_set() and not self.stop_requested:
-            sleep, deadline = self._runner_turn(stop)
-            if sleep:
-                clock.wait(self._wake_event, deadline)
-        with self._turn:
-            self._asleep_until = None
-
-    def _runner_turn(self, stop: threading.Event) -> tuple[bool, float | None]:
-        """One cycle of the runner, holding the turn: (whether it may sleep now, until when)."""
-        with self._turn:
-            self._asleep_until = None
-            self._wake_event.clear()
-            if self.step() or stop.is_set() or self.has_input():
-                return False, None
-            deadline = self.circ.next_deadline()
-            self._asleep_until = math.inf if deadline is None else deadline
-            return True, deadline
-
-    def is_idle(self) -> bool:
-        """No events, no runnable intention, nothing in the inbox."""
-        with self._inbox_lock:
-            inbox = bool(self._inbox or self._mail)
-        return (not self.circ.events and not self.circ.running and not inbox and not self.circ.action_results
-                and not self.circ.goal_state_events)
-
-    def has_input(self) -> bool:
-        with self._inbox_lock:
-            return bool(self._inbox or self._mail)
+        if self.runner.sleeping:
+            self.runner.wake_up()
 
     def mind(self) -> dict[str, list[str]]:
         """Snapshot of the mental state as Jason text (see :func:`inspection.mind_text`)."""
-        with self._state_lock:
+        with self.runner.state_lock:
             return mind_text(self)
 
     def solve(self, f: Any, s: dict, intention: Intention | None = None) -> Iterator[dict]:
@@ -394,12 +244,12 @@ class Agent:
     def mind_state(self, blocking: bool = True) -> MindState | None:
         """Structured snapshot of the mental state, for a mind inspector (read-only); None when
         not `blocking` and a reasoning cycle of another thread holds the agent right now."""
-        if not self._state_lock.acquire(blocking=blocking):
+        if not self.runner.state_lock.acquire(blocking=blocking):
             return None
         try:
             return mind_state(self)
         finally:
-            self._state_lock.release()
+            self.runner.state_lock.release()
 
     def request_stop(self) -> None:
         self.stop_requested = True
@@ -433,19 +283,9 @@ class Agent:
             did = self.update_percepts(percepts)
         else:
             did = bool(self.belief_update(self, percepts))
-        if self._inbox or self._mail:
-            # all action feedback and wake-ups, but (like Jason) one message per cycle
-            with self._inbox_lock:
-                items = list(self._inbox)
-                self._inbox.clear()
-                message = self._mail.popleft() if self._mail else None
-            for it in items:
-                did = True
-                if type(it) is ActionResult:
-                    self.circ.action_results.append(it)
-            if message is not None:
-                did = True
-                self.comm.process_message(message)
+        runner = self.runner
+        if runner.inbox or runner.mail:
+            did = runner.take_input() or did
         if self.circ.timers:
             did = self.circ.check_timers() or did
         return did
@@ -520,7 +360,7 @@ class Agent:
         intention goes to the end of the queue at once instead: the same order, less work."""
         c = self.circ
         pl = self.pl
-        if (c.events or c.event_waits or self._perceives or self._inbox or self._mail
+        if (c.events or c.event_waits or self.perceives or self.runner.inbox or self.runner.mail
                 or c.timers or c.action_results or c.atomic_used or pl.var_plans
                 or pl.goal_condition_plans or pl.goal_state_plans
                 or (op, BELIEF, lit.functor, len(lit.args), lit.neg) in pl.by_key):
@@ -590,8 +430,6 @@ class Agent:
                                         code=entry.action, extra=result.annots)
         reasoning.fail_intention(self, i, annots=annots)
 
-_JAG_SLEEPING = Trigger(ADD, BELIEF, Literal("jag_sleeping"))
-_JAG_AWAKING = Trigger(ADD, BELIEF, Literal("jag_awaking"))
 
 
 

@@ -172,7 +172,7 @@ class LocalMas:
         ag = Agent(name, source, self.make_arch(name), filename, seed=seed, src_name=src_name,
                    options=options if options is not None else self.options,
                    source_path=self.source_path)
-        ag.on_wake = self.notify
+        ag.runner.on_wake = self.notify
         self.agents[name] = ag
         self._roster = tuple(self.agents.values())
         return ag
@@ -294,7 +294,7 @@ class LocalMas:
                 if t_end is not None and clock.now() >= t_end:
                     return False
                 continue
-            if not self.finished() and any(ag.has_input() for ag in self.agents.values()):
+            if not self.finished() and any(ag.runner.has_input() for ag in self.agents.values()):
                 continue
             if idle_hook is not None and idle_hook():
                 continue
