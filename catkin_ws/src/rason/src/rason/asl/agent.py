@@ -81,7 +81,8 @@ class Agent:
                  options: AgentOptions | None = None, source_path: list[str] | None = None,
                  selection: Selection | None = None,
                  belief_update: Callable[[Agent, list], bool] | None = None,
-                 accept_message: Callable[[Agent, Message], bool] | None = None) -> None:
+                 accept_message: Callable[[Agent, Message], bool] | None = None,
+                 belief_base: BeliefBase | None = None) -> None:
         self.name = name
         #: the event, option and intention selection functions (see :mod:`.selection`)
         self.selection = selection if selection is not None else Selection()
@@ -104,7 +105,8 @@ class Agent:
             src_name = os.path.basename(filename) if filename != "<string>" else filename
         parsed = parse_source(source, filename, src="file:" + src_name,
                               include=path_include_resolver(self.source_path))
-        self.bb = BeliefBase()
+        #: the belief base (``belief_base``: one made for this agent, e.g. filled from a file)
+        self.bb = belief_base if belief_base is not None else BeliefBase()
         #: what a mind inspector keeps between snapshots (an inspection.MindViews, made by
         #: the first snapshot; None for an agent never inspected)
         self.inspector_views: Any = None

@@ -168,16 +168,21 @@ class LocalMas:
             env.stop()
 
     def add_agent(self, name: str, source: str, filename: str = "<string>", seed: int | None = None,
-                  src_name: str | None = None, options: AgentOptions | None = None) -> Agent:
+                  src_name: str | None = None, options: AgentOptions | None = None,
+                  belief_base: BeliefBase | None = None) -> Agent:
         ag = Agent(name, source, self.make_arch(name), filename, seed=seed, src_name=src_name,
                    options=options if options is not None else self.options,
-                   source_path=self.source_path)
+                   source_path=self.source_path, belief_base=belief_base)
         ag.runner.on_wake = self.notify
         self.agents[name] = ag
         self._roster = tuple(self.agents.values())
         return ag
 
     def load_project(self, proj: MasProject, seed: int | None = None) -> None:
+        """Add the agents of a ``.mas2j`` project with their options and their classes
+        (:mod:`.hooks`; raises :class:`.HookLoadError` for a class that does not import)."""
+        from .hooks import load_hooks  # imports the environment module, which imports this one
+
         base = os.path.dirname(os.path.abspath(proj.path))
         self.source_path = [*proj.source_path, base]
         if proj.environment and self.arch_factory is None:
@@ -185,15 +190,15 @@ class LocalMas:
 
             self.set_environment(load_environment(proj.environment, base))
         for k, spec in enumerate(proj.agents):
+            hooks = load_hooks(spec, proj.path)
             src = load_agent_source(spec.asl_path)
             rel = os.path.relpath(spec.asl_path, base)
             opts = AgentOptions.from_options(spec.options, self.options)
             ag = self.add_agent(spec.name, src, spec.asl_path, None if seed is None else seed + k,
-                                src_name=rel, options=opts)
+                                src_name=rel, options=opts, belief_base=hooks.make_belief_base())
             ag.add_initial(spec.options.get("beliefs"), spec.options.get("goals"))
-            if spec.arch_class:
-                self.notes.append(f"agent {spec.name}: agentArchClass {spec.arch_class} accepted "
-                                  "(local run uses the built-in architecture)")
+            hooks.customise(ag)
+            self.notes.extend(hooks.notes)
         self.notes.extend(proj.notes)
 
     def find_source(self, source: str, near: str | None = None) -> str:
