@@ -243,7 +243,7 @@ def bytes_per_frame(depth: int) -> float:
         gc.collect()
         after = tracemalloc.get_traced_memory()[0]
         tracemalloc.stop()
-        assert ag.all_intentions(), "the intention should be suspended at the bottom"
+        assert ag.circ.all_intentions(), "the intention should be suspended at the bottom"
         return after - before
     return (held(depth) - held(1)) / (depth - 1)
 

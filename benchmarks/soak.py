@@ -79,7 +79,7 @@ def recursion(iterations: int, tro: bool) -> dict[str, float]:
         if steps == warmup:
             start_rss, start_t = rss_mb(), time.perf_counter()
         if steps % 1000 == 0:
-            deepest = max([deepest, *(len(i.ims) for i in ag.all_intentions())])
+            deepest = max([deepest, *(len(i.ims) for i in ag.circ.all_intentions())])
     end_rss, end_t = rss_mb(), time.perf_counter()
     assert arch.last == f"done {iterations}", arch.last
     return {"iterations": iterations, "start": start_rss, "end": end_rss, "seconds": end_t - start_t,

@@ -7,6 +7,9 @@ import contextlib
 import io
 import os
 import re
+import subprocess
+import sys
+from pathlib import Path
 
 from asl_helpers import RecordingArch, lines, run_until_idle
 
@@ -134,3 +137,73 @@ def test_the_pages_example_prints_what_the_page_says() -> None:
         exec(compile(code.group(1), DOC, "exec"), {"__name__": "agent_hooks_example"})
     robot = [ln for ln in printed.getvalue().splitlines() if ln.startswith("[robot]")]
     assert robot == shown.group(1).splitlines()
+
+
+MAS2J_SECTION = "## From a `.mas2j`"
+
+
+def _page_project(tmp_path: Path) -> tuple[Path, list[str]]:
+    """The files of the page's ``.mas2j`` example written to ``tmp_path``; the project file and
+    the lines the page says it prints."""
+    with open(DOC, encoding="utf-8") as f:
+        section = f.read().split(MAS2J_SECTION, 1)[1]
+    files = re.findall(r"`([\w.]+)`:\n\n```\w*\n(.*?)```", section, re.S)
+    assert [name for name, _ in files] == ["picky.py", "robot.asl", "sender.asl", "hooks.mas2j"]
+    for name, text in files:
+        (tmp_path / name).write_text(text, encoding="utf-8")
+    shown = re.search(r"prints\n\n```\n(.*?)```", section, re.S)
+    assert shown is not None
+    return tmp_path / "hooks.mas2j", shown.group(1).splitlines()
+
+
+def _run_project(path: Path) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "rason.asl", "run", str(path), "--timeout", "30"],
+                          capture_output=True, text=True, timeout=120, cwd=path.parent)
+
+
+def test_the_pages_mas2j_example_installs_the_hooks_and_the_belief_base(tmp_path: Path) -> None:
+    project, shown = _page_project(tmp_path)
+    done = _run_project(project)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines() == shown
+    # without the classes: the default option, every message, no seen(box)
+    plain = tmp_path / "plain.mas2j"
+    plain.write_text(re.sub(r" agentClass \S+ beliefBaseClass \S+;", ";", project.read_text()))
+    done = _run_project(plain)
+    assert done.stdout.splitlines() == ["[robot] hello", "[robot] hi_from(bob)", "[robot] hi_from(ann)"]
+
+
+def test_a_class_that_does_not_import_is_an_error_with_file_line_and_name(tmp_path: Path) -> None:
+    project, _ = _page_project(tmp_path)
+    bad = tmp_path / "bad.mas2j"
+    bad.write_text(project.read_text().replace("picky.customise", "picky.customize"))
+    done = _run_project(bad)
+    assert done.returncode == 2 and done.stdout == ""
+    assert f"{bad}:3: agent robot: agentClass 'picky.customize'" in done.stderr
+    assert "module 'picky' has no 'customize'" in done.stderr
+    bad.write_text(project.read_text().replace("picky.remembered", "nowhere.remembered"))
+    done = _run_project(bad)
+    assert done.returncode == 2
+    assert f"{bad}:3: agent robot: beliefBaseClass 'nowhere.remembered'" in done.stderr
+    assert "No module named 'nowhere'" in done.stderr
+
+
+def test_a_belief_base_class_must_make_a_belief_base(tmp_path: Path) -> None:
+    project, _ = _page_project(tmp_path)
+    (tmp_path / "odd.py").write_text("def bb(*facts):\n    return set(facts)\n")
+    bad = tmp_path / "bad.mas2j"
+    bad.write_text(project.read_text().replace("picky.remembered", "odd.bb"))
+    done = _run_project(bad)
+    assert done.returncode == 2
+    assert "beliefBaseClass 'odd.bb': returned set, not a rason.asl.beliefs.BeliefBase" in done.stderr
+
+
+def test_jasons_own_classes_are_noted_and_ignored(tmp_path: Path) -> None:
+    (tmp_path / "a.asl").write_text("!g. +!g <- .print(hi).\n")
+    project = tmp_path / "j.mas2j"
+    project.write_text("MAS j { agents: a agentClass jason.asSemantics.Agent "
+                       "beliefBaseClass jason.bb.TextPersistentBB; }")
+    done = _run_project(project)
+    assert done.returncode == 0 and done.stdout.splitlines() == ["[a] hi"]
+    assert "agentClass jason.asSemantics.Agent ignored" in done.stderr
+    assert "beliefBaseClass jason.bb.TextPersistentBB ignored" in done.stderr

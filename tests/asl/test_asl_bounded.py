@@ -37,7 +37,7 @@ def _run_tracking_depth(source: str, options: AgentOptions) -> tuple[list[str], 
     for _ in range(100_000):
         if not ag.step():
             break
-        for i in ag.all_intentions():
+        for i in ag.circ.all_intentions():
             deepest = max(deepest, len(i.ims))
     return arch.out, deepest
 
@@ -59,7 +59,7 @@ def test_the_simplest_endless_loop_stays_at_depth_one() -> None:
     ag = Agent("a", "!g.\n+!g <- !g.", arch)
     for _ in range(20_000):
         ag.step()
-    (i,) = ag.all_intentions()
+    (i,) = ag.circ.all_intentions()
     assert len(i.ims) == 1
 
 
@@ -118,7 +118,7 @@ def test_an_unhandled_depth_error_drops_the_intention_and_the_agent_goes_on() ->
         ag.step()
         arch.clock.advance(0.001)
     assert "alive" in arch.out
-    assert ag.all_intentions() == []
+    assert ag.circ.all_intentions() == []
     assert not any(line == "never" for line in arch.out)
 
 
@@ -154,7 +154,7 @@ def test_a_tell_of_20000_literals_takes_a_few_cycles_and_no_deep_intention() -> 
     cycles, deepest = 0, 0
     while ag.step():
         cycles += 1
-        deepest = max([deepest, *(len(i.ims) for i in ag.all_intentions())])
+        deepest = max([deepest, *(len(i.ims) for i in ag.circ.all_intentions())])
     assert arch.out == [f"got{n}"]
     assert cycles <= 5 and deepest <= 1
     assert ag.bb.size() == n

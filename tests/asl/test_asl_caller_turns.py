@@ -10,7 +10,7 @@ from contextlib import contextmanager
 from asl_helpers import RecordingArch, run_until_idle
 
 from rason.asl import Agent, Message, WallClock, parse_literal
-from rason.asl.agent import TURN_STEPS
+from rason.asl.runner import TURN_STEPS
 
 
 def _hi() -> Message:
@@ -70,7 +70,7 @@ def test_an_agent_whose_runner_is_not_running_keeps_the_message_for_it() -> None
     arch = RecordingArch()
     agent = Agent("m", "+!hi[source(S)] <- .print(hi, S).", arch)
     agent.receive(_hi(), run_here=True)
-    assert arch.out == [] and agent.has_input()
+    assert arch.out == [] and agent.runner.has_input()
     run_until_idle(agent)
     assert arch.out == ["hibob"]
 

@@ -125,7 +125,7 @@ def test_mas2j_full_grammar(tmp_path) -> None:
     assert proj.source_path[0].endswith("src")
     notes = " ".join(proj.notes)
     for word in ("infrastructure", "environment", "executionControl", "directives", "classpath",
-                 "verbose", "beliefBaseClass", "agentClass"):
+                 "verbose"):
         assert word in notes
 
 

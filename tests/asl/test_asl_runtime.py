@@ -65,7 +65,7 @@ def test_action_suspends_only_its_intention_and_resumes() -> None:
     run_until_idle(ag)
     assert arch.actions == [(1, "move(1)")]
     assert arch.out == ["o1", "o2"]  # the other intention ran while move(1) was pending
-    assert ag.is_idle() and ag.has_pending()
+    assert ag.is_idle() and ag.circ.has_pending()
     assert ag.mind()["pending_actions"] == ["1: move(1)"]
     ag.action_feedback(1, True)
     run_until_idle(ag)
@@ -73,7 +73,7 @@ def test_action_suspends_only_its_intention_and_resumes() -> None:
     ag.action_feedback(2, False, "no_progress", "wheels stuck")
     run_until_idle(ag)
     assert arch.out[-1] == 'failed no_progress wheels stuck move(2) 3'
-    assert not ag.has_pending()
+    assert not ag.circ.has_pending()
 
 
 def test_action_failure_without_reason() -> None:
@@ -167,7 +167,7 @@ def test_wait_uses_the_clock() -> None:
     arch.clock = clock
     ag = Agent("w", "!g.\n+!g <- .time(T0); .wait(4000); .time(T1); .print(T1 - T0).", arch)
     run_until_idle(ag)
-    assert ag.next_deadline() == 4.0 and arch.out == []
+    assert ag.circ.next_deadline() == 4.0 and arch.out == []
     clock.advance(4.0)
     run_until_idle(ag)
     assert arch.out == ["4000"]
@@ -232,7 +232,7 @@ def test_run_loop_sleeps_until_wait_deadline_and_feedback_from_thread() -> None:
     while not arch.actions and time.monotonic() - t0 < 3:
         time.sleep(0.005)
     assert arch.out == ["waited"] and time.monotonic() - t0 >= 0.08
-    assert ag.is_idle() and ag.has_pending()
+    assert ag.is_idle() and ag.circ.has_pending()
     threading.Timer(0.02, lambda: ag.action_feedback(arch.actions[0][0], True)).start()
     while len(arch.out) < 2 and time.monotonic() - t0 < 3:
         time.sleep(0.005)

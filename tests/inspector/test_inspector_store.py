@@ -239,7 +239,7 @@ def test_a_busy_agent_publishes_its_mind_from_its_own_cycle():
     held, release = threading.Event(), threading.Event()
 
     def cycle_in_progress() -> None:
-        with agent._state_lock:           # what a reasoning cycle of the agent's thread holds
+        with agent.runner.state_lock:           # what a reasoning cycle of the agent's thread holds
             held.set()
             release.wait(10)
 

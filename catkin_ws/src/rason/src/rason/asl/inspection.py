@@ -98,7 +98,7 @@ class MindViews:
 def suspension_text(agent: Agent, i: Intention) -> str:
     """What ``i`` waits for, as the mind shows it (``action 3``, ``wait``...)."""
     if i.suspended is Suspension.ACTION:
-        for aid, p in agent.pending_actions.items():
+        for aid, p in agent.circ.pending_actions.items():
             if p.intention is i:
                 return f"action {aid}"
     return i.suspended.value if i.suspended is not None else ""
@@ -108,14 +108,14 @@ def mind_text(agent: Agent) -> dict[str, list[str]]:
     """The mental state as Jason text: beliefs, desires, intentions, pending actions (call
     with the agent's state lock held: see Agent.mind)."""
     beliefs = [term_str(b) if isinstance(b, Literal) else str(b) for b in agent.bb]
-    desires = [str(ev.trigger) for ev in agent.events if ev.trigger.is_goal]
+    desires = [str(ev.trigger) for ev in agent.circ.events if ev.trigger.is_goal]
     intentions = []
-    for i in agent.all_intentions():
+    for i in agent.circ.all_intentions():
         tops = " / ".join(str(im.trigger) for im in reversed(i.ims))
         state = f" (suspended: {suspension_text(agent, i)})" if i.suspended else ""
         intentions.append(f"intention {i.id}: {tops}{state}")
         desires.extend(str(im.trigger) for im in i.ims if im.trigger.is_goal and im.trigger.op == ADD)
-    pending = [f"{aid}: {term_str(p.action)}" for aid, p in agent.pending_actions.items()]
+    pending = [f"{aid}: {term_str(p.action)}" for aid, p in agent.circ.pending_actions.items()]
     return {"beliefs": beliefs, "desires": desires, "intentions": intentions,
             "pending_actions": pending}
 
@@ -136,12 +136,12 @@ def mind_state(agent: Agent) -> MindState:
             views[b] = view
             state.beliefs.append(view)
     kept.beliefs = views
-    held = [ev for _, ev in agent.pending_events]
-    for ev in [*agent.events, *held]:
+    held = [ev for _, ev in agent.circ.pending_events]
+    for ev in [*agent.circ.events, *held]:
         state.events.append(_event(ev))
         if ev.trigger.is_goal:
             state.desires.append(str(ev.trigger))
-    for i in agent.all_intentions():
+    for i in agent.circ.all_intentions():
         state.intentions.append(IntentionView(
             id=i.id, suspended=suspension_text(agent, i) or None,
             means=[_means(im) for im in reversed(i.ims)]))

@@ -31,6 +31,8 @@ class AgentSpec:
     agent_class: str | None = None
     bb_class: str | None = None
     host: str | None = None
+    #: the line of the project file that declares the agent
+    line: int = 0
 
 
 @dataclass
@@ -220,9 +222,9 @@ def parse_mas2j(text: str, path: str = "<mas2j>", source_path: list[str] | None 
         elif kind == "agents":
             decls.extend(v for _, v in value)
     search = [*proj.source_path, base_dir]
-    for agname, fname, opts, extras, _meta in decls:
+    for agname, fname, opts, extras, meta in decls:
         asl_file = fname or agname + ".asl"
-        spec_kw: dict = {}
+        spec_kw: dict = {"line": getattr(meta, "line", 0)}
         n = 1
         for ek, ev in extras:
             if ek == "count":
@@ -230,12 +232,9 @@ def parse_mas2j(text: str, path: str = "<mas2j>", source_path: list[str] | None 
             elif ek == "arch":
                 spec_kw["arch_class"] = ev
             elif ek == "agent_class":
-                spec_kw["agent_class"] = ev
-                proj.notes.append(f"agent {agname}: agentClass {ev} ignored (Java class)")
+                spec_kw["agent_class"] = ev   # loaded by a local run (rason.asl.hooks)
             elif ek == "bb_class":
-                spec_kw["bb_class"] = ev
-                proj.notes.append(f"agent {agname}: beliefBaseClass {ev} ignored: the default "
-                                  "belief base is used")
+                spec_kw["bb_class"] = ev      # loaded by a local run (rason.asl.hooks)
             elif ek == "at":
                 spec_kw["host"] = ev
                 proj.notes.append(f"agent {agname}: 'at \"{ev}\"' ignored: agents run in this process")

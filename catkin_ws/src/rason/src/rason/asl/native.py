@@ -25,7 +25,7 @@ import zlib
 
 #: the modules compiled, in the order of their imports (the rest of rason.asl stays Python)
 COMPILED = ("functions", "terms", "plain", "unify", "ia", "logic", "beliefs", "plans", "intentions",
-            "selection", "reasoning", "agent")
+            "selection", "reasoning", "circumstance", "goal_ops", "communication", "runner", "agent")
 #: the mypyc group: its shared library is ``rason.asl._native__mypyc``
 GROUP = "rason.asl._native"
 #: environment variable: "0" runs the Python modules even when a build is there

@@ -129,19 +129,20 @@ def deliberate(ag: Agent) -> bool:
     """Handle one pending event (SelEv -> RelPl -> ApplPl -> SelAppl -> AddIM).
 
     External events nobody has a plan for are dropped before they are queued
-    (:meth:`Agent.add_event`), so they never use up a cycle, as in Jason.
+    (:meth:`.Circumstance.add_event`), so they never use up a cycle, as in Jason.
     """
     did = False
-    ag.selected_event = None
-    if ag.goal_state_events:
-        ag.post_goal_states()
-    while ag.events:
+    c = ag.circ
+    c.selected_event = None
+    if c.goal_state_events:
+        c.post_goal_states()
+    while c.events:
         # SelEv: the first event, unless an atomic intention or the agent's own selection
         # function may have a say
-        ev = sel_ev(ag) if ag.atomic_used or ag.selection.event is not None else ag.events.popleft()
+        ev = sel_ev(ag) if c.atomic_used or ag.selection.event is not None else c.events.popleft()
         if ev is None:
             break
-        ag.selected_event = ev
+        c.selected_event = ev
         did = True
         if handle_event(ag, ev):
             break
@@ -153,20 +154,21 @@ def sel_ev(ag: Agent) -> Event | None:
     selected while an atomic intention runs, and an event of an atomic intention (its subgoal)
     goes before every other event (``TransitionSystem.applySelEv``); then the agent's own
     ``selection.event`` function, when it has one."""
-    if ag.atomic_used:
-        if ag.atomic_running():
+    c = ag.circ
+    if c.atomic_used:
+        if c.atomic_running():
             return None
-        for k, ev in enumerate(ag.events):
+        for k, ev in enumerate(c.events):
             if ev.intention is not None and ev.intention.is_atomic:
-                del ag.events[k]
+                del c.events[k]
                 return ev
     choose = ag.selection.event
     if choose is None:
-        return ag.events.popleft()
-    chosen = choose(ag, list(ag.events))
+        return c.events.popleft()
+    chosen = choose(ag, list(c.events))
     if chosen is None:
         return None
-    _take(ag.events, chosen, "event")
+    _take(c.events, chosen, "event")
     return chosen
 
 
@@ -276,10 +278,10 @@ def handle_event(ag: Agent, ev: Event) -> bool:
         return _no_plan(ag, trig, i, "applicable")
     plan, u = opt
     if pl.goal_state_plans and trig.op == ADD and trig.type == ACHIEVE:
-        ag.goal_state(trig, "executing")   # Jason's applyAddIM
+        ag.circ.goal_state(trig, "executing")   # Jason's applyAddIM
     im = IntendedMeans(plan, ev.trigger, u, ev.fail_target, not ground)
     if i is None:
-        i = Intention(next(ag.intention_ids), ev.reply)
+        i = Intention(next(ag.circ.intention_ids), ev.reply)
     elif trig.op == ADD and i.ims:
         if ag.options.tro:
             _tail_call(ag, i, im)
@@ -287,12 +289,12 @@ def handle_event(ag: Agent, ev: Event) -> bool:
             _too_deep(ag, i, trig)
             return True
     if plan.atomic:
-        ag.atomic_used = True
+        ag.circ.atomic_used = True
         i.push(im)
     else:
         i.ims.append(im)   # (Intention.push: only an atomic plan changes more)
     i.suspended = None
-    ag.running.append(i)
+    ag.circ.running.append(i)
     return True
 
 
@@ -363,7 +365,7 @@ def _no_plan(ag: Agent, trig: Trigger, i: Intention | None, what: str) -> bool:
             # generateGoalDeletionFromEvent on a -!g event: the intention is given up
             ag.warn("Could not finish intention:\n" + i.dump())
             ag.warn(msg)
-            ag.remove_intention(i)
+            ag.circ.remove_intention(i)
             return True
         fail_intention(ag, i, "no_" + what, msg, code=trig.literal, from_event=trig)
     elif trig.is_goal:
@@ -389,7 +391,7 @@ def _resume_after_belief_event(ag: Agent, i: Intention) -> None:
             stack.pop()
     i.suspended = None
     if ims and not i.dropped:
-        ag.running.append(i)
+        ag.circ.running.append(i)
 
 
 def _external_goal_failed(ag: Agent, trig: Trigger, what: str) -> None:
@@ -399,7 +401,7 @@ def _external_goal_failed(ag: Agent, trig: Trigger, what: str) -> None:
     if trig.op == ADD and isinstance(lit, Literal) and ag.pl.has_candidate(DEL, trig.type, lit):
         annots = [Literal("error", (Literal("no_" + what),)), Literal("error_msg", (msg,)),
                   Literal("code", (lit,))]
-        ag.events.append(Event(Trigger(DEL, trig.type, lit.add_annots(annots))))
+        ag.circ.events.append(Event(Trigger(DEL, trig.type, lit.add_annots(annots))))
         return
     if trig.op == ADD:
         ag.warn(f"No fail event was generated for {trig}")
@@ -411,17 +413,18 @@ def _external_goal_failed(ag: Agent, trig: Trigger, what: str) -> None:
 def act(ag: Agent) -> bool:
     """ProcAct (one action feedback) + SelInt + ExecInt + ClrInt on one intention."""
     did = False
+    c = ag.circ
     if ag.pl.goal_condition_plans:
-        ag.clear_satisfied_goals()
-    if ag.action_results:
-        ag.process_feedback(ag.action_results.popleft())
+        ag.goals.clear_satisfied_goals()
+    if c.action_results:
+        ag.process_feedback(c.action_results.popleft())
         did = True
-    running = ag.running
+    running = c.running
     if not running:
         return did
     # SelInt: round robin (the first one) unless an atomic intention or the agent's own
     # selection function may have a say
-    i = sel_int(ag) if ag.atomic_used or ag.selection.intention is not None else running.popleft()
+    i = sel_int(ag) if c.atomic_used or ag.selection.intention is not None else running.popleft()
     if i is None:
         return did
     exec_int(ag, i)
@@ -431,10 +434,11 @@ def act(ag: Agent) -> bool:
 def sel_int(ag: Agent) -> Intention | None:
     """SelInt: round robin; an atomic intention is always selected first; then the agent's own
     ``selection.intention`` function, when it has one."""
-    running = ag.running
+    c = ag.circ
+    running = c.running
     if not running:
         return None
-    if ag.atomic_used and ag.atomic_running():
+    if c.atomic_used and c.atomic_running():
         for i in list(running):
             if i.is_atomic:
                 running.remove(i)
@@ -457,11 +461,11 @@ def exec_int(ag: Agent, i: Intention) -> None:
     if not stack:  # a plan with an empty body: just ClrInt
         clr_int(ag, i)
         if i.ims and i.suspended is None and not i.dropped:
-            ag.running.append(i)
+            ag.circ.running.append(i)
         return
     d = stack[-1]
     im.current = d
-    ag.current = i
+    ag.circ.current = i
     try:
         ok = _EXEC_DEED[d.kind](ag, i, im, d)
     except FailGoal as fg:
@@ -487,7 +491,7 @@ def exec_int(ag: Agent, i: Intention) -> None:
         fail_intention(ag, i, annots=error_annots(ag, im, d, "ia_failed", f"{type(e).__name__}: {e}"))
         ok = False
     finally:
-        ag.current = None
+        ag.circ.current = None
     if not ok or i.suspended is not None or i.dropped:   # waits, or failed (handled)
         return
     ims = i.ims
@@ -497,7 +501,7 @@ def exec_int(ag: Agent, i: Intention) -> None:
         clr_int(ag, i)
         if not ims or i.suspended is not None or i.dropped:
             return
-    ag.running.append(i)
+    ag.circ.running.append(i)
 
 
 def _fail(ag: Agent, i: Intention, im: IntendedMeans, d: Deed, kind: str, msg: str, code: Any = None) -> bool:
@@ -580,11 +584,11 @@ def _exec_achieve(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
         lit = rename_vars(lit, {})
     i.suspended = Suspension.SUBGOAL
     trig = Trigger(ADD, ACHIEVE, lit)
-    ag.events.append(Event(trig, i))
+    ag.circ.events.append(Event(trig, i))
     if type(lit) is Literal and len(lit.annots) > 1:
         _check_hard_deadline(ag, trig, i)
     if ag.pl.goal_state_plans:
-        ag.goal_state(trig, "pending")
+        ag.circ.goal_state(trig, "pending")
     return False
 
 
@@ -597,10 +601,10 @@ def _exec_achieve_new_focus(ag: Agent, i: Intention, im: IntendedMeans, d: Deed)
         trig = Trigger(ADD, ACHIEVE, _goal_literal(ag, d, u))
     if type(trig.literal) is Literal and len(trig.literal.annots) > 1:
         _check_hard_deadline(ag, trig, None)
-    if ag.event_waits or ag.pl.goal_state_plans:
-        ag.add_event(Event(trig))   # (its goal-state event "pending" is posted there)
+    if ag.circ.event_waits or ag.pl.goal_state_plans:
+        ag.circ.add_event(Event(trig))   # (its goal-state event "pending" is posted there)
     else:
-        ag.events.append(Event(trig))   # (add_event inlined: a goal's event is always kept)
+        ag.circ.events.append(Event(trig))   # (add_event inlined: a goal's event is always kept)
     return True
 
 
@@ -610,7 +614,7 @@ def _check_hard_deadline(ag: Agent, trig: Trigger, i: Intention | None) -> None:
     for a in trig.literal.annots:
         if type(a) is Literal and a.functor == "hard_deadline" and len(a.args) == 1 \
                 and type(a.args[0]) is float:
-            ag.schedule_deadline(trig, i, a.args[0] / 1000.0)
+            ag.goals.schedule_deadline(trig, i, a.args[0] / 1000.0)
             return
 
 
@@ -719,7 +723,7 @@ def _exec_test_goal(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool
         if not is_ground(lit):
             lit = rename_vars(lit, {})
         i.suspended = Suspension.SUBGOAL
-        ag.events.append(Event(Trigger(ADD, TEST, lit), i))
+        ag.circ.events.append(Event(Trigger(ADD, TEST, lit), i))
         return False
     stack.pop()
     # the message shows the test as written (TransitionSystem: "Failed to test '"+bTerm+"'")
@@ -850,7 +854,7 @@ def clr_int(ag: Agent, i: Intention) -> None:
         if ims[-1].trigger_u is not None and ims[-1].is_goal_add:
             # Jason 3's goal condition: the goal is achieved when it holds, not when the
             # plan is done; until then the intention waits (see Agent.clear_satisfied_goals)
-            ag.suspend(i, Suspension.GOAL_CONDITION)
+            ag.circ.suspend(i, Suspension.GOAL_CONDITION)
             i.pi_key = str(i.id)   # pending (Jason's PI), under the intention's number
             return
         im = ims.pop()   # (Intention.pop inlined)
@@ -858,16 +862,16 @@ def clr_int(ag: Agent, i: Intention) -> None:
             i.atomic_count -= 1
         if ag.pl.goal_state_plans and im.trigger.is_goal and im.trigger.op != GOAL_STATE:
             # a -!g plan that finishes achieves g too (Jason: the goal of the top means)
-            ag.goal_state(im.trigger, "achieved")
-            ag.goal_state(im.trigger, "finished")
+            ag.circ.goal_state(im.trigger, "achieved")
+            ag.circ.goal_state(im.trigger, "finished")
         if not ims:
             if i.reply is not None:
-                ag.intention_finished(i, im)
+                ag.comm.intention_finished(i, im)
             return
         if im.fail_target is not None:
             i.truncate(im.fail_target)
             if not ims:
-                ag.intention_finished(i, im)
+                ag.comm.intention_finished(i, im)
                 return
             caller = ims[-1]
             if caller.stack and caller.stack[-1] is caller.current:
@@ -948,7 +952,7 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
         ag.warn_drop(i, f"No fail event was generated for {from_event}", shown, relevant_msg=msg)
     else:
         ag.warn_drop(i, f"No failure event was generated for {shown}", shown)
-    ag.remove_intention(i)
+    ag.circ.remove_intention(i)
 
 
 _HAS_FAILURE_PLAN = Literal("has_failure_plan")
@@ -964,7 +968,7 @@ def _end_fork(ag: Agent, i: Intention) -> bool:
         return False
     for other in fk.branches:
         if other is not i:
-            ag.remove_intention(other)
+            ag.circ.remove_intention(other)
     fk.branches = [i]
     i.fork = None
     return True
@@ -987,12 +991,12 @@ def _post_failure_of(ag: Agent, i: Intention, t: Trigger, annots: list, idx: int
         ft = failed or (top.trigger if top is not None else t)
         reason = next((a.args[0] for a in annots if isinstance(a, Literal) and a.functor == "error"
                        and len(a.args) == 1), "")
-        ag.goal_state(ft, "failed", reason)
-        ag.goal_state(ft, "executing", _HAS_FAILURE_PLAN)
+        ag.circ.goal_state(ft, "failed", reason)
+        ag.circ.goal_state(ft, "executing", _HAS_FAILURE_PLAN)
     lit = t.literal.add_annots(annots) if isinstance(t.literal, Literal) else t.literal
-    ag.detach(i)
+    ag.circ.detach(i)
     i.suspended = Suspension.FAILURE
-    ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
+    ag.circ.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
 
 
 def fail_goal_at(ag: Agent, i: Intention, idx: int, annots: tuple = ()) -> None:
@@ -1006,16 +1010,16 @@ def fail_goal_at(ag: Agent, i: Intention, idx: int, annots: tuple = ()) -> None:
         if ag.pl.has_candidate(DEL, t.type, t.literal):
             if t.op == ADD and t.is_goal:
                 if ag.pl.goal_state_plans:
-                    ag.goal_state(t, "failed")
+                    ag.circ.goal_state(t, "failed")
                 lit = t.literal.no_annots() if isinstance(t.literal, Literal) else t.literal
                 if annots and isinstance(lit, Literal):
                     lit = lit.add_annots(annots)
-                ag.detach(i)
+                ag.circ.detach(i)
                 i.suspended = Suspension.FAILURE
-                ag.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=j))
+                ag.circ.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=j))
                 return
             break
         j -= 1
     ag.warn_drop(i, f"No failure event was generated for {ims[idx].trigger}", ims[idx].trigger)
-    ag.remove_intention(i)
+    ag.circ.remove_intention(i)
 

@@ -63,16 +63,16 @@ class LocalArch(AgentArch):
         # Jason's Circumstance.clone: the queued events and the intentions waiting their turn
         # (not the one running .clone, nor the suspended ones)
         copies: dict[int, Intention] = {}
-        for i in creator.running:
-            if i is not creator.current and i.fork is None and i.reply is None:
+        for i in creator.circ.running:
+            if i is not creator.circ.current and i.fork is None and i.reply is None:
                 try:
                     copies[i.id] = copy.deepcopy(i)
                 except TypeError:   # compiled (mypyc) intentions cannot be copied so: left out
                     continue
-        clone.running = deque(copies.values())
-        clone.events = deque(Event(ev.trigger, None if ev.intention is None else copies.get(ev.intention.id))
-                             for ev in creator.events
-                             if ev.intention is None or ev.intention.id in copies)
+        clone.circ.running = deque(copies.values())
+        clone.circ.events = deque(
+            Event(ev.trigger, None if ev.intention is None else copies.get(ev.intention.id))
+            for ev in creator.circ.events if ev.intention is None or ev.intention.id in copies)
         self.mas.notify()
         return final
 
@@ -168,16 +168,21 @@ class LocalMas:
             env.stop()
 
     def add_agent(self, name: str, source: str, filename: str = "<string>", seed: int | None = None,
-                  src_name: str | None = None, options: AgentOptions | None = None) -> Agent:
+                  src_name: str | None = None, options: AgentOptions | None = None,
+                  belief_base: BeliefBase | None = None) -> Agent:
         ag = Agent(name, source, self.make_arch(name), filename, seed=seed, src_name=src_name,
                    options=options if options is not None else self.options,
-                   source_path=self.source_path)
-        ag.on_wake = self.notify
+                   source_path=self.source_path, belief_base=belief_base)
+        ag.runner.on_wake = self.notify
         self.agents[name] = ag
         self._roster = tuple(self.agents.values())
         return ag
 
     def load_project(self, proj: MasProject, seed: int | None = None) -> None:
+        """Add the agents of a ``.mas2j`` project with their options and their classes
+        (:mod:`.hooks`; raises :class:`.HookLoadError` for a class that does not import)."""
+        from .hooks import load_hooks  # imports the environment module, which imports this one
+
         base = os.path.dirname(os.path.abspath(proj.path))
         self.source_path = [*proj.source_path, base]
         if proj.environment and self.arch_factory is None:
@@ -185,15 +190,15 @@ class LocalMas:
 
             self.set_environment(load_environment(proj.environment, base))
         for k, spec in enumerate(proj.agents):
+            hooks = load_hooks(spec, proj.path)
             src = load_agent_source(spec.asl_path)
             rel = os.path.relpath(spec.asl_path, base)
             opts = AgentOptions.from_options(spec.options, self.options)
             ag = self.add_agent(spec.name, src, spec.asl_path, None if seed is None else seed + k,
-                                src_name=rel, options=opts)
+                                src_name=rel, options=opts, belief_base=hooks.make_belief_base())
             ag.add_initial(spec.options.get("beliefs"), spec.options.get("goals"))
-            if spec.arch_class:
-                self.notes.append(f"agent {spec.name}: agentArchClass {spec.arch_class} accepted "
-                                  "(local run uses the built-in architecture)")
+            hooks.customise(ag)
+            self.notes.extend(hooks.notes)
         self.notes.extend(proj.notes)
 
     def find_source(self, source: str, near: str | None = None) -> str:
@@ -294,14 +299,14 @@ class LocalMas:
                 if t_end is not None and clock.now() >= t_end:
                     return False
                 continue
-            if not self.finished() and any(ag.has_input() for ag in self.agents.values()):
+            if not self.finished() and any(ag.runner.has_input() for ag in self.agents.values()):
                 continue
             if idle_hook is not None and idle_hook():
                 continue
-            deadlines = [d for d in (ag.next_deadline() for ag in self.agents.values()) if d is not None]
+            deadlines = [d for d in (ag.circ.next_deadline() for ag in self.agents.values()) if d is not None]
             if self.stop_at is not None:
                 deadlines.append(self.stop_at)
-            pending = any(ag.pending_actions for ag in self.agents.values())
+            pending = any(ag.circ.pending_actions for ag in self.agents.values())
             if not deadlines and not pending:
                 return True
             deadline = min(deadlines) if deadlines else None

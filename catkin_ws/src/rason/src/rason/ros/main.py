@@ -163,6 +163,10 @@ def mas_main() -> int:
         if spec.arch_class:
             print(f"rason: agent {spec.name}: agentArchClass {spec.arch_class} noted; "
                   "rason hosts it with RosAgArch", file=sys.stderr)
+        for keyword, name in (("agentClass", spec.agent_class), ("beliefBaseClass", spec.bb_class)):
+            if name:
+                print(f"rason: agent {spec.name}: {keyword} {name} not loaded on ROS (only by "
+                      "python -m rason.asl run)", file=sys.stderr)
         agents.append((spec.name, Path(spec.asl_path), pfilter, spec.options))
     return _run(project.name or opts.file.stem, argv, agents, ns)
 

@@ -72,12 +72,12 @@ def send(ctx: IAContext, args: list) -> Any:
         if len(args) == 5:
             timeout = ag.arch.clock.now() + eval_arith(args[4], ctx.s, ctx.ag) / 1000.0
         n = len(receivers or []) if isinstance(to, ListTerm) else None
-        ag.register_ask(msg_id, ctx.intention, args[3], timeout, perf, n)
+        ag.comm.register_ask(msg_id, ctx.intention, args[3], timeout, perf, n)
     for r in receivers or []:
         name = _name(r)
         if name == "self":
             name = ag.name
-        ag.send_message(Message(ag.name, name, perf, content, msg_id=msg_id, in_reply_to=reply_to))
+        ag.comm.send_message(Message(ag.name, name, perf, content, msg_id=msg_id, in_reply_to=reply_to))
     return SUSPEND if sync_ask else True
 
 
@@ -153,7 +153,7 @@ def clear_source_self(ctx: IAContext, args: list) -> bool:
 @internal_action(".signal", arity=1)
 def signal(ctx: IAContext, args: list) -> bool:
     if isinstance(args[0], Literal):
-        ctx.ag.add_event(Event(Trigger(ADD, BELIEF, args[0])))
+        ctx.ag.circ.add_event(Event(Trigger(ADD, BELIEF, args[0])))
     return True
 
 

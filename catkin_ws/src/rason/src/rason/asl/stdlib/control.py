@@ -96,13 +96,13 @@ def drop_future_intention(ctx: IAContext, args: list) -> bool:
     if not isinstance(args[0], Literal):
         raise wrong_arg(f"first argument '{term_str(args[0])}' must be a literal")
     ag = ctx.ag
-    for i in list(ag.all_intentions()):
+    for i in list(ag.circ.all_intentions()):
         if not i.ims:
             continue
         im = i.ims[-1]
         for d in reversed(im.stack):
             if d.kind in (K_ACHIEVE, K_ACHIEVE_NEW) and unify(resolve(d.term, im.u, ag), args[0],
                                                                 dict(ctx.s), ag):
-                ag.remove_intention(i)
+                ag.circ.remove_intention(i)
                 break
     return True

@@ -148,7 +148,7 @@ def wait(ctx: IAContext, args: list) -> Any:
     first = args[0]
     clock = ag.arch.clock
     if isinstance(first, float):
-        ag.suspend_timer(ctx.intention, clock.now() + max(first, 0.0) / 1000.0, first)
+        ag.circ.suspend_timer(ctx.intention, clock.now() + max(first, 0.0) / 1000.0, first)
         return SUSPEND
     timeout = None
     if len(args) >= 2 and isinstance(args[1], float):
@@ -159,7 +159,7 @@ def wait(ctx: IAContext, args: list) -> Any:
         trig = plan_term_trigger(first)
         if trig is None:
             raise IAError(f"invalid event in .wait: {term_str(first)}")
-        ag.suspend_event_wait(ctx.intention, trig, None, timeout)
+        ag.circ.suspend_event_wait(ctx.intention, trig, None, timeout)
         return SUSPEND
     if isinstance(first, str):
         try:
@@ -168,13 +168,13 @@ def wait(ctx: IAContext, args: list) -> Any:
             raise IAError(f"invalid event in .wait: {first}") from None
         trig = plan_term_trigger(t) if isinstance(t, PlanTerm) else None
         if trig is not None:
-            ag.suspend_event_wait(ctx.intention, trig, None, timeout)
+            ag.circ.suspend_event_wait(ctx.intention, trig, None, timeout)
             return SUSPEND
     # logical condition
     for sol in ctx.solve(first):
         ctx.s = sol
         return True
-    ag.suspend_event_wait(ctx.intention, None, first, timeout)
+    ag.circ.suspend_event_wait(ctx.intention, None, first, timeout)
     return SUSPEND
 
 

@@ -228,10 +228,10 @@ def drop_event(ctx: IAContext, args: list) -> bool:
     """``.drop_event(G)``: removes the ``+!G`` events waiting to be handled."""
     pattern = args[0]
     ag = ctx.ag
-    keep = [ev for ev in ag.events if not (ev.trigger.op == ADD and ev.trigger.type == ACHIEVE
+    keep = [ev for ev in ag.circ.events if not (ev.trigger.op == ADD and ev.trigger.type == ACHIEVE
                                           and unify(pattern, ev.trigger.literal, dict(ctx.s)))]
-    ag.events.clear()
-    ag.events.extend(keep)
+    ag.circ.events.clear()
+    ag.circ.events.extend(keep)
     return True
 
 
@@ -336,7 +336,7 @@ def at(ctx: IAContext, args: list) -> bool:
     lit = trig.literal
     if trig.type == ACHIEVE or trig.type == BELIEF:
         lit = lit.with_self_source()
-    ctx.ag.schedule_event(Trigger(trig.op, trig.type, lit), delay_ms / 1000.0)
+    ctx.ag.circ.schedule_event(Trigger(trig.op, trig.type, lit), delay_ms / 1000.0)
     return True
 
 

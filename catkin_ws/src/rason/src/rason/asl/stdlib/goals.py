@@ -18,11 +18,11 @@ def _places(ag: Any) -> list:
     ask, ``.suspend``) and running (I), each time without the SE and SI intentions. An
     intention held by ``.suspend`` while waiting for an action is in PA and in PI."""
     out: list = []
-    se = ag.selected_event
+    se = ag.circ.selected_event
     by_se = se.intention if se is not None else None
     if by_se is not None:
         out.append(("SE", by_se))
-    cur = ag.current
+    cur = ag.circ.current
     by_si = cur if cur is not by_se else None
     if by_si is not None:
         out.append(("SI", by_si))
@@ -30,13 +30,13 @@ def _places(ag: Any) -> list:
     def others(place: str, intentions: Any) -> None:
         out.extend((place, i) for i in intentions
                    if i is not None and i is not by_se and i is not by_si)
-    others("E", (ev.intention for ev in ag.events))
+    others("E", (ev.intention for ev in ag.circ.events))
     others("PE", (held.event.intention
-                  for held in java_map_order(ag.pending_events, lambda p: p.key)))
-    pend = [i for i in ag.suspended.values() if i is not cur]
+                  for held in java_map_order(ag.circ.pending_events, lambda p: p.key)))
+    pend = [i for i in ag.circ.suspended.values() if i is not cur]
     others("PA", sorted((i for i in pend if i.suspended is Suspension.ACTION), key=lambda i: i.id & 15))
     others("PI", java_map_order([i for i in pend if i.pi_key is not None], lambda i: i.pi_key))
-    others("I", ag.running)
+    others("I", ag.circ.running)
     return out
 
 
@@ -97,9 +97,9 @@ def desire(ctx: IAContext, args: list) -> Any:
     int_id = args[1] if len(args) == 2 else None
 
     def gen():
-        evs = [ag.selected_event] if ag.selected_event is not None else []
-        held = [ev for _, ev in java_map_order(ag.pending_events, lambda kv: kv[0])]
-        for ev in evs + list(ag.events) + held:
+        evs = [ag.circ.selected_event] if ag.circ.selected_event is not None else []
+        held = [ev for _, ev in java_map_order(ag.circ.pending_events, lambda kv: kv[0])]
+        for ev in evs + list(ag.circ.events) + held:
             t = ev.trigger
             if t.op == ADD and t.type == ACHIEVE:
                 s2 = dict(ctx.s)
@@ -121,7 +121,7 @@ def _state_term(ag: Any, place: str, i: Intention, state: str) -> Literal:
     if state != "waiting":
         return Literal(state)
     if place == "PA":
-        act = next((pa.action for pa in ag.pending_actions.values() if pa.intention is i), None)
+        act = next((pa.action for pa in ag.circ.pending_actions.values() if pa.intention is i), None)
         return Literal(state, (), (Literal("action", (act,)),)) if act is not None else Literal(state)
     return Literal(state, (), (Literal("reason", (_waiting_reason(i),)),))
 
@@ -141,9 +141,9 @@ def intention(ctx: IAContext, args: list) -> Any:
     ``Intention.getStateBasedOnPlace`` (running, waiting, suspended)."""
     ag = ctx.ag
     if len(args) == 4 and term_str(args[3]) == "current":
-        i = ag.current
-        if i is None and ag.selected_event is not None:
-            i = ag.selected_event.intention
+        i = ag.circ.current
+        if i is None and ag.circ.selected_event is not None:
+            i = ag.circ.selected_event.intention
         if i is None:
             return False
         s2 = dict(ctx.s)
@@ -174,7 +174,7 @@ def current_intention(ctx: IAContext, args: list) -> bool:
 
 @internal_action(".drop_desire", arity=1)
 def drop_desire(ctx: IAContext, args: list) -> bool:
-    ctx.ag.drop_goal(args[0], ctx.s, drop_events=True)
+    ctx.ag.goals.drop_goal(args[0], ctx.s, drop_events=True)
     return True
 
 
@@ -182,29 +182,29 @@ def drop_desire(ctx: IAContext, args: list) -> bool:
 def drop_intention(ctx: IAContext, args: list) -> bool:
     if not args:
         if ctx.intention is not None:
-            ctx.ag.remove_intention(ctx.intention)
+            ctx.ag.circ.remove_intention(ctx.intention)
         return True
-    ctx.ag.drop_goal(args[0], ctx.s, drop_events=False)
+    ctx.ag.goals.drop_goal(args[0], ctx.s, drop_events=False)
     return True
 
 
 @internal_action(".drop_all_desires", arity=0)
 def drop_all_desires(ctx: IAContext, args: list) -> bool:
     """Drop every event and intention but the current one (jason.stdlib.drop_all_desires)."""
-    ctx.ag.drop_all(events=True, keep=ctx.intention)
+    ctx.ag.goals.drop_all(events=True, keep=ctx.intention)
     return True
 
 
 @internal_action(".drop_all_intentions", arity=0)
 def drop_all_intentions(ctx: IAContext, args: list) -> bool:
     """Drop every intention (and its events) but the current one (jason.stdlib.drop_all_intentions)."""
-    ctx.ag.drop_all(events=False, keep=ctx.intention)
+    ctx.ag.goals.drop_all(events=False, keep=ctx.intention)
     return True
 
 
 @internal_action(".drop_all_events")
 def drop_all_events(ctx: IAContext, args: list) -> bool:
-    ctx.ag.events.clear()
+    ctx.ag.circ.events.clear()
     return True
 
 
@@ -216,13 +216,13 @@ def suspend(ctx: IAContext, args: list) -> Any:
         i = ctx.intention
         if i is None:
             return False
-        ag.suspend(i, Suspension.SUSPENDED)
+        ag.circ.suspend(i, Suspension.SUSPENDED)
         i.sus_ia = True
         i.pi_key = f"suspended-self-{i.id}"
         return SUSPEND
     if not isinstance(args[0], Literal):
         raise wrong_arg("first argument must be a literal")
-    own, ctx.s = ag.suspend_goal(args[0], ctx.s, ctx.intention)
+    own, ctx.s = ag.goals.suspend_goal(args[0], ctx.s, ctx.intention)
     return SUSPEND if own else True
 
 
@@ -231,7 +231,7 @@ def resume(ctx: IAContext, args: list) -> bool:
     """``.resume(G)``, jason.stdlib.resume."""
     if not isinstance(args[0], Literal):
         raise wrong_arg("first argument must be a literal")
-    ctx.s = ctx.ag.resume_goal(args[0], ctx.s)
+    ctx.s = ctx.ag.goals.resume_goal(args[0], ctx.s)
     return True
 
 
@@ -254,13 +254,13 @@ def suspended(ctx: IAContext, args: list) -> Any:
 
 @internal_action(".succeed_goal", arity=1)
 def succeed_goal(ctx: IAContext, args: list) -> bool:
-    ctx.ag.succeed_goal(args[0], ctx.s)
+    ctx.ag.goals.succeed_goal(args[0], ctx.s)
     return True
 
 
 @internal_action(".fail_goal", arity=1)
 def fail_goal(ctx: IAContext, args: list) -> bool:
-    ctx.ag.fail_goal(args[0], ctx.s)
+    ctx.ag.goals.fail_goal(args[0], ctx.s)
     return True
 
 
@@ -284,7 +284,7 @@ def fork(ctx: IAContext, args: list) -> Any:
     fk = Fork(kind.functor == "and")
     point = len(cur.ims)
     for body in bodies:
-        i = Intention(next(ag.intention_ids))
+        i = Intention(next(ag.circ.intention_ids))
         i.reply = cur.reply
         i.ims = list(cur.ims[:-1])        # the means below are shared, as in Jason
         top = IntendedMeans(im.plan, im.trigger, dict(ctx.s), im.fail_target)
@@ -297,7 +297,7 @@ def fork(ctx: IAContext, args: list) -> Any:
         i.fork = ForkBranch(fk, point)
         fk.branches.append(i)
         fk.to_finish += 1
-        ag.running.append(i)
+        ag.circ.running.append(i)
     cur.ims.clear()        # the forked intention itself ends: its branches go on for it
     return SUSPEND
 
@@ -314,7 +314,7 @@ def join(ctx: IAContext, args: list) -> Any:
         return True if fk.to_finish <= 0 else SUSPEND
     for other in fk.branches:
         if other is not ctx.intention:
-            ctx.ag.remove_intention(other)
+            ctx.ag.circ.remove_intention(other)
     fk.branches = [ctx.intention]
     return True
 
@@ -352,8 +352,8 @@ def done(ctx: IAContext, args: list) -> Any:
     else:
         return SUSPEND
     if ag.pl.goal_state_plans:
-        ag.goal_state(i.ims[idx].trigger, "achieved")
-        ag.goal_state(i.ims[idx].trigger, "finished")
+        ag.circ.goal_state(i.ims[idx].trigger, "achieved")
+        ag.circ.goal_state(i.ims[idx].trigger, "finished")
     i.truncate(idx)
     if i.ims and i.ims[-1].stack:
         i.ims[-1].stack.pop()     # the deed that posted the goal
