@@ -17,9 +17,12 @@ HERE = Path(__file__).resolve().parent
 
 
 def _in_use(extra_env: dict[str, str]) -> str:
+    """What a fresh process loads: "True|False path-of-agent-module". The switch is whatever
+    `extra_env` says, not this suite's own (RASON_NATIVE=0 ./run.sh test runs it too)."""
     code = "from rason.asl import native, agent; print(native.in_use(), agent.__file__)"
+    env = {k: v for k, v in subprocess_env().items() if k != native.SWITCH}
     return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
-                          env={**subprocess_env(), **extra_env}, timeout=60).stdout.strip()
+                          env={**env, **extra_env}, timeout=60).stdout.strip()
 
 
 def test_the_setup_built_the_compiled_modules_and_agents_run_them() -> None:
