@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import datetime
 import re
 from typing import Any
 
@@ -209,6 +208,8 @@ def time_(ctx: IAContext, args: list) -> bool:
     """``.time(H, M, S[, MS])`` wall time; ``.time(T)``: milliseconds from the agent's clock."""
     if len(args) == 1:
         return ctx.unify(args[0], ctx.ag.clock_millis())
+    import datetime  # (here: few agents ask the date, every agent starts)
+
     now = datetime.datetime.now()
     vals = [now.hour, now.minute, now.second, now.microsecond // 1000]
     return all(ctx.unify(a, float(v)) for a, v in zip(args, vals, strict=False))
@@ -222,6 +223,8 @@ def nano_time(ctx: IAContext, args: list) -> bool:
 
 @internal_action(".date")
 def date(ctx: IAContext, args: list) -> bool:
+    import datetime
+
     now = datetime.date.today()
     return all(ctx.unify(a, float(v)) for a, v in zip(args, [now.year, now.month, now.day], strict=False))
 
