@@ -205,3 +205,11 @@ def test_all_names_lists_the_agents_in_the_order_of_jasons_map_of_agents() -> No
     # Jason keeps its agents in a ConcurrentHashMap by name: by hash bucket, then creation
     assert lines(run_agents(sources), "c") == [
         "[p1,p2,pr,c,p3,company_B1,company_A2,company_B3,pn]"]
+
+
+def test_a_plan_body_in_a_variable_runs_its_first_deed_in_the_same_step() -> None:
+    # Jason replaces the variable by the body's first deed and runs it at once: the other
+    # intention sees no extra step between (as in Jason's TransitionSystem)
+    src = ("!a. !b.\n+!a <- B = {.print(a1); .print(a2)}; B; .print(a3).\n"
+           "+!b <- .print(b1); .print(b2); .print(b3).\n")
+    assert lines(run_source(src)) == ["a1", "b1", "a2", "b2", "a3", "b3"]

@@ -789,9 +789,14 @@ def _exec_action(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
         return True
     if type(lit) is PlanTerm and lit.plan is None and lit.rule is None:
         # a variable holding a plan body (``H`` with ``H = {?b(X); .print(X)}``): its deeds
-        # run here, in this means, as Jason runs a body term in a body
-        im.stack.extend(reversed(lit.body))
-        return True
+        # take its place in this means and the first runs in this very step, as in Jason
+        deeds = lit.body
+        if not deeds:
+            return True
+        im.stack.extend(reversed(deeds))
+        first = deeds[0]
+        im.current = first
+        return _EXEC_DEED[first.kind](ag, i, im, first)
     if not isinstance(lit, Literal):
         return _fail(ag, i, im, d, "action_failed", f"invalid action {term_str(lit)}")
     ag.start_action(i, im, d, lit)
