@@ -213,3 +213,17 @@ def test_a_plan_body_in_a_variable_runs_its_first_deed_in_the_same_step() -> Non
     src = ("!a. !b.\n+!a <- B = {.print(a1); .print(a2)}; B; .print(a3).\n"
            "+!b <- .print(b1); .print(b2); .print(b3).\n")
     assert lines(run_source(src)) == ["a1", "b1", "a2", "b2", "a3", "b3"]
+
+
+def test_a_told_rule_keeps_its_variable_names_and_is_stored_with_fresh_ones() -> None:
+    out = run_agents({
+        "receiver": "+!kqml_received(A, tellRule, Rules, _) <- .print(Rules); "
+                    "for (.member(R, Rules)) { +R[source(A)] }; .relevant_rules(x(_), L); "
+                    ".print(L).\n+!g(Y, Z) <- .print(Y, \" \", Z).\n",
+        "sender": "!s.\n+!s <- .send(receiver, tellRule, [{x(V) :- V > 10}, {x(V) :- V < 30}]); "
+                  ".send(receiver, achieve, g(X, f(X, Q))).\n"})
+    shown = [re.sub(r"\b_\d+", "_", s) for s in lines(out, "receiver")]
+    assert sorted(shown) == ["Y<no-value> f(_,_)", "[{ x(V) :- (V > 10) },{ x(V) :- (V < 30) }]",
+                             "[{ x(_) :- (_ < 30) },{ x(_) :- (_ > 10) }]"]
+    stored = next(s for s in lines(out, "receiver") if s.startswith("[{ x(_"))
+    assert len(set(re.findall(r"_\d+", stored))) == 2   # each rule its own variable

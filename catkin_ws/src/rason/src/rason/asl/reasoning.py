@@ -40,8 +40,10 @@ from .plans import (
 from .selection import Option
 from .terms import (
     AnnotVar,
+    ArithExpr,
     ListTerm,
     Literal,
+    LogExpr,
     NsLit,
     PlanTerm,
     RelExpr,
@@ -322,7 +324,9 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     lit = trig.literal
     ground = (type(lit) is Literal and lit.known_ground) or is_ground(lit)
     if not ground:
-        lit = rename_vars(lit, {})
+        # an external event keeps the names of the variables inside its plan and rule terms
+        # (a told rule prints as it was written, as in Jason)
+        lit = rename_vars(lit, {}, None if i is not None else _names_outside_code(lit).__contains__)
         ev = Event(Trigger(trig.op, trig.type, lit), i, ev.fail_target, ev.reply)
     opt = sel_appl(ag, lit, relevant, ev)
     if opt is None:
@@ -347,6 +351,38 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     i.suspended = None
     ag.running.append(i)
     return True
+
+
+def _names_outside_code(t: Any, out: set[str] | None = None) -> set[str]:
+    """The names of the variables of ``t`` that are not inside a plan or rule term."""
+    if out is None:
+        out = set()
+    tt = type(t)
+    if tt is Var or tt is AnnotVar:
+        out.add(t.name)
+        if tt is AnnotVar:
+            for a in t.annots:
+                _names_outside_code(a, out)
+    elif tt is Literal:
+        for a in t.args:
+            _names_outside_code(a, out)
+        for a in t.annots:
+            _names_outside_code(a, out)
+        if t.tail is not None:
+            _names_outside_code(t.tail, out)
+    elif tt is ListTerm:
+        for a in t.items:
+            _names_outside_code(a, out)
+        if t.tail is not None:
+            _names_outside_code(t.tail, out)
+    elif tt is NsLit:
+        _names_outside_code(t.ns, out)
+        _names_outside_code(t.lit, out)
+    elif tt is RelExpr or tt is ArithExpr or tt is LogExpr:
+        _names_outside_code(t.left, out)
+        if t.right is not None:
+            _names_outside_code(t.right, out)
+    return out
 
 
 def _tail_call(ag: Agent, i: Intention, im: IntendedMeans) -> None:
@@ -731,8 +767,10 @@ def _change_rule(ag: Agent, im: IntendedMeans, d: Deed, op: str) -> bool:
     if rule is None or not isinstance(rule.head, Literal):
         raise IAError(f"cannot add {term_str(t)} as a belief")
     if op == ADD:
-        head = rule.head.add_annots(extra) if extra else rule.head
-        ag.bb.add_rule(Rule(head.with_self_source(), rule.body), front=True)
+        # Jason's belief base keeps an added rule with fresh variables
+        mapping: dict = {}
+        head = rename_vars(rule.head.add_annots(extra) if extra else rule.head, mapping)
+        ag.bb.add_rule(Rule(head.with_self_source(), rename_vars(rule.body, mapping)), front=True)
         return True
     for r in list(ag.bb.candidates(rule.head.key)):
         if isinstance(r, Rule):
