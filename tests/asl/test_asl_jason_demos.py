@@ -6,6 +6,7 @@ a Jason 3.3 build prints for the same program."""
 from __future__ import annotations
 
 import io
+import re
 
 from asl_helpers import lines, run_agents, run_source
 
@@ -140,3 +141,89 @@ def test_a_told_rule_is_added_with_its_source_and_every_rule_is_relevant_to_a_va
         "sender": "!s.\n+!s <- .send(receiver, tellRule, [{a :- b & c}]); .wait(100); "
                   ".send(receiver, achieve, test).\n"})
     assert lines(out, "receiver") == ["[{ a :- (b & c) }]", "ok"]
+
+
+def test_a_select_option_rule_chooses_among_every_solution_of_every_plan() -> None:
+    src = ("pick(E, I, P, U) :- .print(E, \" \", I, \" \", U) & .print(P).\n"
+           "select__option(E, I, P, U) :- pick(E, I, P, U) & P = {@L +!T : C <- B} & "
+           "L =.. [_, _, As] & .member(fav, As).\n"
+           "n(1). n(2). m(3).\n"
+           "+!go(Y) : n(X) & Y < 10 <- .print(X).\n"
+           "@chosen[fav] +!go(Y) : m(X) <- .print(chosen, X); !sub.\n"
+           "+!sub <- .print(no).\n@last[fav] +!sub <- .print(yes).\n!go(5).\n")
+    # (variable numbers and plan numbers p__N count for the whole process)
+    shown = [re.sub(r"\b_\d+|(?<=p__)\d+", "_", s) for s in lines(run_source(src))]
+    assert shown == [
+        "+!go(5)[source(self)] -1 [map(_,1),map(_,5)]",
+        "@p___[source(self),url(\"file:main.asl\")] +!go(5) : (n(1) & (5 < 10)) <- .print(1).",
+        "+!go(5)[source(self)] -1 [map(_,2),map(_,5)]",
+        "@p___[source(self),url(\"file:main.asl\")] +!go(5) : (n(2) & (5 < 10)) <- .print(2).",
+        "+!go(5)[source(self)] -1 [map(_,3),map(_,5)]",
+        "@chosen[fav,source(self),url(\"file:main.asl\")] +!go(5) : m(3) <- .print(chosen,3); !sub.",
+        "chosen3",
+        "+!sub[source(self)] 1 []",
+        "@p___[source(self),url(\"file:main.asl\")] +!sub <- .print(no).",
+        "+!sub[source(self)] 1 []",
+        "@last[fav,source(self),url(\"file:main.asl\")] +!sub <- .print(yes).",
+        "yes"]
+
+
+def test_an_option_no_select_option_rule_accepts_leaves_the_goal_without_applicable_plan() -> None:
+    src = ("select__option(_, _, P, _) :- P = {@L +!T : C <- B} & L =.. [_, _, As] & .member(ok, As).\n"
+           "+!g <- .print(plain).\n!g.\n")
+    out = run_source(src)
+    assert "plain" not in lines(out)
+    assert "no applicable plan: +!g[source(self)]" in out
+
+
+def test_the_unifiers_of_an_intention_name_fresh_variables_in_javas_hash_order() -> None:
+    src = ("!g(1, 2).\n+!g(A, B) <- X = 1; Zed = f(Q, _); Long = [Q]; "
+           ".intention(_, _, [im(_, _, _, U)|_], current); .print(U).\n")
+    shown = lines(run_source(src))
+    # A, B, X, Zed (bucket 8 of 16, after X), Long (8), and the anonymous variable's binding is
+    # not there (free); a variable named with more than one letter keeps its name after _N
+    assert re.fullmatch(r"\[map\(_\d+,1\),map\(_\d+,2\),map\(_\d+,1\),map\(_\d+Zed,f\(_(\d+),_\d+\)\),"
+                        r"map\(_\d+Long,\[_(\d+)\]\)\]", shown[0]), shown
+
+
+def test_a_variable_holding_a_plan_body_runs_that_body_deed_by_deed() -> None:
+    src = ("v(7).\n!s.\n+!s <- !walk({?v(X); .print(got, X); !k(X)}).\n"
+           "+!walk({}) <- .print(done).\n+!walk({H; R}) <- H; !walk(R).\n+!k(N) <- .print(k, N).\n")
+    assert lines(run_source(src)) == ["got7", "k7", "done"]
+
+
+def test_the_stack_of_a_failed_intention_shows_the_deed_that_failed() -> None:
+    src = ("!t.\n+!t <- !g(1).\n+!g(N) <- .print(N); .fail.\n"
+           "-!g(_) <- .intention(_, _, [_, im(_, _, B, _)|_], current); .print(B).\n")
+    assert lines(run_source(src)) == ["1", "{ .fail }"]
+
+
+def test_all_names_lists_the_agents_in_the_order_of_jasons_map_of_agents() -> None:
+    names = ["c", "p1", "p2", "p3", "pr", "pn", "company_B1", "company_A2", "company_B3"]
+    sources = {n: "" for n in names}
+    sources["c"] = "!s.\n+!s <- .all_names(L); .print(L).\n"
+    # Jason keeps its agents in a ConcurrentHashMap by name: by hash bucket, then creation
+    assert lines(run_agents(sources), "c") == [
+        "[p1,p2,pr,c,p3,company_B1,company_A2,company_B3,pn]"]
+
+
+def test_a_plan_body_in_a_variable_runs_its_first_deed_in_the_same_step() -> None:
+    # Jason replaces the variable by the body's first deed and runs it at once: the other
+    # intention sees no extra step between (as in Jason's TransitionSystem)
+    src = ("!a. !b.\n+!a <- B = {.print(a1); .print(a2)}; B; .print(a3).\n"
+           "+!b <- .print(b1); .print(b2); .print(b3).\n")
+    assert lines(run_source(src)) == ["a1", "b1", "a2", "b2", "a3", "b3"]
+
+
+def test_a_told_rule_keeps_its_variable_names_and_is_stored_with_fresh_ones() -> None:
+    out = run_agents({
+        "receiver": "+!kqml_received(A, tellRule, Rules, _) <- .print(Rules); "
+                    "for (.member(R, Rules)) { +R[source(A)] }; .relevant_rules(x(_), L); "
+                    ".print(L).\n+!g(Y, Z) <- .print(Y, \" \", Z).\n",
+        "sender": "!s.\n+!s <- .send(receiver, tellRule, [{x(V) :- V > 10}, {x(V) :- V < 30}]); "
+                  ".send(receiver, achieve, g(X, f(X, Q))).\n"})
+    shown = [re.sub(r"\b_\d+", "_", s) for s in lines(out, "receiver")]
+    assert sorted(shown) == ["Y<no-value> f(_,_)", "[{ x(V) :- (V > 10) },{ x(V) :- (V < 30) }]",
+                             "[{ x(_) :- (_ < 30) },{ x(_) :- (_ > 10) }]"]
+    stored = next(s for s in lines(out, "receiver") if s.startswith("[{ x(_"))
+    assert len(set(re.findall(r"_\d+", stored))) == 2   # each rule its own variable

@@ -4,6 +4,7 @@ directives, anonymous labels, goal-state meta events, plans and rules as terms, 
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 
@@ -67,7 +68,10 @@ def test_trigger_terms_from_the_intention_stack() -> None:
 def test_rules_as_terms_are_added_and_listed() -> None:
     prog = ("!s.\n+!s <- +{ double(X, Y) :- Y = X * 2 }; ?double(4, D); .print(D);"
             " .relevant_rules(double(_, _), R); .print(R).\n")
-    assert lines(run_source(prog)) == ["8", "[{ double(X,Y) :- (Y = (X*2)) }]"]
+    # stored with fresh variables, as Jason 3.3 prints it: [{ double(_22,_21) :- (_21 = (_22*2)) }]
+    shown = lines(run_source(prog))
+    assert shown[0] == "8"
+    assert re.fullmatch(r"\[\{ double\((_\d+),(_\d+)\) :- \(\2 = \(\1\*2\)\) \}\]", shown[1]), shown
 
 
 def test_belief_plan_terms_can_be_added() -> None:

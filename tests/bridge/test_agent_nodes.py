@@ -243,3 +243,16 @@ def test_an_action_waits_until_its_decomposer_can_answer(ros, tmp_path):
                          parameters=["OK", action_id, "done"]))
     agent.wait_for_line(r"\[eager\] moved", timeout=20)
     assert len(actions) == 1
+
+
+def test_an_agent_with_verbose_zero_prints_bare_text_and_its_warnings(ros, tmp_path):
+    write_agent(tmp_path, "quiet", """
+        !start.
+        +!start <- .println(bare_text); .log(info, hidden); !missing.
+        """)
+    project = tmp_path / "quiet.mas2j"
+    project.write_text("MAS quiet {\n  agents: quiet [verbose=0];\n}\n")
+    mas = ros.rosrun("rason", "mas", str(project), ns="/v0")
+    mas.wait_for_line(r"^bare_text$", timeout=20)
+    mas.wait_for_line(r"\[quiet\] Found a goal for which there is no relevant plan", timeout=20)
+    assert "hidden" not in mas.output()

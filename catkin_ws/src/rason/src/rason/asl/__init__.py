@@ -15,6 +15,7 @@ __path__[:0] = native_path()
 
 from .agent import Agent, AgentOptions, load_agent_source
 from .arch import AgentArch, Clock, Message, UnknownReceiver, VirtualClock, WallClock
+from .functions import register_function
 from .ia import ModuleLoadError, internal_action, load_modules
 from .parser import AslSyntaxError, parse_literal, parse_source, parse_term, parse_term_text
 from .runtime import LocalArch, LocalMas, run_file
@@ -41,5 +42,5 @@ __all__ = [
     "UnknownReceiver", "Var",
     "VirtualClock", "WallClock", "format_number", "internal_action", "load_agent_source",
     "load_mas2j", "load_modules", "parse_literal", "parse_mas2j", "parse_source", "parse_term",
-    "parse_term_text", "run_file", "term_str", "term_text",
+    "parse_term_text", "register_function", "run_file", "term_str", "term_text",
 ]

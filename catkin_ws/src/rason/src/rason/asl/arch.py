@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import random
+import sys
 import threading
 import time
 from dataclasses import dataclass, field
@@ -107,8 +108,14 @@ class AgentArch:
     """Base architecture: the seam between an agent and its environment / infrastructure.
 
     Subclasses override :meth:`perceive`, :meth:`act`, :meth:`action_abandoned`, :meth:`send`,
-    :meth:`broadcast`, :meth:`agent_names`, :meth:`console`.
+    :meth:`broadcast`, :meth:`agent_names`, :meth:`console`, :meth:`output`.
     """
+
+    #: Jason's ``verbose`` (the ``.mas2j`` option ``[verbose=N]``, :func:`verbosity`, and
+    #: ``.verbose(N)``): 0 shows warnings only (``.print`` and ``.printf`` then write their bare
+    #: text, as Jason's do when its logger shows no info), 1 the agent's messages too (the
+    #: default); 2 is taken as 1 (Jason's debugging logs are not reproduced)
+    verbose: int = 1
 
     def __init__(self, clock: Clock | None = None) -> None:
         self.clock: Clock = clock if clock is not None else WallClock()
@@ -159,6 +166,24 @@ class AgentArch:
 
     def console(self, agent_name: str, text: str) -> None:
         print(f"[{agent_name}] {text}", flush=True)
+
+    def output(self, text: str) -> None:
+        """Bare text on the console: no agent name, no new line added (``verbose=0``)."""
+        sys.stdout.write(text)
+        sys.stdout.flush()
+
+
+def verbosity(options: dict, default: int = 1) -> int:
+    """The ``verbose`` level of an agent's ``.mas2j`` options (Jason's ``Settings.setVerbose``),
+    ``default`` without one; anything but a whole number is an error."""
+    value = options.get("verbose")
+    if value is None:
+        return default
+    text = str(value).strip().strip('"')
+    try:
+        return int(text)
+    except ValueError:
+        raise ValueError(f"verbose={value}: a whole number (0, 1 or 2) is expected") from None
 
 
 class JavaRandom(random.Random):

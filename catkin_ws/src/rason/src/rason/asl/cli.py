@@ -74,8 +74,11 @@ def _native(action: str, force: bool, log: str | None) -> int:
         print(f"compiled modules {'in use' if native.in_use() else 'not in use'} "
               f"(build for these sources: {native.build_folder()})")
         return 0
+    # (imported here: running an agent needs none of the build's tools)
+    from . import native_build
+
     try:
-        print(native.build(force=force, log=log))
+        print(native_build.build(force=force, log=log))
     except RuntimeError as e:
         print(str(e), file=sys.stderr)
         return 1

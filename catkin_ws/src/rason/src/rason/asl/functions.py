@@ -6,6 +6,7 @@ No term here: :mod:`.unify` evaluates terms with these tables.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterator
 from random import Random
 from typing import Any, Protocol
 
@@ -77,12 +78,17 @@ for _name in LIST_FUNCTIONS:
 
 class FunctionHost(Protocol):
     """The agent as the agent-dependent functions see it (Jason binds them to their agent):
-    ``math.random`` draws from its generator, ``.count(Q)`` counts the solutions of Q."""
+    ``math.random`` draws from its generator, ``.count(Q)`` counts the solutions of Q, a
+    function registered with a rule asks the agent's belief base."""
 
     @property
     def random(self) -> Random: ...
 
     def count_solutions(self, query: Any) -> int: ...
+
+    def solve(self, f: Any, s: dict, intention: Any = None) -> Iterator[dict]:
+        """Every substitution extending ``s`` under which ``f`` follows from the agent's state."""
+        ...
 
     def clock_millis(self) -> float:
         """``system.time``: milliseconds of the agent's clock (as ``.time(T)``)."""
@@ -137,5 +143,48 @@ def java_mod(a: float, b: float) -> float:
 
 
 #: Functors that evaluate to a number (``math.random`` needs the agent's generator; ``.length``
-#: and ``.count`` only with one argument, else they are the internal actions).
-ARITH_NAMES = frozenset(ARITH_FUNCTIONS) | {"math.random", ".length", ".count", "system.time"}
+#: and ``.count`` only with one argument, else they are the internal actions); the functions
+#: of :func:`register_function` join them.
+ARITH_NAMES: set[str] = set(ARITH_FUNCTIONS) | {"math.random", ".length", ".count", "system.time"}
+
+
+class UserFunction:
+    """A function registered by name (Jason's ``register_function``): ``arity`` arguments,
+    computed by the Python ``compute(agent, args)`` or, without it, by the rule (literal,
+    internal action) named ``rule``, whose last argument is the result."""
+
+    __slots__ = ("arity", "compute", "rule")
+
+    def __init__(self, arity: int, compute: Callable[[Any, list], float] | None = None,
+                 rule: str | None = None) -> None:
+        self.arity = arity
+        self.compute = compute
+        self.rule = rule
+
+
+#: the registered functions, by name (one registry for the process)
+USER_FUNCTIONS: dict[str, UserFunction] = {}
+
+
+def register_function(name: str, arity: int, compute: Callable[[Any, list], float] | None = None,
+                      rule: str | None = None) -> None:
+    """Make ``name(A1..An)`` (n = ``arity``) an arithmetic function of every agent of this
+    process: ``compute(agent, args)`` gives its value from the arguments (terms, numbers as
+    floats), or the first solution of ``rule(A1..An, Result)`` does (Jason's
+    ``{ register_function("name", n, "rule") }``). As in Jason, the name has a ``.`` that is
+    not its first character and is not one of Jason's own functions; registering a name again
+    replaces it. Raises ValueError otherwise."""
+    if (compute is None) == (rule is None):
+        raise ValueError("register_function: give either a Python function or a rule name")
+    if "." not in name:
+        raise ValueError(f"The function {name} was not registered! A function must have a '.' "
+                         "in its name.")
+    if name.startswith("."):
+        raise ValueError(f"The function {name} was not registered! An user function name can "
+                         "not start with '.'.")
+    if name in ARITH_NAMES and name not in USER_FUNCTIONS:
+        raise ValueError(f"Can not register the function {name}  twice!")
+    if arity < 0:
+        raise ValueError(f"register_function {name}: the arity must be 0 or more")
+    USER_FUNCTIONS[name] = UserFunction(arity, compute, rule)
+    ARITH_NAMES.add(name)

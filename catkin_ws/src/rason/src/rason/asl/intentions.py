@@ -9,8 +9,8 @@ from enum import Enum
 from typing import Any, NamedTuple
 
 from .plans import ACHIEVE, ADD, DEL, Deed, Plan, Trigger, deed_str
-from .terms import term_str
-from .unify import unify
+from .terms import ListTerm, Literal, Var, fresh_name, make_list, term_str
+from .unify import rename_vars, resolve, unify
 
 _ids = itertools.count(1)
 
@@ -295,6 +295,23 @@ def java_map_order(items: list, key: Any) -> list:
         h = _java_string_hash(key(it))
         return ((h ^ (h >> 16)) & 0x7FFFFFFF) & (n - 1)
     return sorted(items, key=bucket)
+
+
+def unifier_term(u: dict, ag: Any = None) -> ListTerm:
+    """A unifier as Jason's ``Unifier.getAsTerm`` gives it: ``[map(_N, Value), ...]``, one
+    pair per bound variable, in the iteration order of Java's ``HashMap`` of the variable
+    names. Each variable is a fresh unnamed one, its name kept after the number when longer
+    than one character (``UnnamedVar.create``: ``X`` gives ``_32``, ``Ab`` gives ``_33Ab``);
+    each value is resolved, and the variables inside it are fresh ones (``makeVarsAnnon``;
+    a value that is a free variable stays that variable)."""
+    pairs = []
+    for name in java_map_order([k for k in u if type(k) is str], str):
+        value = resolve(Var(name), u, ag)
+        if not isinstance(value, Var):
+            value = rename_vars(value, {})
+        key = Var(fresh_name() + (name if len(name) > 1 else ""))
+        pairs.append(Literal("map", (key, value)))
+    return make_list(pairs)
 
 
 def short(x: Any) -> str:

@@ -241,6 +241,9 @@ def parse_mas2j(text: str, path: str = "<mas2j>", source_path: list[str] | None 
         for opt in opts:
             if opt in _UNUSED_OPTIONS:
                 proj.notes.append(f"agent {agname}: option {opt}={opts[opt]} has no effect here")
+            elif opt == "verbose" and str(opts[opt]).strip('"') == "2":
+                proj.notes.append(f"agent {agname}: verbose=2 shows what verbose=1 shows "
+                                  "(Jason's debugging logs are not reproduced)")
         asl_path = next((os.path.normpath(os.path.join(d, asl_file)) for d in search
                          if os.path.isfile(os.path.join(d, asl_file))), None)
         if asl_path is None:
@@ -252,7 +255,7 @@ def parse_mas2j(text: str, path: str = "<mas2j>", source_path: list[str] | None 
 
 
 #: Jason agent options that rason does not implement (it behaves as their defaults)
-_UNUSED_OPTIONS = frozenset({"events", "intBels", "nrcbp", "verbose", "synchronised", "queries",
+_UNUSED_OPTIONS = frozenset({"events", "intBels", "nrcbp", "synchronised", "queries",
                              "mindinspector"})
 
 

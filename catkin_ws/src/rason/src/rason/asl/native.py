@@ -6,6 +6,9 @@ the Python version. ``rason.asl`` puts that folder first on its ``__path__`` onl
 the sources on disk, so an edited module runs as Python (never as a stale compiled copy) until
 the next build, which ``./run.sh`` makes on its way. ``RASON_NATIVE=0`` runs everything as Python.
 
+The build itself (mypyc, the C compiler, their standard-library helpers) is in
+:mod:`.native_build`, imported only to build: every agent imports this module at start-up.
+
 What compiled code asks of these modules (docs/benchmarks.md: "The compiled reasoning cycle"): annotations
 that hold at run time (mypyc checks them), no subclass of a builtin container, no class
 attribute read as a default value, no method alias in a class body, ``__reduce__`` for every
@@ -14,13 +17,8 @@ class that is pickled, and no interpreted subclass of a compiled class.
 
 from __future__ import annotations
 
-import glob
 import os
-import shutil
-import subprocess
 import sys
-import tempfile
-import time
 import zlib
 
 #: the modules compiled, in the order of their imports (the rest of rason.asl stays Python)
@@ -35,7 +33,7 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 #: where builds go: ``catkin_ws/src/rason/native/<stamp>`` (git ignores it)
 BUILDS = os.path.normpath(os.path.join(_HERE, "..", "..", "..", "native"))
 #: written last by a build: a folder without it is a build that did not finish
-_COMPLETE = "COMPLETE"
+COMPLETE = "COMPLETE"
 
 
 def source_stamp() -> str:
@@ -58,7 +56,7 @@ def native_path() -> list[str]:
     if os.environ.get(SWITCH, "1") == "0":
         return []
     folder = build_folder()
-    return [folder] if os.path.isfile(os.path.join(folder, _COMPLETE)) else []
+    return [folder] if os.path.isfile(os.path.join(folder, COMPLETE)) else []
 
 
 def in_use() -> bool:
@@ -66,56 +64,3 @@ def in_use() -> bool:
     from . import agent
 
     return not (agent.__file__ or "").endswith(".py")
-
-
-def build(force: bool = False, log: str | None = None) -> str:
-    """Compile :data:`COMPILED` for the sources on disk unless already done; remove older
-    builds. Returns the build's folder. Raises ``RuntimeError`` (with the compiler's last
-    lines) when mypyc or the C compiler fails."""
-    folder = build_folder()
-    if os.path.isfile(os.path.join(folder, _COMPLETE)) and not force:
-        return folder
-    os.makedirs(BUILDS, exist_ok=True)
-    package_root = os.path.dirname(os.path.dirname(_HERE))     # the folder holding rason/
-    with tempfile.TemporaryDirectory(prefix="rason-native-") as tmp:
-        log_path = log or os.path.join(tmp, "build.log")
-        with open(log_path, "w", encoding="utf-8") as out:
-            done = subprocess.run([sys.executable, "-c", _COMPILE, tmp],
-                                  cwd=package_root, stdout=out, stderr=subprocess.STDOUT,
-                                  env={**os.environ, SWITCH: "0"}, check=False)
-        if done.returncode != 0:
-            with open(log_path, encoding="utf-8", errors="replace") as f:
-                tail = "".join(f.readlines()[-25:])
-            raise RuntimeError(f"mypyc build failed (exit {done.returncode}):\n{tail}")
-        built = os.path.join(tmp, "lib", *GROUP.split(".")[:-1])
-        staging = folder + f".{os.getpid()}.tmp"
-        shutil.rmtree(staging, ignore_errors=True)
-        os.makedirs(staging)
-        for so in glob.glob(os.path.join(built, "*.so")):
-            shutil.copy2(so, staging)
-        with open(os.path.join(staging, _COMPLETE), "w", encoding="utf-8") as f:
-            f.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')} {' '.join(COMPILED)}\n")
-        shutil.rmtree(folder, ignore_errors=True)
-        os.replace(staging, folder)
-    for old in glob.glob(os.path.join(BUILDS, "*")):
-        if os.path.abspath(old) != os.path.abspath(folder):
-            shutil.rmtree(old, ignore_errors=True)
-    return folder
-
-
-_COMPILE = "import sys; from rason.asl.native import compile_into; compile_into(sys.argv[1])"
-
-
-def compile_into(tmp: str) -> None:
-    """In a child process whose working folder holds ``rason/``: mypyc, then the C compiler."""
-    from mypyc.build import mypycify
-    from setuptools import setup
-
-    paths = [os.path.join("rason", "asl", name + ".py") for name in COMPILED]
-    # --config-file= : no mypy configuration but these options (the project's is for linting)
-    extensions = mypycify(["--config-file=", "--ignore-missing-imports", *paths], group_name=GROUP,
-                          target_dir=os.path.join(tmp, "c"))
-    setup(name="rason_asl_native", ext_modules=extensions,
-          script_args=["build_ext", "--build-lib", os.path.join(tmp, "lib"),
-                       "--build-temp", os.path.join(tmp, "obj"), "--parallel",
-                       str(os.cpu_count() or 1)])

@@ -17,6 +17,7 @@ from typing import Any
 
 from . import asl_tables
 from .containers import from_wire
+from .functions import register_function
 from .lalr import (
     LalrParser,
     NestedTooDeep,
@@ -600,7 +601,11 @@ class _ToAst:
         return c[0]
 
     def directive(self, meta: Any, c: builtins.list) -> tuple:
-        return ("directive", _fix(c[0]), meta)
+        d = _fix(c[0])
+        if isinstance(d, Literal) and d.functor == "register_function":
+            # at once, as Jason's parser does: the literals after it are read as the function
+            _register_function(d, meta, self.filename)
+        return ("directive", d, meta)
 
     def directive_block(self, meta: Any, c: builtins.list) -> tuple:
         """``{ begin namespace(ns) }`` (Jason: a directive opening a block closed by ``{ end }``)."""
@@ -1097,9 +1102,29 @@ def _directive(out: AgentSource, d: Any, meta: Any, filename: str, include: Incl
         out.goals.extend(inner.goals)
         out.plans.extend(inner.plans)
         return
+    if d.functor == "register_function":
+        return   # applied when it was read (_ToAst.directive)
     if d.functor not in _IGNORED_DIRECTIVES:
         print(f"{filename}:{meta.line}: warning: directive {term_str(d)} is not known here; ignored",
               file=sys.stderr)
+
+
+def _register_function(d: Literal, meta: Any, filename: str) -> None:
+    """``{ register_function("name", Arity, "rule") }``: ``name(A1..An)`` becomes an arithmetic
+    function whose value is the last argument of the rule's first solution (Jason's
+    ``FunctionRegister``); the one-argument form names a Java class, which cannot be loaded.
+    A wrong directive is reported, as Jason logs it, and the file is read on."""
+    args = d.args
+    if (len(args) == 3 and isinstance(args[0], str) and type(args[1]) is float
+            and args[1] == int(args[1]) and isinstance(args[2], str)):
+        try:
+            register_function(args[0], int(args[1]), rule=args[2])
+        except ValueError as e:
+            print(f"{filename}:{meta.line}: warning: {e}", file=sys.stderr)
+        return
+    why = ("names a Java class, which cannot be loaded here" if len(args) == 1
+           else 'expects ("name", Arity, "rule")')
+    print(f"{filename}:{meta.line}: warning: directive {term_str(d)} {why}; ignored", file=sys.stderr)
 
 
 def parse_term(text: str, exact: bool = False) -> Any:

@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from .ia import SUSPEND, FailGoal, IAContext, IAError, call_ia
-from .intentions import Event, IntendedMeans, Intention, Suspension
+from .intentions import Event, IntendedMeans, Intention, Suspension, unifier_term
 from .logic import compile_context, eval_rel, first_solution, query_bb, solve
 from .plans import (
     ACHIEVE,
@@ -40,8 +40,10 @@ from .plans import (
 from .selection import Option
 from .terms import (
     AnnotVar,
+    ArithExpr,
     ListTerm,
     Literal,
+    LogExpr,
     NsLit,
     PlanTerm,
     RelExpr,
@@ -192,15 +194,19 @@ def rel_pl(ag: Agent, ev: Event) -> list[Plan]:
     return ag.pl.relevant(ev.trigger)
 
 
-def sel_appl(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | None:
+def sel_appl(ag: Agent, lit: Any, relevant: list[Plan], ev: Event | None = None) -> tuple[Plan, dict] | None:
     """ApplPl + SelAppl: the first applicable plan in source order and its unifier.
 
     Plans are checked one by one and the search stops at the first applicable one (Jason's
     default ``selectOption``), so later contexts are never evaluated. An agent with its own
-    ``selection.option`` function gets every applicable plan (ApplPl) and picks one.
+    ``selection.option`` function gets every applicable plan (ApplPl) and picks one; an agent
+    whose belief base has a ``select__option/4`` rule (or fact) gets the first option that it
+    accepts (:func:`_sel_option_bb`).
     """
     if ag.selection.option is not None:
         return _sel_option(ag, lit, relevant)
+    if SELECT_OPTION_KEY in ag.bb.by_key:
+        return _sel_option_bb(ag, lit, relevant, ev)
     for plan in relevant:
         sol = _applicable(ag, lit, plan)
         if sol is not None:
@@ -211,13 +217,8 @@ def sel_appl(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | N
 def _applicable(ag: Agent, lit: Any, plan: Plan) -> dict | None:
     """ApplPl for one relevant plan: the unifier under which its trigger matches ``lit`` and
     its context holds, or None."""
-    u: dict = {}
-    args = plan.trigger_args
-    if args is not None and type(lit) is Literal:
-        # same key as the event (RelPl): only the arguments remain to unify
-        if args and not _unify_args(args, lit.args, u, ag):
-            return None
-    elif not unify(plan.trigger.literal, lit, u, ag):
+    u = _relevant_unifier(ag, lit, plan)
+    if u is None:
         return None
     ctx = plan.context
     if ctx is None:
@@ -230,6 +231,19 @@ def _applicable(ag: Agent, lit: Any, plan: Plan) -> dict | None:
         return compiled.solve(ag, u) if compiled is not None else first_solution(ag, ctx, u)
     except (ArithError, RecursionError):
         return None
+
+
+def _relevant_unifier(ag: Agent, lit: Any, plan: Plan) -> dict | None:
+    """The unifier under which the plan's trigger matches the event's literal, or None."""
+    u: dict = {}
+    args = plan.trigger_args
+    if args is not None and type(lit) is Literal:
+        # same key as the event (RelPl): only the arguments remain to unify
+        if args and not _unify_args(args, lit.args, u, ag):
+            return None
+    elif not unify(plan.trigger.literal, lit, u, ag):
+        return None
+    return u
 
 
 def _sel_option(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | None:
@@ -249,6 +263,47 @@ def _sel_option(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] 
     if not any(o is chosen for o in options):
         raise _not_a_candidate("option", chosen)
     return chosen.plan, chosen.unifier
+
+
+#: the key of Jason's option-selection rule ``select__option(Event, Intention, Plan, Unifier)``
+SELECT_OPTION_KEY = ("select__option", 4, False)
+
+
+def _sel_option_bb(ag: Agent, lit: Any, relevant: list[Plan], ev: Event | None) -> tuple[Plan, dict] | None:
+    """SelAppl through the belief base, as Jason 3.3's ``Agent.selectOptionBB``: every
+    solution of every relevant plan's context is an option (as for a plan annotated
+    ``all_unifs``), in source order; the first one for which
+    ``select__option(Trigger, IntentionId, Plan, Unifier)`` follows from the belief base is
+    chosen. ``Trigger`` is the event's trigger term, ``IntentionId`` its intention's number
+    (-1 for an external event), ``Plan`` the plan term under the option's unifier and
+    ``Unifier`` that unifier as ``[map(_N, Value), ...]`` (:func:`unifier_term`). None when
+    the rule accepts none (Jason 3.3 then throws an ``IndexOutOfBoundsException``)."""
+    int_id = float(ev.intention.id) if ev is not None and ev.intention is not None else -1.0
+    for plan in relevant:
+        u = _relevant_unifier(ag, lit, plan)
+        if u is None:
+            continue
+        solutions = [u] if plan.context is None else _context_solutions(ag, plan, u)
+        for sol in solutions:
+            # printed as Jason prints a Trigger and a Plan that are not terms: no braces
+            trig = ev.trigger if ev is not None else plan.trigger
+            trig_term = PlanTerm((), str(trig), Plan(None, trig, None, (), in_file=False),
+                                 braces=False)
+            applied = plan.map_terms(lambda t, s=sol: resolve(t, s, ag))
+            plan_term = PlanTerm(applied.body, applied.as_text(), applied, braces=False)
+            query = Literal(SELECT_OPTION_KEY[0],
+                            (trig_term, int_id, plan_term, unifier_term(sol, ag)))
+            if first_solution(ag, query, dict(sol)) is not None:
+                return plan, sol
+    return None
+
+
+def _context_solutions(ag: Agent, plan: Plan, u: dict) -> list[dict]:
+    """Every solution of the plan's context extending ``u`` (an arithmetic error: none)."""
+    try:
+        return list(solve(ag, plan.context, u))
+    except (ArithError, RecursionError):
+        return []
 
 
 def handle_event(ag: Agent, ev: Event) -> bool:
@@ -271,9 +326,11 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     lit = trig.literal
     ground = (type(lit) is Literal and lit.known_ground) or is_ground(lit)
     if not ground:
-        lit = rename_vars(lit, {})
+        # an external event keeps the names of the variables inside its plan and rule terms
+        # (a told rule prints as it was written, as in Jason)
+        lit = rename_vars(lit, {}, None if i is not None else _names_outside_code(lit).__contains__)
         ev = Event(Trigger(trig.op, trig.type, lit), i, ev.fail_target, ev.reply)
-    opt = sel_appl(ag, lit, relevant)
+    opt = sel_appl(ag, lit, relevant, ev)
     if opt is None:
         return _no_plan(ag, trig, i, "applicable")
     plan, u = opt
@@ -296,6 +353,38 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     i.suspended = None
     ag.circ.running.append(i)
     return True
+
+
+def _names_outside_code(t: Any, out: set[str] | None = None) -> set[str]:
+    """The names of the variables of ``t`` that are not inside a plan or rule term."""
+    if out is None:
+        out = set()
+    tt = type(t)
+    if tt is Var or tt is AnnotVar:
+        out.add(t.name)
+        if tt is AnnotVar:
+            for a in t.annots:
+                _names_outside_code(a, out)
+    elif tt is Literal:
+        for a in t.args:
+            _names_outside_code(a, out)
+        for a in t.annots:
+            _names_outside_code(a, out)
+        if t.tail is not None:
+            _names_outside_code(t.tail, out)
+    elif tt is ListTerm:
+        for a in t.items:
+            _names_outside_code(a, out)
+        if t.tail is not None:
+            _names_outside_code(t.tail, out)
+    elif tt is NsLit:
+        _names_outside_code(t.ns, out)
+        _names_outside_code(t.lit, out)
+    elif tt is RelExpr or tt is ArithExpr or tt is LogExpr:
+        _names_outside_code(t.left, out)
+        if t.right is not None:
+            _names_outside_code(t.right, out)
+    return out
 
 
 def _tail_call(ag: Agent, i: Intention, im: IntendedMeans) -> None:
@@ -682,8 +771,10 @@ def _change_rule(ag: Agent, im: IntendedMeans, d: Deed, op: str) -> bool:
     if rule is None or not isinstance(rule.head, Literal):
         raise IAError(f"cannot add {term_str(t)} as a belief")
     if op == ADD:
-        head = rule.head.add_annots(extra) if extra else rule.head
-        ag.bb.add_rule(Rule(head.with_self_source(), rule.body), front=True)
+        # Jason's belief base keeps an added rule with fresh variables
+        mapping: dict = {}
+        head = rename_vars(rule.head.add_annots(extra) if extra else rule.head, mapping)
+        ag.bb.add_rule(Rule(head.with_self_source(), rename_vars(rule.body, mapping)), front=True)
         return True
     for r in list(ag.bb.candidates(rule.head.key)):
         if isinstance(r, Rule):
@@ -731,12 +822,23 @@ def _exec_test_goal(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool
 
 
 def _exec_action(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
-    """An environment action: the intention waits for its feedback."""
+    """An environment action: the intention waits for its feedback (a plan body in a
+    variable runs in its place)."""
     u = im.u
     im.stack.pop()
     lit = resolve(d.term, u, ag)
     if isinstance(lit, Literal) and lit.functor == "true" and not lit.args:
         return True
+    if type(lit) is PlanTerm and lit.plan is None and lit.rule is None:
+        # a variable holding a plan body (``H`` with ``H = {?b(X); .print(X)}``): its deeds
+        # take its place in this means and the first runs in this very step, as in Jason
+        deeds = lit.body
+        if not deeds:
+            return True
+        im.stack.extend(reversed(deeds))
+        first = deeds[0]
+        im.current = first
+        return _EXEC_DEED[first.kind](ag, i, im, first)
     if not isinstance(lit, Literal):
         return _fail(ag, i, im, d, "action_failed", f"invalid action {term_str(lit)}")
     ag.start_action(i, im, d, lit)

@@ -12,7 +12,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from .agent import Agent, AgentOptions, load_agent_source
-from .arch import AgentArch, Clock, Message, UnknownReceiver, WallClock
+from .arch import AgentArch, Clock, Message, UnknownReceiver, WallClock, verbosity
 from .beliefs import BeliefBase
 from .df import DF_NAME, ProviderNotice, ServiceDirectory
 from .intentions import Event, Intention
@@ -89,6 +89,9 @@ class LocalArch(AgentArch):
     def console(self, agent_name: str, text: str) -> None:
         self.mas.console(agent_name, text)
 
+    def output(self, text: str) -> None:
+        self.mas.output(text)
+
 
 ArchFactory = Callable[["LocalMas", str], AgentArch]
 
@@ -125,6 +128,12 @@ class LocalMas:
     def console(self, agent_name: str, text: str) -> None:
         out = self.out or sys.stdout
         out.write(f"[{agent_name}] {text}\n")
+        out.flush()
+
+    def output(self, text: str) -> None:
+        """Bare text, as an agent with ``verbose=0`` prints."""
+        out = self.out or sys.stdout
+        out.write(text)
         out.flush()
 
     def notify(self) -> None:
@@ -197,6 +206,7 @@ class LocalMas:
             ag = self.add_agent(spec.name, src, spec.asl_path, None if seed is None else seed + k,
                                 src_name=rel, options=opts, belief_base=hooks.make_belief_base())
             ag.add_initial(spec.options.get("beliefs"), spec.options.get("goals"))
+            ag.arch.verbose = verbosity(spec.options)
             hooks.customise(ag)
             self.notes.extend(hooks.notes)
         self.notes.extend(proj.notes)

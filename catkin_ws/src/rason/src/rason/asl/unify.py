@@ -15,8 +15,10 @@ from .functions import (
     ARITH_FUNCTIONS,
     ARITH_NAMES,
     LIST_FUNCTIONS,
+    USER_FUNCTIONS,
     ArithError,
     FunctionHost,
+    UserFunction,
     divide,
     java_int_div,
     java_mod,
@@ -40,6 +42,7 @@ from .terms import (
     merge_annots,
     sort_key,
     split_ns,
+    term_str,
 )
 
 Subst = dict
@@ -139,6 +142,9 @@ def eval_arith(t: Any, s: Subst, ag: FunctionHost | None = None) -> float:
                 return float(f(*args))
             except (TypeError, ValueError, OverflowError) as e:
                 raise ArithError(str(e)) from None
+        uf = USER_FUNCTIONS.get(fn)
+        if uf is not None and len(t.args) == uf.arity:
+            return _user_function(uf, t, s, ag)
         if t.functor == "math.random" and ag is not None:
             args = [eval_arith(a, s, ag) for a in t.args]
             r = ag.random.random()
@@ -165,6 +171,35 @@ def _agent_function(fn: str, arg: Any, s: Subst, ag: FunctionHost | None) -> flo
     if fn == ".count" and ag is not None:
         return float(ag.count_solutions(resolve(arg, s, ag)))
     raise ArithError(f"not a function: {fn}")
+
+
+#: the variable a rule-based function's query binds to its result
+_RESULT = "__RuleToFunctionResult"
+
+
+def _user_function(uf: UserFunction, t: Literal, s: Subst, ag: FunctionHost | None) -> float:
+    """A registered function (``register_function``) applied to the arguments of ``t``."""
+    args = [resolve(a, s, ag) for a in t.args]
+    if uf.compute is not None:
+        try:
+            value = uf.compute(ag, args)
+        except (TypeError, ValueError, ArithmeticError) as e:
+            raise ArithError(f"{t.functor}: {e}") from None
+    else:
+        if ag is None or uf.rule is None:
+            raise ArithError(f"{t.functor} needs an agent")
+        query = Literal(uf.rule, (*args, Var(_RESULT)))
+        value = None
+        for sol in ag.solve(query, {}):
+            value = resolve(Var(_RESULT), sol, ag)
+            break
+        else:
+            raise ArithError(f"No solution was found for rule {term_str(query)}")
+    if type(value) is int:
+        value = float(value)
+    if type(value) is not float:
+        raise ArithError(f"The result of {t.functor} (={term_str(value)}) is not numeric!")
+    return value
 
 
 def is_arith_function(t: Any) -> bool:

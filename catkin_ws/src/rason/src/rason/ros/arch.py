@@ -172,6 +172,9 @@ class RosAgArch(AgentArch):
     def console(self, agent_name: str, text: str) -> None:
         self.node.console(agent_name, text)
 
+    def output(self, text: str) -> None:
+        self.node.output(text)
+
     def accepts(self, message: Message) -> bool:
         """Jason's message acceptance hook: may `message` reach this agent at all?"""
         return self.refusal(message) is None

@@ -47,6 +47,7 @@ from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from jason_msgs.srv import Mind, MindResponse
 
 from rason.asl import Agent, AgentOptions, Message, load_agent_source, parse_term_text, term_str, term_text
+from rason.asl.arch import verbosity
 from rason.asl.df import DF_NAME, ProviderNotice, Registration, ServiceDirectory
 from rason.asl.terms import ListTerm, Literal, list_to_python, non_finite_part
 from rason.ros import fastpath
@@ -283,6 +284,7 @@ class RasonNode:
         (`options`: the agent's own `.mas2j` options, over the node's `~tro`...)."""
         arch = RosAgArch(self, name, perception_filter or self.default_filter,
                          _agent_trust(options or {}, self.trust))
+        arch.verbose = verbosity(options or {})
         agent = Agent(name, source, arch, filename=filename,
                       options=AgentOptions.from_options(options or {}, self.agent_options))
         self.directory.add_local(name)
@@ -650,6 +652,12 @@ class RasonNode:
     def console(self, agent_name: str, text: str) -> None:
         with self._console_lock:
             write_line(sys.stdout, f"[{agent_name}] {text}")
+
+    def output(self, text: str) -> None:
+        """Bare text of an agent with ``verbose=0`` (no name, no new line added)."""
+        with self._console_lock:
+            sys.stdout.write(text)
+            sys.stdout.flush()
 
     def _announce(self, name: str, content: str = "") -> None:
         """Presence (``content``: "", HELLO or GOODBYE) on /jason/messages and jason/presence."""

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import datetime
 import re
 from typing import Any
 
 from ..ia import SUSPEND, FailGoal, IAContext, IAError, internal_action, wrong_arg
+from ..intentions import java_map_order
 from ..parser import AslSyntaxError, parse_source, parse_term
 from ..plans import Plan, PlanTerm, Trigger, plan_term_trigger
 from ..terms import (
@@ -44,10 +44,33 @@ def print_text(ctx: IAContext, args: list, first: int = 0) -> str:
     return "".join(out)
 
 
-@internal_action(".print", ".println")
+def info(ctx: IAContext, text: str) -> None:
+    """An agent's message (Jason's logger at level info): shown unless ``verbose=0``."""
+    if ctx.ag.arch.verbose >= 1:
+        ctx.ag.console(text)
+
+
+def _say(ctx: IAContext, text: str, newline: str) -> None:
+    """What ``.print``, ``.println`` and ``.printf`` show: an agent's message, or with
+    ``verbose=0`` the bare text followed by ``newline`` (Jason writes to System.out then)."""
+    arch = ctx.ag.arch
+    if arch.verbose >= 1:
+        ctx.ag.console(text)
+    else:
+        arch.output(text + newline)
+
+
+@internal_action(".print")
 def print_(ctx: IAContext, args: list) -> bool:
     """Concatenate the arguments (strings without quotes) and print them."""
-    ctx.ag.console(print_text(ctx, args))
+    _say(ctx, print_text(ctx, args), "")
+    return True
+
+
+@internal_action(".println")
+def println(ctx: IAContext, args: list) -> bool:
+    """``.print`` that ends its line when ``verbose=0`` too."""
+    _say(ctx, print_text(ctx, args), "\n")
     return True
 
 
@@ -71,7 +94,7 @@ def puts(ctx: IAContext, args: list) -> bool:
     text = "".join(_PUTS_VAR.sub(rep, a) for a in args if isinstance(a, str))
     if isinstance(args[-1], Var):
         return ctx.unify(text, args[-1])
-    ctx.ag.console(text)
+    info(ctx, text)
     return True
 
 
@@ -115,7 +138,7 @@ def printf(ctx: IAContext, args: list) -> bool:
             return (spec + c) % v
         java_type = "java.lang.Double" if isinstance(v, float) else "java.lang.String"
         raise IAError(f"{c} != {java_type}", "ia_failed")
-    ctx.ag.console(_JAVA_FORMAT.sub(conv, args[0]))
+    _say(ctx, _JAVA_FORMAT.sub(conv, args[0]), "\n")
     return True
 
 
@@ -134,7 +157,9 @@ def my_name(ctx: IAContext, args: list) -> bool:
 
 @internal_action(".all_names", arity=1)
 def all_names(ctx: IAContext, args: list) -> bool:
-    names = ctx.ag.arch.agent_names() or [ctx.ag.name]
+    """``.all_names(L)``: the agents' names in the order Jason's local infrastructure gives
+    them (that of its ``ConcurrentHashMap`` of agents by name)."""
+    names = java_map_order(ctx.ag.arch.agent_names() or [ctx.ag.name], str)
     return ctx.unify(args[0], make_list([Literal(n) for n in names]))
 
 
@@ -183,6 +208,8 @@ def time_(ctx: IAContext, args: list) -> bool:
     """``.time(H, M, S[, MS])`` wall time; ``.time(T)``: milliseconds from the agent's clock."""
     if len(args) == 1:
         return ctx.unify(args[0], ctx.ag.clock_millis())
+    import datetime  # (here: few agents ask the date, every agent starts)
+
     now = datetime.datetime.now()
     vals = [now.hour, now.minute, now.second, now.microsecond // 1000]
     return all(ctx.unify(a, float(v)) for a, v in zip(args, vals, strict=False))
@@ -196,6 +223,8 @@ def nano_time(ctx: IAContext, args: list) -> bool:
 
 @internal_action(".date")
 def date(ctx: IAContext, args: list) -> bool:
+    import datetime
+
     now = datetime.date.today()
     return all(ctx.unify(a, float(v)) for a, v in zip(args, [now.year, now.month, now.day], strict=False))
 

@@ -27,7 +27,7 @@ from ..terms import (
     to_print_str,
 )
 from ..unify import rename_vars, resolve, unify
-from .core import print_text
+from .core import info, print_text
 
 TRUE_ATOM = Literal("true")
 FALSE_ATOM = Literal("false")
@@ -43,9 +43,9 @@ def log(ctx: IAContext, args: list) -> bool:
     if not args:
         raise wrong_arg("a log level is expected")
     level = to_print_str(args[0])
-    if level in _SHOWN_LEVELS:
+    if level in _SHOWN_LEVELS and (level != "info" or ctx.ag.arch.verbose >= 1):
         text = print_text(ctx, args, 1)
-        ctx.ag.console(text if level == "info" else f"[{level.upper()}] {text}")
+        ctx.ag.console(text)   # Jason's console formatter does not name the level
     return True
 
 
@@ -125,7 +125,10 @@ def version(ctx: IAContext, args: list) -> bool:
 
 @internal_action(".verbose", arity=1)
 def verbose(ctx: IAContext, args: list) -> bool:
-    """``.verbose(N)``: accepted; rason has one console level."""
+    """``.verbose(N)``: the agent's ``verbose`` level from now on (see ``AgentArch.verbose``)."""
+    if not isinstance(args[0], float) or args[0] != int(args[0]):
+        raise wrong_arg("the level must be a whole number (0, 1 or 2)")
+    ctx.ag.arch.verbose = int(args[0])
     return True
 
 
@@ -133,7 +136,7 @@ def verbose(ctx: IAContext, args: list) -> bool:
 def print_unifier(ctx: IAContext, args: list) -> bool:
     items = ", ".join(f"{k}={term_str(resolve(v, ctx.s))}" for k, v in ctx.s.items()
                       if not k.startswith("_"))
-    ctx.ag.console("{" + items + "}")
+    info(ctx, "{" + items + "}")
     return True
 
 
@@ -166,7 +169,7 @@ def list_rules(ctx: IAContext, args: list) -> bool:
     for r in ctx.ag.bb.rules():
         if args and not (isinstance(args[0], Literal) and unify(args[0], r.head, dict(ctx.s))):
             continue
-        ctx.ag.console(str(_rule_term(r).rule) + ".")
+        info(ctx, str(_rule_term(r).rule) + ".")
     return True
 
 
@@ -185,7 +188,7 @@ def list_plans(ctx: IAContext, args: list) -> bool:
         if trig is not None and not (p.trigger.op == trig.op and p.trigger.type == trig.type
                                      and unify(trig.literal, p.trigger.literal, {})):
             continue
-        ctx.ag.console(str(p))
+        info(ctx, str(p))
     return True
 
 

@@ -5,7 +5,16 @@ from __future__ import annotations
 from typing import Any
 
 from ..ia import SUSPEND, IAContext, IAError, internal_action, wrong_arg
-from ..intentions import Fork, ForkBranch, IntendedMeans, Intention, Suspension, has_goal, java_map_order
+from ..intentions import (
+    Fork,
+    ForkBranch,
+    IntendedMeans,
+    Intention,
+    Suspension,
+    has_goal,
+    java_map_order,
+    unifier_term,
+)
 from ..plans import ACHIEVE, ADD, K_INTERNAL, Deed, Plan, deed_str, map_deeds
 from ..terms import Literal, PlanTerm, Var, make_list, term_str
 from ..unify import rename_vars, unify
@@ -43,12 +52,12 @@ def _places(ag: Any) -> list:
 def im_term(im: Any) -> Literal:
     """``im(Label, {Trigger}, {Body}, [map(Var, Value), ...])`` (Jason's IntendedMeans.getAsTerm):
     the label with ``code_src``/``code_line`` of the plan, the trigger as a trigger term, the
-    deeds still to run as a plan-body term (our variable names are not Jason's)."""
+    deeds still to run as a plan-body term, the unifier as :func:`unifier_term` gives it."""
     plan = im.plan
     label = plan.label if isinstance(plan.label, Literal) else Literal("nolabel")
     label = label.add_annots([Literal("code_src", (plan.src,)), Literal("code_line", (float(plan.line),))])
     deeds = list(reversed(im.stack))
-    if im.current is not None and (not deeds or deeds[0] is not im.current) and im.stack:
+    if im.current is not None and (not deeds or deeds[0] is not im.current):
         deeds.insert(0, im.current)
     # Jason's makeVarsAnnon: the body's variables are fresh ones (the deed running this very
     # action may hold the variable the stack is unified with)
@@ -56,9 +65,7 @@ def im_term(im: Any) -> Literal:
     deeds = list(map_deeds(tuple(deeds), lambda t: rename_vars(t, mapping)))
     body = PlanTerm(tuple(deeds), "; ".join(deed_str(d) for d in deeds))
     trig = Plan(None, im.trigger, None, ()).as_term()
-    unif = make_list([Literal("map", (Var(k), v)) for k, v in im.u.items()
-                      if isinstance(k, str) and not k.startswith("_")])
-    return Literal("im", (label, trig, body, unif))
+    return Literal("im", (label, trig, body, unifier_term(im.u)))
 
 
 def intention_term(i: Any) -> Literal:
