@@ -78,9 +78,13 @@ helperOf(helper) :- not found(_).
 -!mission[error(R)] <- .print("mission over (", R, ")").
 
 // ---- Analyze: the cooperative diagnosis (its plans decide on reason(R) and Helper's feedback).
+// Helper's answers to an earlier diagnosis are dropped first: told again, an answer already
+// believed would bring no event (+found, +notFound), and Faulty would wait for it in vain.
 +!analyze(R)
    : R == no_progress | R == bad_move
    <- -diagnosis(_);
+      .abolish(found(_));
+      .abolish(notFound(_));
       -+reason(R);
       .print("ANALYZE: ", R, ": asking for help to diagnose it");
       .broadcast(achieve, helpme);
