@@ -4,7 +4,8 @@ agents, all started with rosrun; the fault injected with the real service during
 
 A fault-free mission is completed by Faulty; with both actuators broken, the team diagnoses the
 fault and Helper takes the remaining waypoints over (delegation); with one weak wheel, Faulty
-learns how it moves now and limps on to every waypoint itself. Every waypoint is reached
+learns how it moves now and limps on to every waypoint itself; with its odometry frozen, it
+drives open loop, located by Helper's Kinect after every leg. Every waypoint is reached
 within 0.3 m by ground truth, and the robots never touch.
 """
 
@@ -66,4 +67,11 @@ def test_one_weak_wheel_faulty_limps_on_to_every_waypoint(tmp_path):
     result, shown = _mission(tmp_path, "--fault", "right_actuator", "--at", "20", "--seed", "4")
     _assert_completed(result, shown)
     assert result["diagnosis"] == "right_actuator" and result["recovery"] == "limp", shown
+    assert {p["reached_by"] for p in result["waypoints"]} == {"faulty"}, shown
+
+
+def test_frozen_odometry_faulty_drives_guided_by_helpers_fixes(tmp_path):
+    result, shown = _mission(tmp_path, "--fault", "odometry", "--seed", "12")
+    _assert_completed(result, shown)
+    assert result["diagnosis"] == "odometry" and result["recovery"] == "guided", shown
     assert {p["reached_by"] for p in result["waypoints"]} == {"faulty"}, shown
