@@ -87,8 +87,20 @@ helperOf(helper) :- not found(_).
       .abolish(notFound(_));
       -+reason(R);
       .print("ANALYZE: ", R, ": asking for help to diagnose it");
+      !aimHelper;
       .broadcast(achieve, helpme);
       .wait(diagnosis(_)).
+// Helper first turns to face where Faulty's pose puts it (after an odometry fault, where the
+// encoder froze: a few tenths of a metre off), so that its search starts with Faulty in view
+// instead of sweeping past it when its camera's frames come slowly. Its answer looking(X, Y)
+// is awaited aimWait at most (no answer: the search sweeps as before).
+aimWait(15000).         // ms
++!aimHelper
+   : here(X, Y, _) & aimWait(T)
+   <- .abolish(looking(_, _));
+      .broadcast(achieve, lookAt(X, Y));
+      .wait(looking(_, _), T, _).
++!aimHelper.
 +!analyze(R)
    <- .print("ANALYZE: ", R, " is not a failure the diagnosis reads");
       -+unknownBecause(R);
@@ -171,7 +183,8 @@ limpLegFor(K, 2) :- math.abs(K) <= 0.8.
 // (configure(reference, command): it stops by its own dead reckoning of the commands), and
 // Faulty navigates by fix(X, Y, Yaw), where Helper's Kinect puts it (navigate.asl prefers it to
 // the frozen pose/3): a fix before the first leg and after every leg of at most guidedLeg, until
-// a fix is within arrivalTolerance of the waypoint. Helper answers whereAmI with
+// a fix is within arrivalTolerance of the waypoint. Faulty asks whereAmI(X, Y), where it expects
+// to be (Helper faces that point first: a leg may take Faulty out of its view); Helper answers
 // located(X, Y, Yaw, HX, HY) (HX, HY: where Helper stands, kept clear as avoid/2), with the
 // colour of the one cylinder seen in place of Yaw when the other is hidden, or with
 // notLocated(Why). The fix's heading: the direction travelled since the last fix after a leg of
@@ -210,12 +223,19 @@ fixOf(X0, Y0, A0, X, Y, A)
       !fixFrom(H).
 -!execute(guided)[error(R)] <- !unguide(R).
 
+// Where Faulty expects to be: the last leg's end (its start, course and length), else here.
+expected(X, Y)
+   :- legFrom(X0, Y0, L) & course(B) & R = B * 3.14159265 / 180
+    & X = math.round((X0 + L * math.cos(R)) * 1000) / 1000
+    & Y = math.round((Y0 + L * math.sin(R)) * 1000) / 1000.
+expected(X, Y) :- not legFrom(_, _, _) & here(X, Y, _).
+
 +!fixFrom(H)
-   : fixWait(T) & poseWait(W)
+   : fixWait(T) & poseWait(W) & expected(X, Y)
    <- .abolish(located(_, _, _, _, _));
       .abolish(notLocated(_));
       .wait(W);                                   // the base at rest before Helper looks
-      .send(H, achieve, whereAmI);
+      .send(H, achieve, whereAmI(X, Y));
       .wait(located(_, _, _, _, _) | notLocated(_), T);
       !takeFix(H).
 
@@ -234,10 +254,12 @@ fixOf(X0, Y0, A0, X, Y, A)
       turn(T);
       -legFrom(_, _, _);
       !fixFrom(H).
+// (.fail's error is an atom: a structured one would come back as internal_action.)
 +!takeFix(H)
    : notLocated(Why)[source(H)]
-   <- .fail(error(not_located(Why))).
-+!takeFix(H) <- .fail(error(not_located(no_heading))).
+   <- .print("GUIDED: ", H, " could not locate me: ", Why);
+      .fail(error(not_located)).
++!takeFix(H) <- .fail(error(no_heading)).
 
 // Helper could not locate Faulty (or a guided leg failed): delegate the rest, saying why.
 +!unguide(R)
