@@ -5,9 +5,9 @@
 //   Analyze  the cooperative diagnosis names the component (diagnosis(D));
 //   Plan     a strategy is chosen from D (strategy/2, recovery(S));
 //   Execute  the strategy runs: limp on (learn how the base moves now, set the motion
-//            decomposer for it), drive guided by Helper's sightings (frozen odometry), delegate the remaining waypoints to Helper (a contract:
-//            offer, accept, done ... finished), retry on its own, or give the mission up with a
-//            reason.
+//            decomposer for it), drive open loop guided by Helper's sightings (a frozen
+//            encoder), delegate the remaining waypoints to Helper (a contract: offer, accept,
+//            done ... finished), retry on its own, or give the mission up with a reason.
 //   Knowledge: waypoint(I, X, Y) (percepts: the task), reached(I, By), diagnosis(D),
 //            recovery(S), limping(K, G, A), guidedBy(H), fix(X, Y, Yaw), delegated(H),
 //            gaveUp(Why), missionDone.
