@@ -5,19 +5,21 @@
 //   Analyze  the cooperative diagnosis names the component (diagnosis(D));
 //   Plan     a strategy is chosen from D (strategy/2, recovery(S));
 //   Execute  the strategy runs: limp on (learn how the base moves now, set the motion
-//            decomposer for it), delegate the remaining waypoints to Helper (a contract:
-//            offer, accept, done ... finished), retry on its own, or give the mission up with a
-//            reason.
+//            decomposer for it), drive open loop guided by Helper's sightings (a frozen
+//            encoder), delegate the remaining waypoints to Helper (a contract: offer, accept,
+//            done ... finished), retry on its own, or give the mission up with a reason.
 //   Knowledge: waypoint(I, X, Y) (percepts: the task), reached(I, By), diagnosis(D),
-//            recovery(S), limping(K, G, A), delegated(H), gaveUp(Why), missionDone.
+//            recovery(S), limping(K, G, A), guidedBy(H), fix(X, Y, Yaw), delegated(H),
+//            gaveUp(Why), missionDone.
 // The runner (rason_diagnosis.mission) reads these beliefs through the mind service.
 
 // ---- Plan: the strategy for each diagnosis. One weak wheel: limp on (a second failure while
-// limping: delegate). Both wheels, or the odometry: Helper takes the remaining waypoints over
-// (a reference from Helper for odometry is not written yet). A false positive: go on alone.
-// Unknown: go on alone once, then delegate.
+// limping: delegate). Both wheels: Helper takes the remaining waypoints over. The odometry:
+// drive open loop, located by Helper's Kinect (guided; when Helper cannot locate Faulty:
+// delegate). A false positive: go on alone. Unknown: go on alone once, then delegate.
 strategy(both_actuators, delegate).
-strategy(odometry, delegate).
+strategy(odometry, guided) :- not guidedBy(_) & not unguidedBecause(_).
+strategy(odometry, delegate) :- guidedBy(_) | unguidedBecause(_).
 strategy(left_actuator, limp) :- not limping(_, _, _).
 strategy(right_actuator, limp) :- not limping(_, _, _).
 strategy(left_actuator, delegate) :- limping(_, _, _).
@@ -57,7 +59,13 @@ helperOf(helper) :- not found(_).
       +missionDone.
 +!mission <- .wait(500); !mission.                // the task is not perceived yet
 
-// ---- Monitor: a motion of the task failed.
+// ---- Monitor: a motion of the task failed. Guided, a failure (Helper could not locate Faulty,
+// a point not reached in its legs, a bumper) is not the odometry's again: delegate, saying why.
+-!mission[error(R)]
+   : guidedBy(_) & not gaveUp(_)
+   <- .print("MONITOR: a guided leg failed: ", R);
+      !unguide(R);
+      !mission.
 -!mission[error(R)]
    : not gaveUp(_)
    <- .print("MONITOR: a motion of the mission failed: ", R);
@@ -70,13 +78,29 @@ helperOf(helper) :- not found(_).
 -!mission[error(R)] <- .print("mission over (", R, ")").
 
 // ---- Analyze: the cooperative diagnosis (its plans decide on reason(R) and Helper's feedback).
+// Helper's answers to an earlier diagnosis are dropped first: told again, an answer already
+// believed would bring no event (+found, +notFound), and Faulty would wait for it in vain.
 +!analyze(R)
    : R == no_progress | R == bad_move
    <- -diagnosis(_);
+      .abolish(found(_));
+      .abolish(notFound(_));
       -+reason(R);
       .print("ANALYZE: ", R, ": asking for help to diagnose it");
+      !aimHelper;
       .broadcast(achieve, helpme);
       .wait(diagnosis(_)).
+// Helper first turns to face where Faulty's pose puts it (after an odometry fault, where the
+// encoder froze: a few tenths of a metre off), so that its search starts with Faulty in view
+// instead of sweeping past it when its camera's frames come slowly. Its answer looking(X, Y)
+// is awaited aimWait at most (no answer: the search sweeps as before).
+aimWait(15000).         // ms
++!aimHelper
+   : here(X, Y, _) & aimWait(T)
+   <- .abolish(looking(_, _));
+      .broadcast(achieve, lookAt(X, Y));
+      .wait(looking(_, _), T, _).
++!aimHelper.
 +!analyze(R)
    <- .print("ANALYZE: ", R, " is not a failure the diagnosis reads");
       -+unknownBecause(R);
@@ -155,11 +179,102 @@ limpLegFor(K, 2) :- math.abs(K) <= 0.8.
       -+recovery(delegate);
       !execute(delegate).
 
-// The contract: offer the remaining waypoints, saying where Faulty stands (by its odometry, so
-// Helper drives around it); Helper accepts (or refuses), tells done(I) per waypoint and finished
-// at the end (or failed(R)).
+// Guided mode (a frozen encoder; the wheels work): the motion decomposer drives open loop
+// (configure(reference, command): it stops by its own dead reckoning of the commands), and
+// Faulty navigates by fix(X, Y, Yaw), where Helper's Kinect puts it (navigate.asl prefers it to
+// the frozen pose/3): a fix before the first leg and after every leg of at most guidedLeg, until
+// a fix is within arrivalTolerance of the waypoint. Faulty asks whereAmI(X, Y), where it expects
+// to be (Helper faces that point first: a leg may take Faulty out of its view); Helper answers
+// located(X, Y, Yaw, HX, HY) (HX, HY: where Helper stands, kept clear as avoid/2), with the
+// colour of the one cylinder seen in place of Yaw when the other is hidden, or with
+// notLocated(Why). The fix's heading: the direction travelled since the last fix after a leg of
+// trackLeg or more (what the base really did), else the yaw Helper saw, else the course turned
+// to; a lone cylinder's centre is put from that course (green on the left, orange on the right).
+guidedLeg(1.5).         // m: the longest open-loop leg between two fixes
+trackLeg(0.8).          // m: a leg at least this long gives the heading by the direction travelled
+fixWait(60000).         // ms: Helper's answer to whereAmI (a search may take a full sweep)
+cylinderOffset(0.1135). // m: each cylinder beside the centre (turtlebot_sim's Faulty)
+travelled(X, Y, A)
+   :- legFrom(X0, Y0, M) & trackLeg(L) & M >= L
+    & D = math.sqrt((X - X0) * (X - X0) + (Y - Y0) * (Y - Y0)) & D >= L / 2
+    & bearingFrom(X0, Y0, X, Y, D, A).
+fixCentre(X, Y, A, X, Y) :- .number(A).
+fixCentre(X, Y, green, CX, CY)
+   :- course(B) & cylinderOffset(O) & R = B * 3.14159265 / 180
+    & CX = X + O * math.sin(R) & CY = Y - O * math.cos(R).
+fixCentre(X, Y, orange, CX, CY)
+   :- course(B) & cylinderOffset(O) & R = B * 3.14159265 / 180
+    & CX = X - O * math.sin(R) & CY = Y + O * math.cos(R).
+fixYaw(X, Y, _, A) :- travelled(X, Y, A).
+fixYaw(X, Y, A, A) :- not travelled(X, Y, _) & .number(A).
+fixYaw(X, Y, C, A) :- not travelled(X, Y, _) & .atom(C) & course(A).
+fixOf(X0, Y0, A0, X, Y, A)
+   :- fixCentre(X0, Y0, A0, CX, CY) & fixYaw(CX, CY, A0, CA)
+    & X = math.round(CX * 1000) / 1000 & Y = math.round(CY * 1000) / 1000
+    & A = math.round(CA * 10) / 10.
+
++!execute(guided)
+   : helperOf(H)
+   <- .print("EXECUTE: guided: my odometry is frozen; driving open loop, located by ", H);
+      configure(reference, command);
+      -legFrom(_, _, _);
+      -course(_);
+      +guidedBy(H);
+      !fixFrom(H).
+-!execute(guided)[error(R)] <- !unguide(R).
+
+// Where Faulty expects to be: the last leg's end (its start, course and length), else here.
+expected(X, Y)
+   :- legFrom(X0, Y0, L) & course(B) & R = B * 3.14159265 / 180
+    & X = math.round((X0 + L * math.cos(R)) * 1000) / 1000
+    & Y = math.round((Y0 + L * math.sin(R)) * 1000) / 1000.
+expected(X, Y) :- not legFrom(_, _, _) & here(X, Y, _).
+
++!fixFrom(H)
+   : fixWait(T) & poseWait(W) & expected(X, Y)
+   <- .abolish(located(_, _, _, _, _));
+      .abolish(notLocated(_));
+      .wait(W);                                   // the base at rest before Helper looks
+      .send(H, achieve, whereAmI(X, Y));
+      .wait(located(_, _, _, _, _) | notLocated(_), T);
+      !takeFix(H).
+
++!takeFix(H)
+   : located(X0, Y0, A0, HX, HY)[source(H)] & fixOf(X0, Y0, A0, X, Y, A)
+   <- .abolish(located(_, _, _, _, _));
+      -+fix(X, Y, A);
+      -+avoid(HX, HY);
+      .print("GUIDED: ", H, " sees me at (", X, ", ", Y, "), heading ", A).
+// One cylinder seen and no course to place the centre by (the first fix): turn to show the
+// other flank and ask again, once.
++!takeFix(H)
+   : located(_, _, C, _, _)[source(H)] & .atom(C) & not flankShown & flankTurn(T)
+   <- +flankShown;
+      .print("GUIDED: ", H, " sees only my ", C, " cylinder: turning ", T, " degrees");
+      turn(T);
+      -legFrom(_, _, _);
+      !fixFrom(H).
+// (.fail's error is an atom: a structured one would come back as internal_action.)
++!takeFix(H)
+   : notLocated(Why)[source(H)]
+   <- .print("GUIDED: ", H, " could not locate me: ", Why);
+      .fail(error(not_located)).
++!takeFix(H) <- .fail(error(no_heading)).
+
+// Helper could not locate Faulty (or a guided leg failed): delegate the rest, saying why.
++!unguide(R)
+   <- .print("EXECUTE: guided mode failed (", R, "): delegating instead");
+      -guidedBy(_);
+      -avoid(_, _);
+      -+unguidedBecause(R);
+      -+recovery(delegate);
+      !execute(delegate).
+
+// The contract: offer the remaining waypoints, saying where Faulty stands (by its last fix, else
+// its odometry, so Helper drives around it); Helper accepts (or refuses), tells done(I) per
+// waypoint and finished at the end (or failed(R)).
 +!execute(delegate)
-   : remaining(Ws) & helperOf(H) & pose(X, Y, _)
+   : remaining(Ws) & helperOf(H) & here(X, Y, _)
    <- .print("EXECUTE: offering waypoints ", Ws, " to ", H);
       +delegated(H);
       .send(H, achieve, offer(Ws, at(X, Y))).

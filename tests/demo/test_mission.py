@@ -3,10 +3,11 @@ simulator, fault injectors, motion decomposers, pose and vision synthesizers and
 agents, all started with rosrun; the fault injected with the real service during the task.
 
 Here one wheel weakens, and Faulty learns how it moves now and limps on to every waypoint
-itself. The delegated mission (Faulty alone until both actuators break, then Helper) runs once
-in the suite, in tests/inspector/test_inspector_mission_browser.py, which checks the mission's
-result with the same bar as well as the inspector's page: every waypoint within 0.3 m by ground
-truth, and the robots never touch.
+itself; and its odometry freezes, and Faulty drives open loop, located by Helper's Kinect after
+every leg. The delegated mission (Faulty alone until both actuators break, then Helper) runs
+once in the suite, in tests/inspector/test_inspector_mission_browser.py, which checks the
+mission's result with the same bar as well as the inspector's page: every waypoint within 0.3 m
+by ground truth, and the robots never touch.
 """
 
 from __future__ import annotations
@@ -37,4 +38,11 @@ def test_one_weak_wheel_faulty_limps_on_to_every_waypoint(tmp_path):
     result, shown = _mission(tmp_path, "--fault", "right_actuator", "--at", "20", "--seed", "4")
     assert_completed(result, shown)
     assert result["diagnosis"] == "right_actuator" and result["recovery"] == "limp", shown
+    assert {p["reached_by"] for p in result["waypoints"]} == {"faulty"}, shown
+
+
+def test_frozen_odometry_faulty_drives_guided_by_helpers_fixes(tmp_path):
+    result, shown = _mission(tmp_path, "--fault", "odometry", "--seed", "12")
+    assert_completed(result, shown)
+    assert result["diagnosis"] == "odometry" and result["recovery"] == "guided", shown
     assert {p["reached_by"] for p in result["waypoints"]} == {"faulty"}, shown
