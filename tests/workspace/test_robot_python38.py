@@ -43,7 +43,8 @@ ROBOT_UNIT_TESTS = [ROOT / "tests" / "robot" / name for name in (
 #: The workstation's: the robot side must not import them.
 WORKSTATION_ONLY = ("rason.asl", "rason.inspector", "rason_diagnosis", "turtlebot_sim")
 #: Third-party modules a Noetic robot has (ROS' Python packages, python3-numpy, -opencv, -yaml)
-#: besides the standard library and message packages (``*_msgs``).
+#: besides the standard library and message and service packages (``*_msgs``, ``*_srvs``: Noetic's
+#: ros_base has std_srvs).
 NOETIC_THIRD_PARTY = {"rospy", "rosgraph", "genpy", "message_filters", "numpy", "cv2", "yaml"}
 PYTHON38 = Path("/usr/bin/python3.8")
 
@@ -184,7 +185,7 @@ def test_third_party_imports_are_what_noetic_ships(closure: Closure):
     foreign = {name: sorted(rel(Path(f)) if f else "?" for f in importers)
                for name, importers in closure.external.items()
                if name not in sys.stdlib_module_names and name not in NOETIC_THIRD_PARTY
-               and not name.endswith("_msgs") and name != "__future__"}
+               and not name.endswith(("_msgs", "_srvs")) and name != "__future__"}
     assert not foreign, f"not on a Noetic robot: {foreign}"
 
 

@@ -68,6 +68,10 @@ def test_tutorial_runs_as_written(ros: RosHarness, tmp_path: Path):
         if command == "roscore":
             continue                          # the harness's roscore
         if command.startswith("rostopic pub"):
+            # as a reader would, once the nodes started before are up: `-1` latches the message
+            # for 3 s only, so a subscriber must be there to take it
+            topic = next(word for word in command.split()[2:] if word.startswith("/"))
+            ros.wait_for_subscriber(topic, timeout=30)
             done = ros.run(["bash", "-c", command], label="rostopic_pub", cwd=tmp_path)
             assert done.wait(timeout=30) == 0, done.output()
             continue
