@@ -11,7 +11,7 @@ from pathlib import Path
 from asl_helpers import RecordingArch, subprocess_env
 
 from rason.asl import Agent, AgentOptions, ListTerm, Literal, LocalMas, Message, Var, VirtualClock, parse_term
-from rason.asl.inspection import BeliefView
+from rason.asl.inspection import BeliefView, MindReader
 
 LOOP = """n(0).
 !loop.
@@ -213,6 +213,7 @@ def test_mind_snapshots_of_a_changing_percept_keep_only_the_current_beliefs() ->
     50 Hz): the views of beliefs long gone must not pile up (they once grew for hours)."""
     arch = RecordingArch()
     ag = Agent("a", "b(1).\n", arch)
+    reader = MindReader(ag)
 
     def views_alive() -> int:
         gc.collect()
@@ -222,7 +223,7 @@ def test_mind_snapshots_of_a_changing_percept_keep_only_the_current_beliefs() ->
     for k in range(3000):
         arch.percepts = [parse_term(f"robot(faulty,{k % 640},{k * 7 % 480},{k})")]
         ag.step()
-        state = ag.mind_state()
+        state = reader.snapshot()
         assert state is not None
         assert [v.text for v in state.beliefs if v.group == "robot/4"] == \
             [f"robot(faulty,{k % 640},{k * 7 % 480},{k})"]

@@ -8,11 +8,12 @@ import time
 from asl_helpers import RecordingArch, lines, run_source, run_until_idle
 
 from rason.asl import Agent, AgentArch, LocalMas, Message, VirtualClock, WallClock, parse_literal
+from rason.asl.inspection import mind_text
 from rason.asl.terms import term_str
 
 
 def beliefs(ag: Agent) -> list[str]:
-    return ag.mind()["beliefs"]
+    return mind_text(ag)["beliefs"]
 
 
 # ------------------------------------------------------------------ failure annotations
@@ -66,7 +67,7 @@ def test_action_suspends_only_its_intention_and_resumes() -> None:
     assert arch.actions == [(1, "move(1)")]
     assert arch.out == ["o1", "o2"]  # the other intention ran while move(1) was pending
     assert ag.is_idle() and ag.circ.has_pending()
-    assert ag.mind()["pending_actions"] == ["1: move(1)"]
+    assert mind_text(ag)["pending_actions"] == ["1: move(1)"]
     ag.action_feedback(1, True)
     run_until_idle(ag)
     assert arch.out[-1] == "moved" and arch.actions[-1] == (2, "move(2)")
@@ -203,7 +204,7 @@ def test_mind_snapshot() -> None:
     arch = RecordingArch()
     ag = Agent("x", "b(1).\n!g.\n+!g <- act.", arch)
     run_until_idle(ag)
-    m = ag.mind()
+    m = mind_text(ag)
     assert "b(1)[source(self)]" in m["beliefs"]
     assert any("+!g" in i for i in m["intentions"]) and m["pending_actions"] == ["1: act"]
 

@@ -14,6 +14,7 @@ import os
 import pytest
 
 from rason.asl import LocalArch, LocalMas, VirtualClock, load_mas2j, parse_literal
+from rason.asl.inspection import mind_text
 from rason.asl.terms import Literal
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -263,8 +264,8 @@ def run_world(world: World) -> tuple[list[str], str]:
             a._tick()
         return bool(busy)
     assert mas.run(timeout=3600, max_cycles=200000, idle_hook=finish_actions), "agents did not settle"
-    world.beliefs = {name: [str(b) for b in ag.mind()["beliefs"]] for name, ag in mas.agents.items()}
-    return [str(b) for b in mas.agents["faulty"].mind()["beliefs"]], out.getvalue()
+    world.beliefs = {name: [str(b) for b in mind_text(ag)["beliefs"]] for name, ag in mas.agents.items()}
+    return [str(b) for b in mind_text(mas.agents["faulty"])["beliefs"]], out.getvalue()
 
 
 def diagnoses(beliefs: list[str]) -> list[str]:

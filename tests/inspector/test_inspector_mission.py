@@ -8,6 +8,7 @@ import json
 from dataclasses import asdict
 
 from rason.asl import Agent, AgentArch
+from rason.asl.inspection import mind_state
 from rason.inspector.mission import MAX_WAYPOINTS, mission_of
 from rason.inspector.store import MAX_MISSIONS, InspectorStore
 
@@ -66,7 +67,7 @@ class Quiet(AgentArch):
 
 
 def _state(agent: Agent) -> str:
-    return json.dumps({"agent": agent.name, "mind": asdict(agent.mind_state())})
+    return json.dumps({"agent": agent.name, "mind": asdict(mind_state(agent))})
 
 
 def test_the_store_shows_a_real_agents_mission_and_counts_only_changes():

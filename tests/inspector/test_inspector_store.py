@@ -10,6 +10,7 @@ from dataclasses import asdict
 import pytest
 
 from rason.asl import Agent, AgentArch
+from rason.asl.inspection import MindReader, mind_state
 from rason.inspector.store import MAX_GONE, MAX_NAME, BadMindState, InspectorStore, Pose, RobotsView
 from rason.inspector.web import allowed_hosts, host_name, interface_addresses
 from rason.ros.mind_state import MindStatePublisher
@@ -47,7 +48,7 @@ def _agent_waiting_for_act() -> Agent:
 
 
 def test_mind_state_shows_each_intention_as_a_stack_with_its_position():
-    state = _agent_waiting_for_act().mind_state()
+    state = mind_state(_agent_waiting_for_act())
     (intention,) = state.intentions
     assert intention.suspended == "action 1"
     top, bottom = intention.means
@@ -63,7 +64,7 @@ def test_mind_state_shows_each_intention_as_a_stack_with_its_position():
 
 
 def test_mind_state_beliefs_keep_annotations_and_sources_apart():
-    state = _agent_waiting_for_act().mind_state()
+    state = mind_state(_agent_waiting_for_act())
     beliefs = {b.text: b for b in state.beliefs}
     assert beliefs["b(1)"].group == "b/1"
     assert beliefs["b(1)"].annots == ["certain"] and beliefs["b(1)"].sources == ["x"]
@@ -72,7 +73,7 @@ def test_mind_state_beliefs_keep_annotations_and_sources_apart():
 
 
 def test_mind_state_of_a_fresh_agent_has_the_initial_goal_as_an_event():
-    state = Agent("t", PROGRAM, HeldActions()).mind_state()
+    state = mind_state(Agent("t", PROGRAM, HeldActions()))
     assert [e.trigger for e in state.events] == ["+!start[source(self)]"]
     assert state.events[0].intention is None and state.intentions == []
 
@@ -86,31 +87,29 @@ def test_publisher_sends_only_when_the_mind_changed():
     assert publisher.tick(3.0)
     doc = json.loads(sent[-1])
     assert doc["stamp"] == 3.0 and doc["seq"] == 2 and doc["agent"] == "t"
-    assert doc["mind"] == json.loads(json.dumps(asdict(agent.mind_state())))
+    assert doc["mind"] == json.loads(json.dumps(asdict(mind_state(agent))))
 
 
-class _CountedSnapshots:
-    """The agent, counting the snapshots taken of its mind (its compiled class takes no patch)."""
+class _CountedSnapshots(MindReader):
+    """A mind reader counting the snapshots it takes."""
 
     def __init__(self, agent: Agent) -> None:
-        self.agent = agent
+        super().__init__(agent)
         self.snapshots: list[bool] = []
 
-    def mind_state(self, blocking: bool = True):
+    def snapshot(self, blocking: bool = True):
         self.snapshots.append(blocking)
-        return self.agent.mind_state(blocking)
-
-    def __getattr__(self, name: str):
-        return getattr(self.agent, name)
+        return super().snapshot(blocking)
 
 
 def test_publisher_takes_no_snapshot_while_nobody_listens():
-    agent = _CountedSnapshots(Agent("t", PROGRAM, HeldActions()))
+    agent = Agent("t", PROGRAM, HeldActions())
     sent: list[str] = []
     listening = [False]
-    snapshots = agent.snapshots
-    publisher = MindStatePublisher(agent, lambda: [], sent.append, "/n", "/",  # type: ignore[arg-type]
+    publisher = MindStatePublisher(agent, lambda: [], sent.append, "/n", "/",
                                    listened=lambda: listening[0])
+    reader = publisher.reader = _CountedSnapshots(agent)
+    snapshots = reader.snapshots
     assert not publisher.tick(1.0) and not publisher.tick(2.0)
     assert sent == [] and snapshots == []
     listening[0] = True                   # an inspector subscribed: the next tick serves it

@@ -18,7 +18,6 @@ from .circumstance import Circumstance
 from .communication import Communication, strip_sources
 from .goal_ops import GoalOps
 from .ia import is_registered
-from .inspection import MindState, mind_state, mind_text
 from .intentions import (
     ActionResult,
     Event,
@@ -73,7 +72,8 @@ class Agent:
     """A Jason agent: belief base, plan library, circumstance and reasoning cycle.
 
     ``receive``, ``action_feedback`` and ``wake`` may be called from any thread; everything else
-    runs in the thread that calls ``step``/``run``.
+    runs in the thread that calls ``step``/``run``. An inspector reads the mind through
+    :mod:`.inspection` (``mind_state``, ``mind_text``, ``MindReader``).
     """
 
     def __init__(self, name: str, source: str, arch: AgentArch, filename: str = "<string>",
@@ -107,9 +107,6 @@ class Agent:
                               include=path_include_resolver(self.source_path))
         #: the belief base (``belief_base``: one made for this agent, e.g. filled from a file)
         self.bb = belief_base if belief_base is not None else BeliefBase()
-        #: what a mind inspector keeps between snapshots (an inspection.MindViews, made by
-        #: the first snapshot; None for an agent never inspected)
-        self.inspector_views: Any = None
         #: ``.namespace_set_prop``'s properties: namespace -> key -> (key term, value term)
         self.namespace_props: dict[str, dict[str, tuple]] = {}
         self.pl = PlanLibrary()
@@ -221,11 +218,6 @@ class Agent:
         if self.runner.sleeping:
             self.runner.wake_up()
 
-    def mind(self) -> dict[str, list[str]]:
-        """Snapshot of the mental state as Jason text (see :func:`inspection.mind_text`)."""
-        with self.runner.state_lock:
-            return mind_text(self)
-
     def solve(self, f: Any, s: dict, intention: Intention | None = None) -> Iterator[dict]:
         """Every substitution extending ``s`` under which ``f`` follows from this agent's state
         (Jason's logical consequence)."""
@@ -242,16 +234,6 @@ class Agent:
     def clock_millis(self) -> float:
         """``system.time`` and ``.time(T)``: whole milliseconds of the agent's clock."""
         return float(int(self.arch.clock.now() * 1000))
-
-    def mind_state(self, blocking: bool = True) -> MindState | None:
-        """Structured snapshot of the mental state, for a mind inspector (read-only); None when
-        not `blocking` and a reasoning cycle of another thread holds the agent right now."""
-        if not self.runner.state_lock.acquire(blocking=blocking):
-            return None
-        try:
-            return mind_state(self)
-        finally:
-            self.runner.state_lock.release()
 
     def request_stop(self) -> None:
         self.stop_requested = True

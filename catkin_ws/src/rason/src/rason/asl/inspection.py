@@ -1,10 +1,13 @@
 """A structured, read-only picture of an agent's mind (what a mind inspector shows).
 
 :func:`mind_state` reads the belief base, the events and the intentions of an agent and returns
-plain records (dataclasses of strings, numbers and lists) that serialise to JSON as they are.
-It never changes the agent; :meth:`Agent.mind_state` calls it under the agent's state lock.
-The records hold only strings, numbers, lists, dicts and records, so ``json.dumps(state,
-default=vars)`` serialises them (see :func:`to_json`).
+plain records (dataclasses of strings, numbers and lists) that serialise to JSON as they are;
+:func:`mind_text` gives the same mind as Jason text (the ``Mind`` service). Both take the agent's
+state lock and never change the agent. An inspector that reads one agent again and again (the
+node's ``mind_state`` topic) keeps a :class:`MindReader`: it remembers what the last snapshot
+formatted, and it can decline to wait for a busy agent. The agent itself keeps nothing of its
+inspectors. The records hold only strings, numbers, lists, dicts and records, so
+``json.dumps(state, default=vars)`` serialises them (see :func:`to_json`).
 """
 
 from __future__ import annotations
@@ -86,13 +89,55 @@ class MindState:
     intentions: list[IntentionView] = field(default_factory=list)
 
 
-class MindViews:
-    """What the inspector keeps of one agent between snapshots: the views of the beliefs of
-    the last one (a belief is an immutable literal: equal beliefs, equal views), so a snapshot
-    only formats the beliefs new since the last one; only the last snapshot's are kept."""
+class MindReader:
+    """Snapshots of one agent's mind for an inspector that reads it again and again.
 
-    def __init__(self) -> None:
+    It keeps the views of the last snapshot's beliefs (a belief is an immutable literal: equal
+    beliefs, equal views), so a snapshot formats only the beliefs new since the last one; only
+    the last snapshot's views are kept.
+    """
+
+    def __init__(self, agent: Agent) -> None:
+        self.agent = agent
         self.beliefs: dict[Literal, BeliefView] = {}
+
+    def snapshot(self, blocking: bool = True) -> MindState | None:
+        """The mind now; None when not `blocking` and a reasoning cycle of another thread holds
+        the agent right now."""
+        lock = self.agent.runner.state_lock
+        if not lock.acquire(blocking=blocking):
+            return None
+        try:
+            return self._read()
+        finally:
+            lock.release()
+
+    def _read(self) -> MindState:
+        """Read the mind (the agent's state lock held)."""
+        agent = self.agent
+        state = MindState()
+        previous = self.beliefs
+        views: dict[Literal, BeliefView] = {}
+        for b in agent.bb:
+            if isinstance(b, Rule):
+                state.rules.append(str(b))
+            elif isinstance(b, Literal):
+                view = views.get(b) or previous.get(b) or _new_belief_view(b)
+                views[b] = view
+                state.beliefs.append(view)
+        self.beliefs = views
+        held = [ev for _, ev in agent.circ.pending_events]
+        for ev in [*agent.circ.events, *held]:
+            state.events.append(_event(ev))
+            if ev.trigger.is_goal:
+                state.desires.append(str(ev.trigger))
+        for i in agent.circ.all_intentions():
+            state.intentions.append(IntentionView(
+                id=i.id, suspended=suspension_text(agent, i) or None,
+                means=[_means(im) for im in reversed(i.ims)]))
+            state.desires.extend(str(im.trigger) for im in i.ims
+                                 if im.trigger.is_goal and im.trigger.op == ADD)
+        return state
 
 
 def suspension_text(agent: Agent, i: Intention) -> str:
@@ -105,8 +150,13 @@ def suspension_text(agent: Agent, i: Intention) -> str:
 
 
 def mind_text(agent: Agent) -> dict[str, list[str]]:
-    """The mental state as Jason text: beliefs, desires, intentions, pending actions (call
-    with the agent's state lock held: see Agent.mind)."""
+    """The mental state as Jason text: beliefs, desires, intentions, pending actions (it waits
+    for the agent's state lock)."""
+    with agent.runner.state_lock:
+        return _mind_text(agent)
+
+
+def _mind_text(agent: Agent) -> dict[str, list[str]]:
     beliefs = [term_str(b) if isinstance(b, Literal) else str(b) for b in agent.bb]
     desires = [str(ev.trigger) for ev in agent.circ.events if ev.trigger.is_goal]
     intentions = []
@@ -121,32 +171,9 @@ def mind_text(agent: Agent) -> dict[str, list[str]]:
 
 
 def mind_state(agent: Agent) -> MindState:
-    """Read `agent`'s mind (call with the agent's state lock held: see Agent.mind_state)."""
-    state = MindState()
-    kept = agent.inspector_views
-    if not isinstance(kept, MindViews):
-        kept = agent.inspector_views = MindViews()
-    previous = kept.beliefs
-    views: dict[Literal, BeliefView] = {}
-    for b in agent.bb:
-        if isinstance(b, Rule):
-            state.rules.append(str(b))
-        elif isinstance(b, Literal):
-            view = views.get(b) or previous.get(b) or _new_belief_view(b)
-            views[b] = view
-            state.beliefs.append(view)
-    kept.beliefs = views
-    held = [ev for _, ev in agent.circ.pending_events]
-    for ev in [*agent.circ.events, *held]:
-        state.events.append(_event(ev))
-        if ev.trigger.is_goal:
-            state.desires.append(str(ev.trigger))
-    for i in agent.circ.all_intentions():
-        state.intentions.append(IntentionView(
-            id=i.id, suspended=suspension_text(agent, i) or None,
-            means=[_means(im) for im in reversed(i.ims)]))
-        state.desires.extend(str(im.trigger) for im in i.ims
-                             if im.trigger.is_goal and im.trigger.op == ADD)
+    """A structured snapshot of `agent`'s mind (it waits for the agent's state lock)."""
+    state = MindReader(agent).snapshot()
+    assert state is not None        # a blocking snapshot always reads
     return state
 
 

@@ -2,7 +2,7 @@
 
 Each hosted agent gets a :class:`MindStatePublisher`. A timer of the node (ROS time, at most
 ``~mind_state_rate`` Hz) asks every publisher to :meth:`~MindStatePublisher.tick`: it takes a
-snapshot of the mind (:meth:`rason.asl.Agent.mind_state`), adds the pending actions with the ROS
+snapshot of the mind (:class:`rason.asl.inspection.MindReader`), adds the pending actions with the ROS
 time they were sent and the last messages in and out, and publishes it as JSON in a
 ``std_msgs/String`` only when something changed. The topic is latched, so an inspector started
 later gets the current state at once.
@@ -35,7 +35,7 @@ import rospy
 from std_msgs.msg import String
 
 from rason.asl import Message, term_str
-from rason.asl.inspection import to_json
+from rason.asl.inspection import MindReader, to_json
 from rosnode_kit.guard import WARNINGS
 
 if TYPE_CHECKING:
@@ -121,6 +121,8 @@ class MindStatePublisher:
                  warn: Callable[[str], object] | None = None,
                  listened: Callable[[], bool] | None = None) -> None:
         self.agent = agent
+        #: takes the snapshots, keeping what the last one formatted
+        self.reader = MindReader(agent)
         self.listened = listened or (lambda: True)
         self.schedule = schedule or (lambda fn: None)
         self.warn = warn or (lambda text: WARNINGS.warn("mind_state", text))
@@ -163,7 +165,7 @@ class MindStatePublisher:
         if not self.listened():
             self._last = ""
             return False
-        mind = self.agent.mind_state(blocking=False)
+        mind = self.reader.snapshot(blocking=False)
         if mind is None:
             self._due = now
             self.schedule(self.at_cycle)
@@ -177,7 +179,7 @@ class MindStatePublisher:
             return
         self._due = None
         try:
-            mind = self.agent.mind_state()
+            mind = self.reader.snapshot()
             if mind is not None:
                 self._publish(mind, due)
         except Exception as err:  # never into the reasoning cycle: it would drop an intention

@@ -49,6 +49,7 @@ from jason_msgs.srv import Mind, MindResponse
 from rason.asl import Agent, AgentOptions, Message, load_agent_source, parse_term_text, term_str, term_text
 from rason.asl.arch import verbosity
 from rason.asl.df import DF_NAME, ProviderNotice, Registration, ServiceDirectory
+from rason.asl.inspection import mind_text
 from rason.asl.terms import ListTerm, Literal, list_to_python, non_finite_part
 from rason.ros import fastpath
 from rason.ros.acceptance import RemoteActions
@@ -860,7 +861,7 @@ class RasonNode:
 
     # -- services ---------------------------------------------------------------------------------------
     def mind(self, agent: Agent, arch: RosAgArch) -> MindResponse:
-        mind = agent.mind()
+        mind = mind_text(agent)
         return MindResponse(agent=agent.name, beliefs=mind.get("beliefs", []),
                             desires=mind.get("desires", []),
                             intentions=mind.get("intentions", []),
