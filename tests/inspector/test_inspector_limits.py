@@ -43,11 +43,6 @@ def _request(url: str, path: str, host: str | None = None) -> tuple[int, dict]:
         conn.close()
 
 
-def _until(what: str, check, timeout: float = 60.0):
-    """The first true value of `check()`, polled until `timeout`."""
-    return wait_until(check, what, timeout=timeout, period=0.3)
-
-
 def _start(ros: RosHarness, name: str, **params: object) -> tuple[Process, str]:
     inspector = ros.rosrun("rason", "mind_inspector", name=name, params={"port": 0, **params})
     url = inspector.wait_for_line(r"mind inspector: (http://127\.0\.0\.1:\d+/)", 120).group(1)
@@ -88,8 +83,9 @@ def test_a_flood_of_names_is_pruned_and_bounded(graph):
     pub, inspector, url = graph
     beats = Beats(pub, "steady")
     try:
-        _until("steady listed", lambda: "steady" in {
-            a["name"] for a in _request(url, "/api/agents")[1]["agents"]})
+        wait_until(lambda: "steady" in {
+            a["name"] for a in _request(url, "/api/agents")[1]["agents"]}, "steady listed",
+            timeout=60, period=0.3)
         for k in range(3000):             # new names, each saying goodbye
             pub.publish(AgentMessage(sender=f"flood_{k}", performative=PRESENCE))
             pub.publish(AgentMessage(sender=f"flood_{k}", performative=PRESENCE,
@@ -101,13 +97,14 @@ def test_a_flood_of_names_is_pruned_and_bounded(graph):
             pub.publish(AgentMessage(sender=f"silent_{k}", performative=PRESENCE))
             if k % 100 == 0:
                 time.sleep(0.01)
-        seen = _until("the silent flood to be listed", lambda: (
+        seen = wait_until(lambda: (
             names := {a["name"] for a in _request(url, "/api/agents")[1]["agents"]})
-            and any(n.startswith("silent_") for n in names) and names)
+            and any(n.startswith("silent_") for n in names) and names,
+            "the silent flood to be listed", timeout=60, period=0.3)
         assert len(seen) <= 200                      # ~max_agents
-        _until("the silent names to expire", lambda: {
+        wait_until(lambda: {
             a["name"] for a in _request(url, "/api/agents")[1]["agents"]} == {"steady"},
-            timeout=30)
+            "the silent names to expire", timeout=30, period=0.3)
         status, body = _request(url, "/api/agents/flood_5/mind")
         assert status == 404 and "no agent named" in body["error"]      # pruned, not kept
         assert any("~max_agents" in line for line in inspector.lines())
@@ -117,27 +114,38 @@ def test_a_flood_of_names_is_pruned_and_bounded(graph):
 
 
 def test_mind_history_is_bounded_in_bytes(graph):
-    pub, _inspector, url = graph
+    pub, inspector, url = graph
     mind = rospy.Publisher("/lim/jason/big/mind_state", String, queue_size=20, latch=True)
     beats = Beats(pub, "big")
+
+    def publish_state(k: int) -> None:
+        mind.publish(String(json.dumps({"agent": "big", "namespace": "/lim/", "mind": {
+            "beliefs": [{"text": f'big({k},"{"x" * STATE_BYTES}")'}]}})))
+
+    def state_kept(k: int) -> dict:
+        return wait_until(lambda: (r := _request(url, "/api/agents/big/mind"))[0] == 200
+                          and r[1]["index"] == k and r[1], f"state {k}", timeout=60, period=0.05)
     try:
-        _until("big's mind_state topic found", lambda: any(
-            a["name"] == "big" and a["topic"] for a in _request(url, "/api/agents")[1]["agents"]))
-        for k in range(12):
-            mind.publish(String(json.dumps({"agent": "big", "namespace": "/lim/", "mind": {
-                "beliefs": [{"text": f'big({k},"{"x" * STATE_BYTES}")'}]}})))
-            time.sleep(0.2)
-        latest = _until("state 11", lambda: (r := _request(url, "/api/agents/big/mind"))[0] == 200
-                        and r[1]["index"] == 11 and r[1])
+        wait_until(lambda: any(
+            a["name"] == "big" and a["topic"] for a in _request(url, "/api/agents")[1]["agents"]),
+            "big's mind_state topic found", timeout=60, period=0.3)
+        for k in range(12):               # each state kept before the next is sent
+            publish_state(k)
+            latest = state_kept(k)
         assert latest["state"]["mind"]["beliefs"][0]["text"].startswith("big(11,")
         kept = latest["last"] - latest["first"] + 1
         assert kept == HISTORY_BYTES // (STATE_BYTES + 100), latest["first"]    # 3 of 12
         status, body = _request(url, f"/api/agents/big/mind?index={latest['first'] - 1}")
         assert status == 404 and "not in the history" in body["error"]
-        # a state larger than half the byte bound is refused; the history stays as it was
+        # a state larger than half the byte bound is refused (the inspector says so); the
+        # history stays as it was: the next state sent after it is number 12
         mind.publish(String(json.dumps({"agent": "big", "mind": {"b": "y" * HISTORY_BYTES}})))
-        time.sleep(1.0)
-        assert _request(url, "/api/agents/big/mind")[1]["index"] == 11
+        wait_until(lambda: any("mind_state of big ignored" in line and "more than half" in line
+                               for line in inspector.lines()),
+                   "the inspector's warning of the oversized state", timeout=60, watch=[inspector])
+        publish_state(12)
+        latest = state_kept(12)
+        assert latest["state"]["mind"]["beliefs"][0]["text"].startswith("big(12,")
     finally:
         beats.close()
         mind.unregister()

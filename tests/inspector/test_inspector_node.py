@@ -11,6 +11,7 @@ import urllib.request
 from pathlib import Path
 
 import pytest
+from polling import wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -42,16 +43,6 @@ def _get(url: str, timeout: float = 10.0) -> tuple[int, dict | str]:
         return status, body
 
 
-def _until(what: str, check, timeout: float = 60.0):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = check()
-        if value:
-            return value
-        time.sleep(0.3)
-    raise AssertionError(f"timed out waiting for {what}")
-
-
 def _agents(url: str) -> dict[str, dict]:
     status, body = _get(url + "api/agents")
     assert status == 200, body
@@ -79,9 +70,10 @@ def _start_graph(ros, tmp_path: Path):
     bob = ros.rosrun("rason", "agent", "bob", str(tmp_path / "bob.asl"), ns="/insp_b")
     alice = ros.rosrun("rason", "agent", "alice", str(tmp_path / "alice.asl"), ns="/insp_a",
                        params={"ack_timeout": 0, "action_timeout": 0})
-    _until("both agents with their mind_state topics", lambda: all(
+    wait_until(lambda: all(
         a.get("topic") and a.get("last") is not None
-        for a in _agents(url).values()) and {"alice", "bob"} <= set(_agents(url)), timeout=150)
+        for a in _agents(url).values()) and {"alice", "bob"} <= set(_agents(url)),
+        "both agents with their mind_state topics", timeout=150, period=0.3)
     return url, inspector, alice, bob
 
 
@@ -96,8 +88,9 @@ def test_inspector_shows_each_agents_mind(graph):
         status, entry = _get(url + "api/agents/bob/mind")
         return status == 200 and entry
 
-    bob = _until("bob's belief greeted_by(alice)", lambda: (e := greeted()) and any(
-        b["text"] == "greeted_by(alice)" for b in e["state"]["mind"]["beliefs"]) and e)
+    bob = wait_until(lambda: (e := greeted()) and any(
+        b["text"] == "greeted_by(alice)" for b in e["state"]["mind"]["beliefs"]) and e,
+        "bob's belief greeted_by(alice)", timeout=60, period=0.3)
     beliefs = {b["text"]: b for b in bob["state"]["mind"]["beliefs"]}
     assert beliefs["hello(1)"]["sources"] == ["alice"]
     assert beliefs["hello(1)"]["group"] == "hello/1"
@@ -125,8 +118,9 @@ def test_inspector_shows_each_agents_mind(graph):
 
 def test_history_is_bounded_and_steps_back(graph):
     url = graph[0]
-    latest = _until("alice's history to pass 7 states", lambda: (
-        (r := _get(url + "api/agents/alice/mind"))[0] == 200 and r[1]["index"] >= 7 and r[1]))
+    latest = wait_until(lambda: (
+        (r := _get(url + "api/agents/alice/mind"))[0] == 200 and r[1]["index"] >= 7 and r[1]),
+        "alice's history to pass 7 states", timeout=60, period=0.3)
     assert latest["last"] - latest["first"] == 4          # _history:=5
     older = latest["index"] - 2
     status, entry = _get(url + f"api/agents/alice/mind?index={older}")
@@ -220,7 +214,7 @@ def test_bad_parameters_and_a_taken_port_stop_the_inspector_with_a_clear_error(r
 def test_an_agent_that_stops_leaves_the_page(graph):
     url, _inspector, _alice, bob = graph
     bob.stop()                          # SIGINT: the node says goodbye
-    _until("bob to leave", lambda: "bob" not in _agents(url), timeout=30)
+    wait_until(lambda: "bob" not in _agents(url), "bob to leave", timeout=30, period=0.3)
     assert "alice" in _agents(url)
     status, body = _get(url + "api/agents/bob/mind")   # its history is still there
     assert status == 200 and body["present"] is False
