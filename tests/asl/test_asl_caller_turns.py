@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
 
 from asl_helpers import RecordingArch, run_until_idle
+from polling import wait_until
 
 from rason.asl import Agent, Message, WallClock, parse_literal
 from rason.asl.runner import TURN_STEPS
@@ -15,15 +16,6 @@ from rason.asl.runner import TURN_STEPS
 
 def _hi() -> Message:
     return Message("bob", "m", "achieve", parse_literal("hi"))
-
-
-def _until(condition: Callable[[], bool], timeout: float = 3.0) -> bool:
-    end = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > end:
-            return False
-        time.sleep(0.002)
-    return True
 
 
 @contextmanager
@@ -35,8 +27,10 @@ def sleeping_agent(source: str, arch: RecordingArch) -> Iterator[tuple[Agent, th
     runner = threading.Thread(target=agent.run, args=(stop,), daemon=True)
     runner.start()
     try:
-        assert _until(agent.is_idle)
-        time.sleep(0.05)          # past its last cycle, into its wait
+        # past its last cycle, into its wait: it has set its wake-up time and let go of the turn
+        wait_until(lambda: agent.runner.asleep_until is not None and not agent.runner.turn.locked(),
+                   "the runner asleep", period=0.002)
+        assert agent.is_idle()
         yield agent, runner
     finally:
         stop.set()
@@ -63,7 +57,7 @@ def test_a_message_to_a_sleeping_agent_is_reasoned_on_before_receive_returns() -
 def test_without_run_here_the_runner_reasons_later() -> None:
     with running("+!hi[source(S)] <- .print(hi, S).") as (agent, arch):
         agent.receive(_hi())
-        assert _until(lambda: arch.out == ["hibob"])
+        wait_until(lambda: arch.out == ["hibob"], "the runner's line", period=0.002)
 
 
 def test_an_agent_whose_runner_is_not_running_keeps_the_message_for_it() -> None:
@@ -80,7 +74,7 @@ def test_a_deadline_made_on_the_bringing_thread_wakes_the_runner_for_it() -> Non
         start = time.monotonic()
         agent.receive(_hi(), run_here=True)
         assert arch.out == ["start"]           # the rest waits for the .wait's deadline
-        assert _until(lambda: arch.out == ["start", "done"])
+        wait_until(lambda: arch.out == ["start", "done"], "the line after .wait", period=0.002)
         assert time.monotonic() - start >= 0.06
 
 
@@ -90,7 +84,7 @@ def test_a_long_turn_is_handed_to_the_runner() -> None:
     with running(source) as (agent, arch):
         agent.receive(_hi(), run_here=True)
         assert arch.out == []                  # the bringing thread stopped after TURN_STEPS
-        assert _until(lambda: arch.out == [str(steps)])
+        wait_until(lambda: arch.out == [str(steps)], "the runner's count", period=0.002)
 
 
 class _PokedArch(RecordingArch):
@@ -113,7 +107,7 @@ def test_input_for_the_runner_ends_a_turn_after_the_current_cycle() -> None:
     with sleeping_agent("+!hi <- .print(poke); .print(b); .print(c).", arch) as (agent, runner):
         arch.agent = agent
         agent.receive(_hi(), run_here=True)
-        assert _until(lambda: arch.out == ["poke", "b", "c"])
+        wait_until(lambda: arch.out == ["poke", "b", "c"], "the three lines", period=0.002)
         by = dict(arch.printed_by)
         assert by["poke"] == threading.get_ident()      # the bringing thread began
         assert by["b"] == by["c"] == runner.ident       # and gave way at the next cycle
