@@ -6,15 +6,14 @@ the Jason class/method that decides the result when it is not obvious.
 
 from __future__ import annotations
 
-import io
 import re
 from unittest import mock
 
-from asl_helpers import lines, run_source
+from asl_helpers import lines, run_agents, run_source
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rason.asl import Agent, LocalMas, VirtualClock
+from rason.asl import Agent
 
 
 def run(body: str, extra: str = "") -> list[str]:
@@ -399,12 +398,7 @@ def test_failure_inside_if_and_for_bodies() -> None:
 # ------------------------------------------------------------------ communication
 def mas(timeout: float = 10.0, **agents: str) -> str:
     """Run the agents (name=source) in a LocalMas with a virtual clock; return the output."""
-    out = io.StringIO()
-    m = LocalMas(clock=VirtualClock(), out=out)
-    for name, src in agents.items():
-        m.add_agent(name, src, f"{name}.asl")
-    m.run(timeout=timeout)
-    return out.getvalue()
+    return run_agents(agents, timeout)
 
 
 def test_askone_answers_carry_nested_sources() -> None:

@@ -17,7 +17,8 @@ from pathlib import Path
 import pytest
 from asl_helpers import subprocess_env
 
-from rason.asl.environment import Environment, split_class_def
+from rason.asl.classdef import split_class_def
+from rason.asl.environment import Environment
 from rason.asl.mas2j import parse_mas2j
 from rason.asl.parser import parse_literal
 
@@ -134,7 +135,8 @@ def test_an_environment_that_cannot_be_found_or_started_is_a_clear_error(tmp_pat
     (tmp_path / "a.asl").write_text("")
     (tmp_path / "p.mas2j").write_text("MAS p { environment: nowhere_env.Env agents: a; }")
     out = _run(tmp_path / "p.mas2j")
-    assert out.returncode == 2 and "cannot import module 'nowhere_env'" in out.stderr
+    assert out.returncode == 2 and "cannot import it from" in out.stderr
+    assert "No module named 'nowhere_env'" in out.stderr
     (tmp_path / "broken_env.py").write_text(
         "from rason.asl.environment import Environment\n"
         "class Env(Environment):\n    def init(self, args):\n        raise ValueError('no world')\n")
@@ -143,7 +145,10 @@ def test_an_environment_that_cannot_be_found_or_started_is_a_clear_error(tmp_pat
     assert out.returncode == 2 and "initialisation failed: ValueError: no world" in out.stderr
     (tmp_path / "r.mas2j").write_text("MAS r { environment: broken_env.Missing agents: a; }")
     out = _run(tmp_path / "r.mas2j")
-    assert out.returncode == 2 and "no subclass" in out.stderr
+    assert out.returncode == 2 and "module 'broken_env' has no 'Missing'" in out.stderr
+    (tmp_path / "s.mas2j").write_text("MAS s { environment: os.path agents: a; }")
+    out = _run(tmp_path / "s.mas2j")
+    assert out.returncode == 2 and "not a subclass of rason.asl.environment.Environment" in out.stderr
 
 
 # ---------------------------------------------------------------- Jason's examples

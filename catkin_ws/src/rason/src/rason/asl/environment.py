@@ -11,14 +11,12 @@ they changed since it last looked. ``stop()`` runs when the MAS ends.
 
 from __future__ import annotations
 
-import importlib
-import os
-import sys
 import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from .arch import Clock
+from .classdef import import_dotted, split_class_def
 from .parser import parse_literal
 from .runtime import LocalArch
 from .terms import Literal
@@ -160,50 +158,17 @@ class EnvArch(LocalArch):
             agent.action_feedback(action_id, False, "action_failed", "")
 
 
-def split_class_def(text: str) -> tuple[str, list[str]]:
-    """``pkg.Cls(1, "a b", x)`` -> ``("pkg.Cls", ["1", "a b", "x"])`` (a ``.mas2j`` class
-    definition; quotes removed from string arguments, as Jason's ``getParametersArray``)."""
-    name, _, rest = text.partition("(")
-    args: list[str] = []
-    if rest:
-        body = rest.rstrip()[:-1]
-        cur, depth, quoted = "", 0, False
-        for ch in body:
-            if ch == '"' and not cur.endswith("\\"):
-                quoted = not quoted
-            if not quoted and ch in "([":
-                depth += 1
-            elif not quoted and ch in ")]":
-                depth -= 1
-            if ch == "," and depth == 0 and not quoted:
-                args.append(cur.strip())
-                cur = ""
-            else:
-                cur += ch
-        if cur.strip():
-            args.append(cur.strip())
-    return name.strip(), [a[1:-1] if len(a) >= 2 and a[0] == a[-1] == '"' else a for a in args]
-
-
 def load_environment(class_def: str, project_dir: str) -> Environment:
     """Import, build and initialise the environment ``class_def`` names (see the module doc)."""
     name, args = split_class_def(class_def)
-    module_name, _, cls_name = name.rpartition(".")
-    if not module_name:
-        raise EnvironmentLoadError(f"environment '{name}': write it as module.Class (a Python "
-                                "module importable from the project's folder)")
-    folder = os.path.abspath(project_dir)
-    if folder not in sys.path:
-        sys.path.insert(0, folder)
     try:
-        module = importlib.import_module(module_name)
+        cls = import_dotted(name, project_dir)
     except ImportError as e:
-        raise EnvironmentLoadError(f"environment '{name}': cannot import module '{module_name}' "
-                                f"from {project_dir}: {e}") from e
-    cls = getattr(module, cls_name, None)
+        raise EnvironmentLoadError(f"environment '{name}': cannot import it from {project_dir}: "
+                                   f"{e}") from e
     if not (isinstance(cls, type) and issubclass(cls, Environment)):
-        raise EnvironmentLoadError(f"environment '{name}': module '{module_name}' has no subclass "
-                                f"of rason.asl.environment.Environment named '{cls_name}'")
+        raise EnvironmentLoadError(f"environment '{name}': not a subclass of "
+                                   "rason.asl.environment.Environment")
     try:
         env = cls()
         env.init(args)
@@ -213,4 +178,4 @@ def load_environment(class_def: str, project_dir: str) -> Environment:
     return env
 
 
-__all__ = ["EnvArch", "Environment", "EnvironmentLoadError", "load_environment", "split_class_def"]
+__all__ = ["EnvArch", "Environment", "EnvironmentLoadError", "load_environment"]

@@ -15,15 +15,13 @@ name that does not import is a :class:`HookLoadError` naming the project file, l
 
 from __future__ import annotations
 
-import importlib
 import os
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 from .beliefs import BeliefBase
-from .environment import split_class_def
+from .classdef import import_dotted, split_class_def
 from .mas2j import AgentSpec
 
 
@@ -57,19 +55,6 @@ class AgentHooks:
 def is_jason_class(name: str) -> bool:
     """A class of Jason's own Java code (``jason.bb.TextPersistentBB``...): nothing to load."""
     return name.startswith("jason.")
-
-
-def import_dotted(name: str, folder: str) -> Any:
-    """The object ``pkg.module.attr`` names, its module imported from ``folder`` or ``sys.path``."""
-    module_name, _, attr = name.rpartition(".")
-    if not module_name:
-        raise ImportError("write it as module.name (a Python module and a callable in it)")
-    if folder not in sys.path:
-        sys.path.insert(0, folder)
-    module = importlib.import_module(module_name)
-    if not hasattr(module, attr):
-        raise ImportError(f"module '{module_name}' has no '{attr}'")
-    return getattr(module, attr)
 
 
 def load_hooks(spec: AgentSpec, project_path: str) -> AgentHooks:
@@ -122,4 +107,4 @@ def _customiser(target: Callable, params: list[str], where: str) -> Callable[[An
     return customise
 
 
-__all__ = ["AgentHooks", "HookLoadError", "import_dotted", "is_jason_class", "load_hooks"]
+__all__ = ["AgentHooks", "HookLoadError", "is_jason_class", "load_hooks"]
