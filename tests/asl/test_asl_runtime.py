@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 
 from asl_helpers import RecordingArch, lines, run_source, run_until_idle
+from polling import wait_until
 
 from rason.asl import Agent, AgentArch, LocalMas, Message, VirtualClock, WallClock, parse_literal
 from rason.asl.inspection import mind_text
@@ -150,13 +152,12 @@ def test_run_loop_wakes_on_receive_and_stops() -> None:
     stop = threading.Event()
     th = threading.Thread(target=ag.run, args=(stop,), daemon=True)
     th.start()
-    time.sleep(0.05)
-    t0 = time.monotonic()
+    # asleep with no deadline: only a wake-up (the receive) can make it print
+    wait_until(lambda: ag.runner.asleep_until == math.inf and not ag.runner.turn.locked(),
+               "the runner asleep with no deadline", period=0.002)
     ag.receive(Message("bob", "m", "achieve", parse_literal("hi")))
-    while not arch.out and time.monotonic() - t0 < 2:
-        time.sleep(0.001)
+    wait_until(lambda: arch.out, "the runner's line", period=0.002)
     assert arch.out == ["hibob"]
-    assert time.monotonic() - t0 < 0.5
     stop.set()
     th.join(2)
     assert not th.is_alive()
@@ -230,13 +231,11 @@ def test_run_loop_sleeps_until_wait_deadline_and_feedback_from_thread() -> None:
     th = threading.Thread(target=ag.run, args=(stop,), daemon=True)
     t0 = time.monotonic()
     th.start()
-    while not arch.actions and time.monotonic() - t0 < 3:
-        time.sleep(0.005)
+    wait_until(lambda: arch.actions, "the action after .wait(80)", period=0.005)
     assert arch.out == ["waited"] and time.monotonic() - t0 >= 0.08
     assert ag.is_idle() and ag.circ.has_pending()
     threading.Timer(0.02, lambda: ag.action_feedback(arch.actions[0][0], True)).start()
-    while len(arch.out) < 2 and time.monotonic() - t0 < 3:
-        time.sleep(0.005)
+    wait_until(lambda: len(arch.out) >= 2, "the line after the feedback", period=0.005)
     assert arch.out == ["waited", "acted"]
     stop.set()
     th.join(2)
