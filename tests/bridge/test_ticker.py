@@ -3,38 +3,63 @@
 from __future__ import annotations
 
 import threading
-import time
+
+from polling import wait_until
 
 from rason.ros.ticker import Ticker
+
+RATE = 50.0
+#: periods of the reference ticker that stand for "a while" in the negative checks
+PERIODS = 15
+
+
+class Watched:
+    """The ticker's ``active()``: an event, counting how often the ticker asked."""
+
+    def __init__(self) -> None:
+        self.event = threading.Event()
+        self.asked: list[bool] = []
+
+    def __call__(self) -> bool:
+        answer = self.event.is_set()
+        self.asked.append(answer)
+        return answer
 
 
 def test_ticks_only_while_active_and_starts_when_kicked(ros) -> None:
     ros.init_rospy()
-    active = threading.Event()
-    ticks: list[float] = []
-    ticker = Ticker(50.0, lambda: ticks.append(time.monotonic()), active.is_set, name="test-ticker")
-    time.sleep(0.3)
-    assert ticks == []                     # nothing to watch: not one tick
+    # a reference ticker at the same rate, always active: its ticks show that ROS time passed
+    # long enough for the ticker under test to have ticked (or polled) had it been going to
+    reference: list[None] = []
+    Ticker(RATE, lambda: reference.append(None), lambda: True, name="reference-ticker")
 
-    active.set()
+    def periods_pass() -> None:
+        start = len(reference)
+        wait_until(lambda: len(reference) >= start + PERIODS, f"{PERIODS} reference ticks")
+
+    active = Watched()
+    ticks: list[int] = []
+    ticker = Ticker(RATE, lambda: ticks.append(len(ticks)), active, name="test-ticker")
+    wait_until(lambda: active.asked, "the ticker's first look")
+    periods_pass()
+    assert ticks == [] and active.asked == [False]    # nothing to watch: not one tick, no poll
+
+    active.event.set()
     ticker.kick()
-    deadline = time.monotonic() + 5.0
-    while len(ticks) < 5 and time.monotonic() < deadline:
-        time.sleep(0.01)
-    assert len(ticks) >= 5                 # active: it ticks
+    wait_until(lambda: len(ticks) >= 5, "5 ticks")      # active: it ticks
 
-    active.clear()
-    time.sleep(0.1)                        # the tick under way, if any, ends
-    settled = len(ticks)
-    time.sleep(0.3)
-    assert len(ticks) == settled           # inactive again: it sleeps
+    active.event.clear()
+    # the tick loop's look, then the idle loop's: it blocks until kicked
+    wait_until(lambda: active.asked[-2:] == [False, False], "the ticker to see it is inactive")
+    settled, looks = len(ticks), len(active.asked)
+    ticker.kick()                                       # a kick while inactive: one look, no tick
+    wait_until(lambda: len(active.asked) > looks, "the ticker's look after the kick")
+    periods_pass()
+    assert len(ticks) == settled and active.asked[looks:] == [False]
 
-    active.set()                           # active without a kick: it does not poll to find out
-    time.sleep(0.3)
-    assert len(ticks) == settled
+    active.event.set()                     # active without a kick: it does not poll to find out
+    periods_pass()
+    assert len(ticks) == settled and len(active.asked) == looks + 1
     ticker.kick()
-    deadline = time.monotonic() + 5.0
-    while len(ticks) == settled and time.monotonic() < deadline:
-        time.sleep(0.01)
-    assert len(ticks) > settled
-    active.clear()
+    wait_until(lambda: len(ticks) > settled, "a tick after the kick")
+    active.event.clear()
