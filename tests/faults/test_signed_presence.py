@@ -26,6 +26,7 @@ import rospy
 from agent_nodes import connected_to
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import AgentMessage, Event
+from polling import wait_until
 
 from rason.process.harness import Process, RosHarness
 from rason.ros.feedback import parse_feedback
@@ -88,14 +89,11 @@ class Scene:
                 self.signed_beats.append(msg)
 
     def wait(self, what: str, probe, timeout: float):
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
+        """``probe()`` (run with the scene's lock held) once it is true."""
+        def locked():
             with self.lock:
-                found = probe()
-            if found:
-                return found
-            time.sleep(0.02)
-        raise AssertionError(f"no {what} within {timeout} s")
+                return probe()
+        return wait_until(locked, what, timeout)
 
 
 class Forger:
@@ -160,10 +158,9 @@ def drive_and_kill(ros: RosHarness, tmp_path: Path, key: Path | None):
     ros.wait_for_subscriber(f"{ns}/jason/presence", timeout=30, watch=[decomposer])
     scene = Scene(ns)
     forger = Forger(scene)
-    deadline = time.monotonic() + 20           # the forged beats must reach the decomposer
-    while not connected_to(forger.pub, f"{ns}/motion_decomposer"):
-        assert time.monotonic() < deadline, "the forger never reached the decomposer"
-        time.sleep(0.05)
+    # the forged beats must reach the decomposer
+    wait_until(lambda: connected_to(forger.pub, f"{ns}/motion_decomposer"),
+               "the forger's connection to the decomposer", timeout=20, period=0.05)
     path = tmp_path / "driver.asl"
     path.write_text(textwrap.dedent(DRIVER))
     agent: Process = ros.rosrun("rason", "agent", "driver", str(path), ns=ns, params=keyed)
@@ -202,10 +199,12 @@ def test_without_a_key_the_same_forged_presence_keeps_the_action_running(rig):
     ros, key = rig
     scene, forger, killed = drive_and_kill(ros, key.parent, None)
     try:
-        time.sleep(PRESENCE_TIMEOUT + 2.0)
+        # the sentinel: a command to move stamped a second past the presence timeout (the
+        # decomposer would have cancelled by then); till then, no feedback
+        scene.wait("a command to move past the presence timeout", lambda: any(
+            m for t, m in scene.cmd if t > killed + PRESENCE_TIMEOUT + 1.0), PRESENCE_TIMEOUT + 10)
         with scene.lock:
             assert scene.feedback == []
-            assert any(m for t, m in scene.cmd if t > killed + PRESENCE_TIMEOUT + 1.0)
     finally:
         forger.close()
         scene.close()
