@@ -8,6 +8,8 @@ import time
 from pathlib import Path
 
 import pytest
+from agent_nodes import connected_to
+from polling import wait_until
 
 from rason.process.harness import Process, RosHarness
 
@@ -63,8 +65,7 @@ def test_messages_with_nan_or_infinity_are_dropped_with_one_warning(ros, tmp_pat
     agent = start(ros, tmp_path, "guard", """
         +v(X)[source(S)] <- .print("got ", X, " from ", S).
         """, ns="/t3")
-    ros.wait_for_subscriber("/jason/messages")
-    rospy.sleep(0.5)
+    wait_until(lambda: connected_to(pub, "/t3/jason/guard"), "the connection to guard's node")
     for k, content in enumerate(["v(NaN)", "v(Infinity)", "v(-Infinity)", "v(1e999)", "v(f(NaN))"] * 20):
         pub.publish(AgentMessage(sender="probe", receiver="guard", performative="tell",
                                  content=content, reply_with=f"m{k}", in_reply_to=""))

@@ -12,7 +12,9 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import connected_to
 from jason_msgs.msg import AgentMessage
+from polling import wait_until
 
 from kobuki_fault_injector.srv import FaultInjector
 from rason.execution.decomposer import Goal
@@ -54,8 +56,7 @@ def test_a_flood_under_new_sender_names_writes_few_short_warnings(ros: RosHarnes
     ros.wait_for_node("/flood/jason/calm", watch=[agent], timeout=60)
     ros.init_rospy()
     pub = rospy.Publisher("/jason/messages", AgentMessage, queue_size=10_000)
-    ros.wait_for_subscriber("/jason/messages")
-    time.sleep(1.0)
+    wait_until(lambda: connected_to(pub, "/flood/jason/calm"), "the connection to calm's node")
     start = time.monotonic()
     sent = 0
     while time.monotonic() - start < 6.0:        # unreadable content from new names
@@ -74,9 +75,8 @@ def test_a_flood_under_new_sender_names_writes_few_short_warnings(ros: RosHarnes
     def dropped() -> list[str]:
         return [line for line in agent.lines() if "dropped message from" in line]
 
-    deadline = time.monotonic() + 30
-    while not any("from last" in line for line in dropped()) and time.monotonic() < deadline:
-        time.sleep(0.3)
+    wait_until(lambda: any("from last" in line for line in dropped()), "the warning of the last",
+               timeout=30, watch=[agent], period=0.3)
     lines = dropped()
     assert any("from last" in line and "other warnings held back" in line for line in lines), \
         lines[-3:]
