@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 import pytest
+from polling import wait_until
 
 from rason_diagnosis.paths import world_file
 
@@ -73,10 +74,11 @@ def test_sim_node_drives_publishes_odometry_clock_and_kinect(ros):
         deadline = time.monotonic() + 60
         while clock.last().clock.to_sec() < t0 + 1.5 and time.monotonic() < deadline:
             cmd.publish(twist)
-            time.sleep(0.1)
+            time.sleep(0.1)                     # the command stream's pace (10 Hz)
         cmd.publish(twist)
-        time.sleep(0.1)
-        moving = odom.last()
+        sent = clock.last().clock.to_sec()
+        moving = wait_until(lambda: (m := odom.last()).header.stamp.to_sec() > sent and m,
+                            "odometry after the last command", timeout=60)
         assert moving.pose.pose.position.x > 0.2, moving.pose.pose.position
         assert moving.twist.twist.linear.x == pytest.approx(0.3, abs=0.05)
         gt = truth.last()
@@ -88,11 +90,10 @@ def test_sim_node_drives_publishes_odometry_clock_and_kinect(ros):
         assert moving.header.stamp.to_sec() == pytest.approx(t1, abs=0.2)
 
         # No more commands: the 0.6 s (simulated) command timeout stops the robot.
-        deadline = time.monotonic() + 60
-        while clock.last().clock.to_sec() < t1 + 1.0 and time.monotonic() < deadline:
-            time.sleep(0.1)
-        time.sleep(0.2)
-        assert abs(odom.last().twist.twist.linear.x) < 0.01
+        # the sentinel: odometry stamped 1 s of simulated time after the last command
+        stopped = wait_until(lambda: (m := odom.last()).header.stamp.to_sec() >= t1 + 1.0 and m,
+                             "odometry 1 s (simulated) after the last command", timeout=60)
+        assert abs(stopped.twist.twist.linear.x) < 0.01
 
         imgs = images.wait(3)
         pts = clouds.wait(3)
