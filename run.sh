@@ -86,9 +86,10 @@ case "$cmd" in
   test)
     ensure_setup
     if [ "${1:-}" = "--fast" ]; then
-      # the inner loop: no roscore, no node (the `ros` marker, see tests/conftest.py), and not
-      # the few long ones (`slow`); see pytest.ini
-      shift; exec python3 -m pytest -m "not ros and not slow" "$@"
+      # the inner loop: no roscore, no node (the `ros` marker, see tests/conftest.py), not the
+      # few long ones (`slow`, see pytest.ini), fewer examples in the larger property tests
+      # (tests/draws.py)
+      shift; RASON_TEST_FAST=1 exec python3 -m pytest -m "not ros and not slow" "$@"
     fi
     exec python3 -m pytest "$@"
     ;;

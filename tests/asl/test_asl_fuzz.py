@@ -6,6 +6,7 @@ import glob
 import os
 
 from asl_helpers import CONFORMANCE
+from draws import examples
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -24,7 +25,7 @@ TOKENS = ["+", "-", "!", "!!", "?", "-+", "<-", ":-", ":", ".", ";", ",", "(", "
           "**", "div", "mod", "X", "_", "a", "p(1)", ".print", "\"s\"", "'q'", "1.5e3", "\n", " ",
           "//c\n", "/*", "*/", "\\"]
 
-FUZZ = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+FUZZ = settings(max_examples=examples(150), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 def _check(text: str) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import re
 
+from draws import examples
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
@@ -59,7 +60,7 @@ def _same(x: object, y: object) -> bool:
     return x == y or fresh.sub("_", term_str(x)) == fresh.sub("_", term_str(y))
 
 
-@settings(max_examples=500, deadline=None)
+@settings(max_examples=examples(500), deadline=None)
 @given(terms)
 def test_what_the_reader_accepts_of_printed_terms_equals_the_grammars_term(term) -> None:
     text = term_text(term)
@@ -69,7 +70,7 @@ def test_what_the_reader_accepts_of_printed_terms_equals_the_grammars_term(term)
     assert parse_term_text(text) == term, text
 
 
-@settings(max_examples=1500, deadline=None)
+@settings(max_examples=examples(1500), deadline=None)
 @given(fuzz_text | edited_terms())
 @example("f(1 -2)")
 @example("[a [b], -0, 1e5]")

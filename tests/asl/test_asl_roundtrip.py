@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from draws import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -44,14 +45,14 @@ terms = st.recursive(st.one_of(numbers, texts, variables, _literal(st.just([]), 
                      _extend, max_leaves=12)
 
 
-@settings(max_examples=400, deadline=None)
+@settings(max_examples=examples(400), deadline=None)
 @given(terms)
 def test_every_printed_term_parses_back_to_an_equal_term(term) -> None:
     text = term_text(term)
     assert parse_term_text(text) == term, text
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=examples(200), deadline=None)
 @given(numbers)
 def test_numbers_round_trip_exactly(x: float) -> None:
     y = parse_term_text(term_text(x))

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from draws import examples
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -31,7 +32,7 @@ LEVELS = ["f(%s)", "[%s]", "[a|%s]", "g(1, [b, %s])", "p[%s]", "(%s)", "-(%s)", 
 GROUPING = "(%s)"
 #: The levels that nest the term one deeper.
 DEEPER = [shape for shape in LEVELS if shape != GROUPING]
-LIMITS = settings(max_examples=60, deadline=None,
+LIMITS = settings(max_examples=examples(60), deadline=None,
                   suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 
 

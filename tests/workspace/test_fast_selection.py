@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 from conftest import ROS_FIXTURES
+from draws import FAST, examples
 
 TESTS = Path(__file__).resolve().parents[1]
 
@@ -24,3 +25,10 @@ def test_a_test_file_starting_its_own_harness_is_marked_ros():
                 if "RosHarness(" in (text := path.read_text(encoding="utf-8"))
                 and "pytest.mark.ros" not in text]
     assert not unmarked, unmarked
+
+
+def test_the_inner_loop_draws_a_share_of_the_property_tests_examples(monkeypatch):
+    monkeypatch.delenv(FAST, raising=False)
+    assert [examples(n) for n in (20, 60, 1500)] == [20, 60, 1500]     # the full suite
+    monkeypatch.setenv(FAST, "1")
+    assert [examples(n) for n in (20, 60, 1500)] == [20, 40, 300]      # --fast: a fifth, >= 40
