@@ -22,6 +22,7 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from jason_msgs.msg import Action, Event
 from nav_msgs.msg import Odometry
+from polling import wait_until
 from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
@@ -95,11 +96,7 @@ class Robot:
             self.truth = msg
 
     def ground_truth(self) -> Odometry:
-        deadline = time.monotonic() + 10
-        while self.truth is None and time.monotonic() < deadline:
-            time.sleep(0.02)
-        assert self.truth is not None, "no ground truth from the simulator"
-        return self.truth
+        return wait_until(lambda: self.truth, "ground truth from the simulator", timeout=10)
 
     def inject(self, fault: str) -> str:
         return self.fault_service(fault).return_message
@@ -117,13 +114,10 @@ class Robot:
                         or getattr(parse_feedback(e), "action_id", None) == action_id)]
 
     def wait_feedback(self, action_id: int, timeout: float = ACTION_TIMEOUT) -> Event:
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            done = [e for e in self.events_for(action_id) if e.event_type == "action_feedback"]
-            if done:
-                return done[0]
-            time.sleep(0.02)
-        raise AssertionError(f"no feedback for action {action_id} within {timeout} s")
+        done = wait_until(lambda: [e for e in self.events_for(action_id)
+                                   if e.event_type == "action_feedback"],
+                          f"feedback for action {action_id}", timeout=timeout)
+        return done[0]
 
     def settle(self, seconds: float = 0.3) -> None:
         """Let the base come to rest (wall time; the sim runs at least at real time)."""
@@ -176,9 +170,8 @@ def robot(ros_session: RosHarness, tmp_path_factory: pytest.TempPathFactory) -> 
         handle = Robot()
         handle.ground_truth()
         # The publisher's connection to the decomposer must exist before the first action.
-        deadline = time.monotonic() + 10
-        while handle.actions.get_num_connections() == 0 and time.monotonic() < deadline:
-            time.sleep(0.05)
+        wait_until(lambda: handle.actions.get_num_connections() > 0,
+                   "the action publisher's connection to the decomposer", timeout=10)
         yield handle
         handle.close()
     finally:
@@ -299,10 +292,8 @@ def test_active_fault_is_published_on_status_and_diagnostics(robot: Robot):
 # -- protocol -------------------------------------------------------------------------------------
 def test_new_motion_preempts_the_running_one(robot: Robot):
     first = robot.send("move", "1")
-    deadline = time.monotonic() + 10
-    while not robot.events_for(first) and time.monotonic() < deadline:
-        time.sleep(0.02)
-    time.sleep(0.3)
+    wait_until(lambda: robot.events_for(first), "the first action accepted", timeout=10)
+    time.sleep(0.3)                     # the first one runs a while
     second = robot.send("turn", "30")
     preempted = parse_feedback(robot.wait_feedback(first))
     done = parse_feedback(robot.wait_feedback(second))
@@ -316,7 +307,8 @@ def test_bad_parameters_and_other_actions(robot: Robot):
     assert list(feedback.parameters[:2]) == ["bad_parameters", str(bad)]
     assert not [e for e in robot.events_for(bad) if e.event_type == "action_accepted"]
     other = robot.send("say", "hello")
-    time.sleep(0.5)
+    # the sentinel: an action sent after it is answered (one subscriber thread, in order)
+    robot.wait_feedback(robot.send("move", "far"), timeout=5)
     assert robot.events_for(other) == []
 
 
@@ -332,14 +324,11 @@ def test_agents_parameter_restricts_and_silent_odometry_is_no_progress(robot: Ro
             "/lonely/jason/event", Event,
             lambda e: e.event_type != ACTION_RUNNING and events.append(e), queue_size=10)
         pub = rospy.Publisher("/lonely/jason/action", Action, queue_size=10)
-        deadline = time.monotonic() + 10
-        while (pub.get_num_connections() == 0 or sub.get_num_connections() == 0) \
-                and time.monotonic() < deadline:
-            time.sleep(0.05)
+        wait_until(lambda: pub.get_num_connections() > 0 and sub.get_num_connections() > 0,
+                   "the connections to the second decomposer", timeout=10)
         pub.publish(Action(agent="helper", action_id=1, action="move", parameters=["1"]))
         pub.publish(Action(agent="faulty", action_id=2, action="move", parameters=["1"]))
-        while len(events) < 2 and time.monotonic() < deadline:
-            time.sleep(0.05)
+        wait_until(lambda: len(events) >= 2, "two answers of the second decomposer", timeout=10)
         sub.unregister()
         pub.unregister()
         assert [(e.agent, e.event_type, e.parameters[0]) for e in events] == [
@@ -388,10 +377,8 @@ def test_reload_and_configure_change_settings_without_a_restart(robot: Robot, se
     assert list(configured.parameters[:1]) == ["OK"] and "~max_distance = 10" in \
         configured.parameters[2]
     assert parse_feedback(robot.wait_feedback(moving)).result == "OK"
-    deadline = time.monotonic() + 5                # and ~reload keeps it
-    while rospy.get_param(f"{DECOMPOSER}/max_distance") != 10.0 and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert rospy.get_param(f"{DECOMPOSER}/max_distance") == 10.0
+    wait_until(lambda: rospy.get_param(f"{DECOMPOSER}/max_distance") == 10.0,   # ~reload keeps it
+               "max_distance 10 on the parameter server", timeout=5, period=0.05)
     for bad in (["turn_clockwise", "false"], ["linear_gain", "0"], ["reference", "gps"],
                 ["curvature"]):
         answer = robot.wait_feedback(robot.send("configure", *bad), timeout=5)
