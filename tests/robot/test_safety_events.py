@@ -78,12 +78,10 @@ class Base:
             endpoint.unregister()
 
     def connected(self, timeout: float = 20.0) -> None:
-        deadline = time.monotonic() + timeout
         endpoints = (*self.subs, self.odom, self.actions, self.bumper, self.cliff,
                      self.wheel_drop)
-        while any(e.get_num_connections() == 0 for e in endpoints):
-            assert time.monotonic() < deadline, "the decomposer never connected"
-            time.sleep(0.05)
+        wait_until(lambda: all(e.get_num_connections() > 0 for e in endpoints),
+                   "the decomposer's connections", timeout=timeout, period=0.05)
 
     def _on_cmd(self, msg: Twist) -> None:
         with self.lock:
@@ -116,25 +114,22 @@ class Base:
         return action_id
 
     def feedback(self, action_id: int) -> tuple[str, str]:
-        deadline = time.monotonic() + ACTION_TIMEOUT
-        while time.monotonic() < deadline:
+        def found() -> tuple[str, str] | None:
             with self.lock:
                 for event in self.events:
                     fb = parse_feedback(event)
                     if fb is not None and fb.action_id == action_id:
                         return fb.result, fb.message
-            time.sleep(0.02)
-        raise AssertionError(f"no feedback for action {action_id}")
+            return None
+        return wait_until(found, f"feedback for action {action_id}", timeout=ACTION_TIMEOUT)
 
     def wait_moving(self) -> int:
         """Wait for a drive command; the number of commands so far."""
-        deadline = time.monotonic() + ACTION_TIMEOUT
-        while time.monotonic() < deadline:
+        def driving() -> int:
             with self.lock:
-                if self.cmds and moving(self.cmds[-1]):
-                    return len(self.cmds)
-            time.sleep(0.01)
-        raise AssertionError("the decomposer never drove the base")
+                return len(self.cmds) if self.cmds and moving(self.cmds[-1]) else 0
+        return wait_until(driving, "a drive command to the base", timeout=ACTION_TIMEOUT,
+                          period=0.01)
 
     def commands_since(self, index: int) -> list[Twist]:
         with self.lock:
@@ -265,10 +260,9 @@ def test_an_agent_plan_for_error_bumper_runs(ros: RosHarness, tmp_path: Path):
     try:
         robot.actions.unregister()                 # the agent issues the actions here
         robot.subs[1].unregister()
-        deadline = time.monotonic() + 20
-        while robot.odom.get_num_connections() == 0 or robot.bumper.get_num_connections() == 0:
-            assert time.monotonic() < deadline
-            time.sleep(0.05)
+        wait_until(lambda: robot.odom.get_num_connections() > 0
+                   and robot.bumper.get_num_connections() > 0,
+                   "the decomposer's odometry and bumper connections", timeout=20, period=0.05)
         agent = ros.rosrun("rason", "agent", "bumpy", str(source), ns=ns)
         robot.wait_moving()
         robot.raise_event("bumper", 1, True)
