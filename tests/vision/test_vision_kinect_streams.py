@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 import pytest
+from polling import wait_until
 from vision_truth import ANGLE_TOL, DEPTH_TOL, LITERAL, YAW_TOL
 
 from rason_vision.convert import camera_info_fields
@@ -84,13 +85,10 @@ def test_kinect_and_compressed_streams_match_the_cloud_stream(ros):
             for ns in CHOICES]
     truths = []
     try:
-        deadline = time.monotonic() + 30
-        while time.monotonic() < deadline and not all(
-                p.get_num_connections() >= 1 for ps in list(pubs.values()) for p in ps[:3]):
-            time.sleep(0.05)
-        while time.monotonic() < deadline and not all(s.get_num_connections() >= 1
-                                                      for s in subs):
-            time.sleep(0.05)
+        wait_until(lambda: all(p.get_num_connections() >= 1
+                               for ps in list(pubs.values()) for p in ps[:3])
+                   and all(s.get_num_connections() >= 1 for s in subs),
+                   "the connections to the synthesizers", timeout=30, period=0.05)
         for index, (distance, bearing, heading) in enumerate(SCENES):
             scene = faulty_scene(distance, bearing, heading, intrinsics=KINECT_VGA)
             green, orange = scene.cylinders[1], scene.cylinders[2]
@@ -113,12 +111,11 @@ def test_kinect_and_compressed_streams_match_the_cloud_stream(ros):
                 # depth first, as a Kinect's earlier stamp would make it arrive
                 for pub, msg in reversed(list(zip(pubs[ns], msgs, strict=True))):
                     pub.publish(msg)
-            frame_deadline = time.monotonic() + 30
-            while time.monotonic() < frame_deadline:
+            def perceived(index: int = index) -> bool:
                 with lock:
-                    if all(len(v) > index for v in got.values()):
-                        break
-                time.sleep(0.05)
+                    return all(len(v) > index for v in got.values())
+            wait_until(perceived, f"scene {index} perceived by every synthesizer", timeout=30,
+                       watch=nodes.values(), period=0.05)
     finally:
         for sub in subs:
             sub.unregister()
@@ -179,11 +176,9 @@ def test_bad_kinect_frames_are_rejected_and_the_next_good_one_detected(ros):
             format="16UC1; compressedDepth png", data=bytes(12)), good[2]),
     }
     try:
-        deadline = time.monotonic() + 30
-        while time.monotonic() < deadline and not (
-                all(p.get_num_connections() >= 1 for p in pubs)
-                and sub.get_num_connections() >= 1):
-            time.sleep(0.05)
+        wait_until(lambda: all(p.get_num_connections() >= 1 for p in pubs)
+                   and sub.get_num_connections() >= 1,
+                   "the connections to the synthesizer", timeout=30, period=0.05)
         stamp = 200.0
         for msgs in [*bad_sets.values(), good]:
             stamp += 1.0
@@ -191,9 +186,8 @@ def test_bad_kinect_frames_are_rejected_and_the_next_good_one_detected(ros):
                 msg.header.stamp = rospy.Time(stamp)
                 pub.publish(msg)
             time.sleep(0.3)
-        wait_until = time.monotonic() + 20
-        while time.monotonic() < wait_until and not got:
-            time.sleep(0.05)
+        # the good set, sent last, is the sentinel: the bad ones before it were dealt with
+        wait_until(lambda: got, "the good set's perception", timeout=20, period=0.05)
     finally:
         sub.unregister()
         for pub in pubs:
