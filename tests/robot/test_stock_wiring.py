@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 
 import pytest
+from polling import wait_until
 
 from kobuki_fault_injector.node import InjectorParams
 from kobuki_fault_injector.srv import FaultInjector
@@ -79,20 +80,15 @@ def test_odometry_fault_under_stock_names_freezes_what_the_decomposer_sees(ros, 
     events: list = []
     rospy.Subscriber(f"{ns}/jason/event", Event, events.append, queue_size=100)
     actions = rospy.Publisher(f"{ns}/jason/action", Action, queue_size=10)
-    deadline = time.monotonic() + 10
-    while actions.get_num_connections() == 0 and time.monotonic() < deadline:
-        time.sleep(0.05)
+    wait_until(lambda: actions.get_num_connections() > 0, "the action publisher's connection",
+               timeout=10, period=0.05)
     assert rospy.ServiceProxy(f"{ns}/fault_injector", FaultInjector)("odometry").return_message
     time.sleep(0.5)
     marks = len(driver), len(seen)
     actions.publish(Action(agent="faulty", action_id=7, action="move", parameters=["1"]))
-    deadline = time.monotonic() + 60
-    feedback = None
-    while feedback is None and time.monotonic() < deadline:
-        feedback = next((parse_feedback(e) for e in list(events)
-                         if e.event_type == "action_feedback"), None)
-        time.sleep(0.05)
-    assert feedback is not None, "no feedback for the move"
+    feedback = wait_until(lambda: next((parse_feedback(e) for e in list(events)
+                                        if e.event_type == "action_feedback"), None),
+                          "feedback for the move", timeout=60, period=0.05)
     assert feedback.result == "no_progress", feedback.message
     moved, frozen = driver.since(marks[0]), seen.since(marks[1])
     assert frozen and len(set(frozen)) == 1, "the decomposer's odometry kept changing"

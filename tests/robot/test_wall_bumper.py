@@ -10,12 +10,12 @@ released.
 from __future__ import annotations
 
 import threading
-import time
 from pathlib import Path
 
 import pytest
 import rospy
 from jason_msgs.msg import Action, Event
+from polling import wait_until
 
 from rason.process.harness import RosHarness
 from rason.ros.feedback import parse_feedback
@@ -56,23 +56,18 @@ def test_a_move_into_a_wall_ends_bumper_and_backing_off_is_allowed(ros: RosHarne
 
     sub = rospy.Subscriber(f"{ns}/bot/jason/event", Event, on_event, queue_size=100)
     actions = rospy.Publisher(f"{ns}/bot/jason/action", Action, queue_size=10)
-    deadline = time.monotonic() + 20
-    while sub.get_num_connections() == 0 or actions.get_num_connections() == 0:
-        assert time.monotonic() < deadline, "the decomposer never connected"
-        time.sleep(0.05)
+    wait_until(lambda: sub.get_num_connections() > 0 and actions.get_num_connections() > 0,
+               "the decomposer's connections", timeout=20, period=0.05)
 
     def perform(action_id: int, metres: str) -> tuple[str, str]:
         actions.publish(Action(agent="tester", action_id=action_id, action="move",
                                parameters=[metres]))
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:
+        def answered() -> list:
             with lock:
-                done = [fb for fb in map(parse_feedback, events)
+                return [fb for fb in map(parse_feedback, events)
                         if fb is not None and fb.action_id == action_id]
-            if done:
-                return done[0].result, done[0].message
-            time.sleep(0.05)
-        raise AssertionError(f"no feedback for move({metres})")
+        done = wait_until(answered, f"feedback for move({metres})", timeout=60, period=0.05)
+        return done[0].result, done[0].message
 
     try:
         result, message = perform(1, "1.5")
