@@ -4,10 +4,10 @@ node: real roscore, real ``rosrun rason agent`` processes."""
 from __future__ import annotations
 
 import textwrap
-import time
 
 import pytest
 from agent_nodes import start_agent
+from polling import wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -81,8 +81,6 @@ def test_create_agent_in_an_agent_node_gets_its_mind_service_and_kill_removes_it
     other.wait_for_line(r"\[other\] ready helper", timeout=40)
     after = boss.wait_for_line(r"\[boss\] after kill \[(.*)\]", timeout=20).group(1).split(",")
     assert {"agent", "boss", "other"} <= set(after) and "helper" not in after
-    deadline = time.monotonic() + 20
-    while "/ca1/jason/helper/mind" in ros.services() and time.monotonic() < deadline:
-        time.sleep(0.2)
-    assert "/ca1/jason/helper/mind" not in ros.services()
+    wait_until(lambda: "/ca1/jason/helper/mind" not in ros.services(),
+               "the killed agent's mind service gone", timeout=20, period=0.2)
     assert "/ca1/jason/agent/mind" in ros.services()

@@ -6,11 +6,11 @@ from __future__ import annotations
 import signal
 import sys
 import threading
-import time
 from pathlib import Path
 
 import pytest
 import rospy
+from polling import wait_until
 from std_msgs.msg import String
 
 from rason.process.harness import Process, RosHarness
@@ -41,11 +41,8 @@ def _start_readers(ros: RosHarness, tmp_path: Path, topic: str, count: int) -> l
 
 
 def _wait_connections(publisher: rospy.Publisher, count: int, timeout: float = 20.0) -> None:
-    deadline = time.monotonic() + timeout
-    while publisher.get_num_connections() != count:
-        assert time.monotonic() < deadline, \
-            f"{publisher.get_num_connections()} subscribers connected, not {count}"
-        time.sleep(0.05)
+    wait_until(lambda: publisher.get_num_connections() == count, f"{count} subscribers connected",
+               timeout=timeout, period=0.05)
 
 
 def _heard(reader: Process) -> list[int]:

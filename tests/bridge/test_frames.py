@@ -14,7 +14,6 @@ import socket
 import struct
 import sys
 import threading
-import time
 import weakref
 from collections.abc import Iterator
 
@@ -25,6 +24,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from jason_msgs.msg import AgentMessage, Event, Perception
 from nav_msgs.msg import Odometry
+from polling import wait_until
 from rosgraph.network import write_ros_handshake_header
 from rospy.exceptions import TransportException, TransportTerminated
 from rospy.impl.tcpros_base import TCPROSTransport
@@ -324,9 +324,7 @@ def test_a_framed_subscriber_hears_a_publisher_process(ros, tmp_path) -> None:
     script.write_text(TALKER)
     try:
         ros.run([sys.executable, str(script), "/frames_test/messages"], label="talker")
-        deadline = time.monotonic() + 30
-        while len(heard) < 300 and time.monotonic() < deadline:
-            time.sleep(0.05)
+        wait_until(lambda: len(heard) >= 300, "300 messages heard", timeout=30, period=0.05)
         assert [m.content for m in heard] == [f"ping({i})" for i in range(300)]
         # big ones in between: frames cut across reads
         assert {len(m.reply_with) for m in heard} == {1, 100_000}
