@@ -6,11 +6,11 @@ from __future__ import annotations
 import dataclasses
 import subprocess
 import threading
-import time
 
 import cv2
 import numpy as np
 import pytest
+from polling import wait_until
 from vision_truth import LITERAL
 
 from rason_vision.colours import Region, fit_range, load_colours, save_colours, to_hsv
@@ -177,15 +177,15 @@ def test_live_calibration_then_the_synthesizer_with_the_file(ros, recorded):
                                   "colour_transport": "raw"})
         ros.wait_for_subscriber("/helper/camera/depth_registered/image_raw", watch=[node])
         ros.wait_for_topic("/helper/jason/perception", watch=[node])
-        time.sleep(0.5)
+        wait_until(lambda: sub.get_num_connections() > 0, "our subscriber's connection to the "
+                   "node's perceptions", timeout=20, watch=[node], period=0.05)
         replay = ros.run(["rosbag", "play", "--quiet", "--keep-alive", str(bag)],
                          label="rosbag_replay")
-        deadline = time.monotonic() + 40
-        while time.monotonic() < deadline:
+        def all_poses() -> bool:
             with lock:
-                if len(got) >= len(POSES):
-                    break
-            time.sleep(0.1)
+                return len(got) >= len(POSES)
+        wait_until(all_poses, f"{len(POSES)} perceptions", timeout=40, watch=[node],
+                   period=0.1)
         replay.stop()
     finally:
         sub.unregister()

@@ -12,6 +12,7 @@ import threading
 import time
 
 import pytest
+from polling import wait_until
 from vision_truth import CASES_BAG, COMPRESSED_BAG, KINECT_BAG, LITERAL, PARTIAL, check
 
 pytestmark = pytest.mark.ros
@@ -58,16 +59,16 @@ def test_synthesizer_on_recorded_bag(ros, form):
         node = ros.rosrun("rason_vision", "robot_synthesizer", ns="/helper", params=params)
         ros.wait_for_subscriber(depth_topic, watch=[node])
         ros.wait_for_topic("/helper/jason/perception", watch=[node])
-        time.sleep(0.5)  # let our subscriber connect to the node's publisher
+        wait_until(lambda: subs[0].get_num_connections() > 0, "our subscriber's connection to "
+                   "the node's perceptions", timeout=20, watch=[node], period=0.05)
         # --keep-alive: an exiting rosbag may drop the last big messages still in its queues.
         play = ros.run(["rosbag", "play", "--delay", "2", "--quiet", "--keep-alive",
                         str(bag)], label="rosbag_play")
-        deadline = time.monotonic() + 40
-        while time.monotonic() < deadline and play.alive():
+        def all_frames() -> bool:
             with lock:
-                if len(truths) >= FRAMES and len(perceptions) >= FRAMES:
-                    break
-            time.sleep(0.1)
+                return len(truths) >= FRAMES and len(perceptions) >= FRAMES
+        wait_until(all_frames, f"{FRAMES} truths and perceptions", timeout=40,
+                   watch=[play, node], period=0.1)
         time.sleep(0.5)
         play.stop()
     finally:
