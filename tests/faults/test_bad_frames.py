@@ -18,6 +18,7 @@ import rospy
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from jason_msgs.msg import Perception
+from polling import wait_until
 from sensor_msgs.msg import Image, PointCloud2, PointField
 from std_msgs.msg import Header
 
@@ -107,10 +108,9 @@ def camera(ros_session: RosHarness) -> Iterator[Camera]:
                                      queue_size=10))
         sub = rospy.Subscriber(f"{NS}/jason/perception", Perception, cam.on_perception,
                                queue_size=100)
-        deadline = time.monotonic() + 10
-        while (cam.images.get_num_connections() == 0 or cam.clouds.get_num_connections() == 0
-               or sub.get_num_connections() == 0) and time.monotonic() < deadline:
-            time.sleep(0.05)
+        wait_until(lambda: cam.images.get_num_connections() > 0
+                   and cam.clouds.get_num_connections() > 0 and sub.get_num_connections() > 0,
+                   "the camera's and the perception's connections", timeout=10, period=0.05)
         assert cam.detects_good_frame(timeout=30)
         yield cam
         sub.unregister()

@@ -9,6 +9,7 @@ import time
 import numpy as np
 import pytest
 import yaml
+from polling import wait_until
 from vision_truth import LITERAL
 
 from rason_diagnosis.paths import world_file
@@ -31,9 +32,9 @@ def collect(topic: str, count: int, timeout: float, start=None) -> list:
 
     sub = rospy.Subscriber(topic, Perception, on_msg)
     try:
-        deadline = time.monotonic() + 10
-        while sub.get_num_connections() < 1 and time.monotonic() < deadline:
-            time.sleep(0.05)  # the perception topic is not latched: be connected first
+        # the perception topic is not latched: be connected first
+        wait_until(lambda: sub.get_num_connections() >= 1, f"a connection to {topic}",
+                   timeout=10, period=0.05)
         if start is not None:
             start()
         done.wait(timeout)
