@@ -23,6 +23,8 @@
 #       --timeout S                 simulated seconds allowed
 #       --inspector-port N          the mind inspector's port (0: any free port)
 #       --inspector, --no-inspector with or without the mind inspector (default: with)
+#       --hold                      after the result, keep every node (the inspector too)
+#                                   up until Ctrl-C
 #   ./run.sh campaign [OPTIONS]     every fault and none, N runs each: report.md, runs.csv, plots
 #       --runs N                    runs per fault (default 10)
 #       --layouts fixed|random      the thesis' layout, or a seeded random layout per run index
