@@ -49,6 +49,7 @@
 #       --seed N, --world FILE.yaml, --out DIR, --json, --quiet, --timeout S   as for demo
 #       --no-recovery               the baseline: after the diagnosis Faulty gives the mission up
 #       --inspector-port N, --inspector, --no-inspector   as for demo (the inspector's mission view)
+#       --hold                      as for demo
 #   ./run.sh bench NAME [ARGS...]   a benchmark of benchmarks/ (./run.sh bench lists them)
 #   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs), or a part: a file, -k NAME
 #   ./run.sh env                    a shell with ROS and the workspace ready (or: source env.sh)

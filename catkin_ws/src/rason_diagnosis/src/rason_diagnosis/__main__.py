@@ -32,6 +32,7 @@ from rason_diagnosis.scenario import (
     VERDICTS,
     RunResult,
     default_fault,
+    hold_until_interrupted,
     run_scenario,
 )
 from turtlebot_sim.config import resolve
@@ -144,13 +145,7 @@ def main(argv: list[str] | None = None) -> int:
         nonlocal shown
         _print_result(result, args, out, wiring)
         shown = True
-        print("[demo] holding: every node still runs (the inspector too); Ctrl-C ends",
-              flush=True)
-        try:
-            while True:
-                time.sleep(3600)
-        except KeyboardInterrupt:
-            print("[demo] hold ended", flush=True)
+        hold_until_interrupted("demo")
 
     try:
         result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,

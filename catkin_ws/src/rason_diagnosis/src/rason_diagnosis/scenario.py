@@ -274,6 +274,17 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
     monitor.close()
 
 
+def hold_until_interrupted(run: str = "demo") -> None:
+    """``--hold``: say so (lines tagged ``[run]``) and return at Ctrl-C or SIGTERM, while the
+    run's nodes, the inspector among them, stay up."""
+    print(f"[{run}] holding: every node still runs (the inspector too); Ctrl-C ends", flush=True)
+    try:
+        while True:
+            time.sleep(3600)
+    except KeyboardInterrupt:
+        print(f"[{run}] hold ended", flush=True)
+
+
 def start_inspector(ros: RosHarness, port: int, run: str = "demo") -> str:
     """Start ``rosrun rason mind_inspector`` and print its address (lines tagged ``[run]``);
     "" if it cannot listen."""
