@@ -23,6 +23,8 @@
 #       --timeout S                 simulated seconds allowed
 #       --inspector-port N          the mind inspector's port (0: any free port)
 #       --inspector, --no-inspector with or without the mind inspector (default: with)
+#       --hold                      after the result, keep every node (the inspector too)
+#                                   up until Ctrl-C
 #   ./run.sh campaign [OPTIONS]     every fault and none, N runs each: report.md, runs.csv, plots
 #       --runs N                    runs per fault (default 10)
 #       --layouts fixed|random      the thesis' layout, or a seeded random layout per run index
@@ -47,6 +49,7 @@
 #       --seed N, --world FILE.yaml, --out DIR, --json, --quiet, --timeout S   as for demo
 #       --no-recovery               the baseline: after the diagnosis Faulty gives the mission up
 #       --inspector-port N, --inspector, --no-inspector   as for demo (the inspector's mission view)
+#       --hold                      as for demo
 #   ./run.sh bench NAME [ARGS...]   a benchmark of benchmarks/ (./run.sh bench lists them)
 #   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs), or a part: a file, -k NAME
 #   ./run.sh env                    a shell with ROS and the workspace ready (or: source env.sh)

@@ -3,13 +3,17 @@
 ``./run.sh demo`` (both actuators faulty) starts the inspector on a free port and prints its
 address; headless Chromium (Debian's ``chromium`` and ``chromium-driver``, driven by selenium)
 opens the page once and never reloads it. The page must list both agents, follow Faulty live
-until its ``diagnosis(D)`` belief appears, step back through the history, and show the robots;
-the screenshot (saved in the test's tmp folder) must not be blank.
+until its ``diagnosis(D)`` belief appears, step back through the history (to a state mid-run,
+with an intention's current step marked), and show the robots; the screenshot (saved in the
+test's tmp folder) must not be blank. The run is a short one, so it is started with ``--hold``:
+its nodes, the inspector among them, stay up after the result until the test sends Ctrl-C, and
+the history can be browsed however late the browser comes.
 """
 
 from __future__ import annotations
 
 import os
+import signal
 import sys
 
 import pytest
@@ -57,6 +61,11 @@ def _agents(driver: webdriver.Chrome) -> set[str]:
         "return [...document.querySelectorAll('#agent-list li')].map(li => li.dataset.agent);"))
 
 
+def _current_steps(driver: webdriver.Chrome) -> int:
+    return driver.execute_script(
+        "return document.querySelectorAll('#intentions .means li.current').length;")
+
+
 def _diagnosis(driver: webdriver.Chrome) -> str | None:
     return next((b for b in _beliefs(driver) if b.startswith("diagnosis(")), None)
 
@@ -65,7 +74,7 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
     assert os.path.exists(CHROMEDRIVER) and os.path.exists(CHROMIUM), \
         "Debian's chromium and chromium-driver are needed: ./setup.sh installs them"
     demo = RunProcess([sys.executable, "-m", "rason_diagnosis", "--fault", "both_actuators",
-                       "--seed", "11", "--inspector-port", "0", "--quiet",
+                       "--seed", "11", "--inspector-port", "0", "--quiet", "--hold",
                        "--out", str(tmp_path / "run")])
     driver = None
     try:
@@ -82,18 +91,14 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
         wait.until(lambda d: d.find_element(By.ID, "mind-title").text.startswith("faulty")
                    and _history(d)[0] == "live" and (_history(d)[1] or 0) >= 3)
 
-        # the history steps back while the run goes on, and back to live (the live state may
-        # move on between reading it and the click, so the step is checked once held)
+        # the history steps back (while the run goes on, or after it), and back to live (the
+        # live state may move on between reading it and the click, so the step is checked once
+        # held)
         held = _step_into_history(driver, wait)
         driver.find_element(By.ID, "history-back").click()
         wait.until(lambda d: _history(d) == ("history", held - 1))
         driver.find_element(By.ID, "history-live").click()
         wait.until(lambda d: _history(d)[0] == "live" and _history(d)[1] > held)
-
-        # mid-run: Faulty's intentions as stacks of plan instances, the current step marked
-        WebDriverWait(driver, 150, poll_frequency=0.2).until(lambda d: d.execute_script(
-            "return document.querySelectorAll('#intentions .means li.current').length > 0;"))
-        driver.save_screenshot(str(tmp_path / "inspector-running.png"))
 
         # Faulty's diagnosis appears without a reload; intentions and the robots are on the page
         WebDriverWait(driver, 150, poll_frequency=0.2).until(_diagnosis)
@@ -107,11 +112,13 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
         drawn = map_ink(driver)
         assert drawn > 2000, f"the map is (almost) empty: {drawn} drawn pixels"
 
-        # step back from the diagnosis until the state before it (the page's history)
+        # step back from the diagnosis until the state before it (the page's history), then on
+        # to a state mid-run: Faulty's intentions as stacks of plan instances, the current step
+        # marked
         final_index = _history(driver)[1]
         _step_into_history(driver, wait)
-        for _ in range(40):
-            if _diagnosis(driver) is None:
+        for _ in range(80):
+            if _diagnosis(driver) is None and _current_steps(driver):
                 break
             before = _history(driver)[1]
             driver.find_element(By.ID, "history-back").click()
@@ -120,13 +127,18 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
         assert _history(driver)[0] == "history"
         assert _history(driver)[1] < final_index
         assert _diagnosis(driver) is None, "stepping back never reached a state before it"
+        assert _current_steps(driver), "no state before the diagnosis shows a current step"
+        driver.save_screenshot(str(tmp_path / "inspector-running.png"))
 
         assert_not_blank(shot)
+        demo.wait_for(r"\[demo\] holding", 120)
     except WebDriverException as err:
         pytest.fail(f"browser failed: {err.msg}\ndemo output:\n" + "\n".join(demo.lines[-30:]))
     finally:
         if driver is not None:
             driver.quit()
+        if demo.proc.poll() is None:
+            demo.proc.send_signal(signal.SIGINT)   # ends the hold (or, failing, the run)
         status = demo.finish(240)
     assert status == 0, "\n".join(demo.lines[-40:])
     assert "CORRECT" in "\n".join(demo.lines)

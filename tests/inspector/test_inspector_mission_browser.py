@@ -5,7 +5,8 @@ inspector on a free port and prints its address; headless Chromium opens the pag
 never reloads it. The page must show Faulty's waypoints as its own, then the first ones reached
 by Faulty, then (after the diagnosis) the recovery in force, the rest delegated to Helper and
 accepted, and at the end reached by Helper; the map with the waypoints is drawn and the
-screenshot (kept in the test's tmp folder) is not blank.
+screenshot (kept in the test's tmp folder) is not blank. With ``--hold`` the nodes stay up
+after the result until the test's Ctrl-C, so a browser slower than the run still sees its end.
 
 This is also the suite's one run of a delegated mission: its result must meet the issue's bar
 (every waypoint within 0.3 m by ground truth, no contact), with Faulty alone and without a
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import sys
 
 import browser
@@ -55,7 +57,8 @@ def test_page_shows_the_mission_its_waypoints_owners_and_the_recovery(tmp_path):
         "Debian's chromium and chromium-driver are needed: ./setup.sh installs them"
     run = browser.RunProcess([sys.executable, "-m", "rason_diagnosis.mission",
                               "--fault", "both_actuators", "--at", "20", "--seed", "2",
-                              "--inspector-port", "0", "--quiet", "--out", str(tmp_path / "run")])
+                              "--inspector-port", "0", "--quiet", "--hold",
+                              "--out", str(tmp_path / "run")])
     driver = None
     seen: list[list[str]] = []
     shown: dict = {}
@@ -99,12 +102,15 @@ def test_page_shows_the_mission_its_waypoints_owners_and_the_recovery(tmp_path):
         shot = tmp_path / "inspector-mission.png"
         driver.save_screenshot(str(shot))
         browser.assert_not_blank(shot)
+        run.wait_for(r"\[mission\] holding", 120)
     except WebDriverException as err:
         pytest.fail(f"browser failed: {err.msg}\nowners seen: {seen}\nmission output:\n"
                     + "\n".join(run.lines[-30:]))
     finally:
         if driver is not None:
             driver.quit()
+        if run.proc.poll() is None:
+            run.proc.send_signal(signal.SIGINT)   # ends the hold (or, failing, the run)
         status = run.finish(300)
     assert status == 0, "\n".join(run.lines[-40:])
     # the diagnosis the page showed with the recovery is the one the mission ended with (on a

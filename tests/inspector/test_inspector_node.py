@@ -11,7 +11,12 @@ import urllib.request
 from pathlib import Path
 
 import pytest
+import rospy
+from jason_msgs.msg import AgentMessage
 from polling import wait_until
+from std_msgs.msg import String
+
+from rason.ros.presence import GOODBYE, MESSAGES_TOPIC, PRESENCE
 
 pytestmark = pytest.mark.ros
 
@@ -209,6 +214,32 @@ def test_bad_parameters_and_a_taken_port_stop_the_inspector_with_a_clear_error(r
                                name="taken_port_inspector")
         assert inspector.wait(60) == 1
         assert f"cannot listen on 127.0.0.1:{port}" in inspector.output()
+
+
+def test_an_agent_back_after_lapsing_before_its_first_state_gets_its_topic(graph, ros_session):
+    # Under load an agent may miss its beats before its first mind state: the inspector forgets
+    # it (nothing to show), and must find its (already subscribed) topic again when it is back.
+    url = graph[0]
+    ros_session.init_rospy()
+    beats = rospy.Publisher(MESSAGES_TOPIC, AgentMessage, queue_size=10)
+    topic = "/insp_c/jason/carol/mind_state"
+    silent = rospy.Publisher(topic, String, queue_size=1)     # advertised, never published on
+
+    def carol() -> dict:
+        beats.publish(AgentMessage(sender="carol", performative=PRESENCE))
+        return _agents(url).get("carol", {})
+
+    try:
+        wait_until(lambda: carol().get("topic") == topic, "carol with her topic", timeout=60,
+                   period=0.3)
+        wait_until(lambda: "carol" not in _agents(url),
+                   "carol, silent with no state, to be forgotten", timeout=30, period=0.3)
+        wait_until(lambda: carol().get("topic") == topic, "carol back with her topic",
+                   timeout=30, period=0.3)
+    finally:
+        beats.publish(AgentMessage(sender="carol", performative=PRESENCE, content=GOODBYE))
+        beats.unregister()
+        silent.unregister()
 
 
 def test_an_agent_that_stops_leaves_the_page(graph):

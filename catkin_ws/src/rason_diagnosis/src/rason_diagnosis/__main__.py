@@ -22,7 +22,7 @@ import yaml
 
 from rason.inspector.main import InspectorParams
 from rason_diagnosis import thesis, workstation
-from rason_diagnosis.drivers import SIM, WIRINGS, VisionPath, wiring_for
+from rason_diagnosis.drivers import SIM, WIRINGS, VisionPath, Wiring, wiring_for
 from rason_diagnosis.hosts import LinkCut, interrupt
 from rason_diagnosis.paths import world_colours
 from rason_diagnosis.scenario import (
@@ -30,7 +30,9 @@ from rason_diagnosis.scenario import (
     INJECTED_FAULTS,
     NO_FAULT,
     VERDICTS,
+    RunResult,
     default_fault,
+    hold_until_interrupted,
     run_scenario,
 )
 from turtlebot_sim.config import resolve
@@ -106,6 +108,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="watch the run in the mind inspector (web page; default: on)")
     parser.add_argument("--inspector-port", type=int, default=InspectorParams().port,
                         help="the inspector's port on 127.0.0.1 (0: any free port)")
+    parser.add_argument("--hold", action="store_true",
+                        help="after the result, keep every node up (the inspector still serves "
+                             "the run's history) until Ctrl-C")
     parser.add_argument("--hosts", action="store_true",
                         help="world, helper and faulty on hosts of their own (network namespaces "
                              "on a private LAN, as two TurtleBots and a workstation; needs root)")
@@ -134,16 +139,34 @@ def main(argv: list[str] | None = None) -> int:
     # SIGTERM (the campaign's timeout, a service manager) ends the run as Ctrl-C does: every
     # node, roscore included, is stopped on the way out, also in the middle of the start
     signal.signal(signal.SIGTERM, interrupt)
+    shown = False
+
+    def print_and_hold(result: RunResult) -> None:
+        nonlocal shown
+        _print_result(result, args, out, wiring)
+        shown = True
+        hold_until_interrupted("demo")
+
     try:
         result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,
                               sim_timeout=args.timeout,
                               inspector_port=args.inspector_port if args.inspector else None,
                               hosts=args.hosts, cuts=args.cut, world=args.world,
-                              wiring=wiring, colours=args.colours)
+                              wiring=wiring, colours=args.colours,
+                              hold=print_and_hold if args.hold else None)
     except KeyboardInterrupt:
         print("\n[demo] interrupted: every node of the run was stopped", flush=True)
         return 130
+    if not shown:
+        _print_result(result, args, out, wiring)
+    return 0 if result.correct else 1
 
+
+def _print_result(result: RunResult, args: argparse.Namespace, out: Path,
+                  wiring: Wiring) -> None:
+    """The result block: verdict, the three latencies beside the thesis' means, where the
+    picture (and bag) went; with --json the result as JSON."""
+    fault = result.fault
     print("\n[demo] ---------------- result ----------------")
     print(f"[demo] injected fault : {fault}")
     print(f"[demo] diagnosis      : {result.diagnosis}  (expected {result.expected}) -> "
@@ -153,10 +176,10 @@ def main(argv: list[str] | None = None) -> int:
                                 ("robot location", result.location_s, 1),
                                 ("diagnosis", result.diagnosis_s, 2),
                                 ("total", result.total_s, 3)):
-        shown = f"{value:6.2f} s" if value is not None else "     - "
+        figure = f"{value:6.2f} s" if value is not None else "     - "
         ref = (f"   (thesis mean {thesis.mean(fault, index):.2f} s)" if fault in thesis.TABLES
                else "")
-        print(f"[demo] {label:15s}: {shown} {clock}{ref}")
+        print(f"[demo] {label:15s}: {figure} {clock}{ref}")
     print(f"[demo] wall-clock     : {result.wall_s:.1f} s")
     if result.error:
         print(f"[demo] error          : {result.error}")
@@ -167,7 +190,6 @@ def main(argv: list[str] | None = None) -> int:
         print(f"[demo] bag            : {out / 'run.bag'}  (rosbag play it against a roscore)")
     if args.json:
         print(result.to_json())
-    return 0 if result.correct else 1
 
 
 def _print_network(result) -> None:

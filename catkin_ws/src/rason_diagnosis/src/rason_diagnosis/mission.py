@@ -20,6 +20,7 @@ import signal
 import sys
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -36,6 +37,7 @@ from rason_diagnosis.scenario import (
     HELPER_VISION,
     NO_FAULT,
     ROBOTS,
+    hold_until_interrupted,
     say,
     start_inspector,
 )
@@ -219,9 +221,12 @@ def read_mind(beliefs: list[str]) -> MindView:
 
 def run_mission(fault: str, seed: int, out_dir: Path, at_s: float, world: Path,
                 recovery: bool = True, echo: bool = True, sim_timeout: float = 600.0,
-                inspector_port: int | None = None) -> MissionResult:
+                inspector_port: int | None = None,
+                hold: Callable[[MissionResult], None] | None = None) -> MissionResult:
     """Run one mission; returns its result (never raises for a mission that fails). With
-    `inspector_port` (0: any free port) the mind inspector watches it (its mission view)."""
+    `inspector_port` (0: any free port) the mind inspector watches it (its mission view).
+    ``hold``: called with the result once the mission is over, while every node still runs;
+    the nodes stop when it returns."""
     if fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
     waypoints = load_mission(world)
@@ -235,10 +240,14 @@ def run_mission(fault: str, seed: int, out_dir: Path, at_s: float, world: Path,
             if inspector_port is not None:
                 result.inspector = start_inspector(ros, inspector_port, "mission")
             _run(ros, result, waypoints, world, recovery, echo, sim_timeout)
+            if hold is not None:
+                result.wall_s = round(time.monotonic() - started, 1)
+                hold(result)
     except HarnessError as err:
         result.error = str(err).splitlines()[0]
         result.reason = result.reason or f"error: {result.error}"
-    result.wall_s = round(time.monotonic() - started, 1)
+    if not result.wall_s:   # else taken before the hold
+        result.wall_s = round(time.monotonic() - started, 1)
     (out_dir / "result.json").write_text(json.dumps(result.summary(), indent=2))
     return result
 
@@ -360,6 +369,9 @@ def parser() -> argparse.ArgumentParser:
                    help="watch the mission in the mind inspector (web page; default: on)")
     p.add_argument("--inspector-port", type=int, default=InspectorParams().port,
                    help="the inspector's port on 127.0.0.1 (0: any free port)")
+    p.add_argument("--hold", action="store_true",
+                   help="after the result, keep every node up (the inspector still serves the "
+                        "mission's history) until Ctrl-C")
     return p
 
 
@@ -379,13 +391,30 @@ def main(argv: list[str] | None = None) -> int:
     print(f"[mission] fault {fault} at {at_s:g} s (seed {seed}), {len(waypoints)} waypoints, "
           f"recovery {'off' if args.no_recovery else 'on'}; output in {out}", flush=True)
     signal.signal(signal.SIGTERM, interrupt)
+    shown = False
+
+    def print_and_hold(result: MissionResult) -> None:
+        nonlocal shown
+        _print_result(result, args.json)
+        shown = True
+        hold_until_interrupted("mission")
+
     try:
         result = run_mission(fault, seed, out, at_s, world, recovery=not args.no_recovery,
                              echo=not args.quiet, sim_timeout=args.timeout,
-                             inspector_port=args.inspector_port if args.inspector else None)
+                             inspector_port=args.inspector_port if args.inspector else None,
+                             hold=print_and_hold if args.hold else None)
     except KeyboardInterrupt:
         print("\n[mission] interrupted: every node of the run was stopped", flush=True)
         return 130
+    if not shown:
+        _print_result(result, args.json)
+    return 0 if result.completed else 1
+
+
+def _print_result(result: MissionResult, as_json: bool) -> None:
+    """The result block: completion, each waypoint, diagnosis and recovery, times; with
+    `as_json` the result as JSON."""
     print("\n[mission] ---------------- result ----------------")
     print(f"[mission] completed : {result.completed}"
           + ("" if result.completed else f" ({result.reason})"))
@@ -395,9 +424,8 @@ def main(argv: list[str] | None = None) -> int:
                  else "not reached"))
     print(f"[mission] diagnosis : {result.diagnosis}, recovery {result.recovery}")
     print(f"[mission] total     : {result.total_s} s simulated, {result.wall_s} s wall")
-    if args.json:
+    if as_json:
         print(json.dumps(result.summary(), indent=2))
-    return 0 if result.completed else 1
 
 
 if __name__ == "__main__":

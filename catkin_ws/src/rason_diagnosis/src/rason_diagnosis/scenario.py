@@ -12,7 +12,7 @@ import json
 import random
 import re
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 from pathlib import Path
@@ -123,7 +123,8 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                  sim_timeout: float = 300.0, real_time_factor: float = 1.0,
                  inspector_port: int | None = None, hosts: bool = False,
                  cuts: Sequence[LinkCut] = (), world: Path | None = None,
-                 wiring: Wiring = SIM, colours: Path | None = None) -> RunResult:
+                 wiring: Wiring = SIM, colours: Path | None = None,
+                 hold: Callable[[RunResult], None] | None = None) -> RunResult:
     """Run one scenario; returns its result (never raises for a failed diagnosis).
 
     With `inspector_port` (0: any free port) the mind inspector watches the run; its address is
@@ -134,6 +135,8 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
     default the thesis' layout. ``wiring``: the driver profile (:mod:`rason_diagnosis.drivers`);
     under ``STOCK`` the times are wall seconds, as on robots. ``colours``: the synthesizer's
     colours file (default: the one the world names, else the detector's ranges).
+    ``hold``: called with the result once the run is over, while every node (the inspector
+    included) still runs; the nodes stop when it returns.
     """
     if fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
@@ -157,12 +160,21 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                     result.inspector = start_inspector(ros, inspector_port)
                 _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor,
                      network, cuts, world or world_file(), wiring, colours)
+                if hold is not None:
+                    _conclude(result, started)
+                    hold(result)
         except HarnessError as err:
             result.error = str(err).splitlines()[0]
-    result.wall_s = round(time.monotonic() - started, 1)
-    result.correct = result.diagnosis == result.expected and not result.error
+    if not result.wall_s:   # else concluded before the hold
+        _conclude(result, started)
     (out_dir / "result.json").write_text(result.to_json())
     return result
+
+
+def _conclude(result: RunResult, started: float) -> None:
+    """The result's wall time (since `started`, a monotonic time) and verdict."""
+    result.wall_s = round(time.monotonic() - started, 1)
+    result.correct = result.diagnosis == result.expected and not result.error
 
 
 def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: bool,
@@ -260,6 +272,17 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
     except Exception as err:
         say(echo, f"[demo] could not draw the run picture: {err}")
     monitor.close()
+
+
+def hold_until_interrupted(run: str = "demo") -> None:
+    """``--hold``: say so (lines tagged ``[run]``) and return at Ctrl-C or SIGTERM, while the
+    run's nodes, the inspector among them, stay up."""
+    print(f"[{run}] holding: every node still runs (the inspector too); Ctrl-C ends", flush=True)
+    try:
+        while True:
+            time.sleep(3600)
+    except KeyboardInterrupt:
+        print(f"[{run}] hold ended", flush=True)
 
 
 def start_inspector(ros: RosHarness, port: int, run: str = "demo") -> str:

@@ -85,14 +85,17 @@ class GraphWatcher:
         topics = rospy.get_published_topics()
         waiting = set(self.store.without_topic())
         for topic, kind in topics:
-            if topic in self._subscribers:
-                continue
             parts = topic.strip("/").split("/")
             if kind == "std_msgs/String" and topic.endswith(MIND_STATE_SUFFIX) \
                     and len(parts) >= 3 and parts[-3] == "jason" and parts[-2] in waiting:
+                # also a topic subscribed before: an agent that lapsed before its first state
+                # was forgotten, and is back without one
                 name = parts[-2]
-                self._subscribe(topic, String, self.on_mind_state, name)
+                if topic not in self._subscribers:
+                    self._subscribe(topic, String, self.on_mind_state, name)
                 self.store.set_topic(name, topic)
+            elif topic in self._subscribers:
+                continue
             elif kind == ODOM and len(parts) == 2 and parts[1] == "odom":
                 self._subscribe(topic, Odometry, self.on_odom, (parts[0], False))
             elif kind == ODOM and parts[1:] == ["ground_truth", "odom"]:
