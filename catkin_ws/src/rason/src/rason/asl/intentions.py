@@ -39,8 +39,8 @@ class IntendedMeans:
     ``stack`` holds the remaining deeds in reverse order (the next deed is ``stack[-1]``).
     """
 
-    __slots__ = ("current", "fail_target", "open_call", "plan", "result", "stack", "trigger", "trigger_u",
-                 "u")
+    __slots__ = ("current", "fail_target", "open_call", "plan", "result", "scope_u", "stack", "trigger",
+                 "trigger_u", "u")
 
     def __init__(self, plan: Plan, trigger: Trigger, u: dict, fail_target: int | None = None,
                  open_call: bool = False) -> None:
@@ -57,6 +57,9 @@ class IntendedMeans:
         self.open_call = open_call
         #: the unifier the means started with, for its plan's goal condition (``<:``)
         self.trigger_u = dict(u) if plan.goal_condition is not None else None
+        #: the unifier the means started with, when its plan has sub-plans: theirs start
+        #: from it (Jason's ``IntendedMeans.triggerUnif``)
+        self.scope_u = dict(u) if plan.sub_library is not None else None
 
     @property
     def is_goal_add(self) -> bool:
