@@ -22,12 +22,14 @@ import os
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .beliefs import BeliefBase
 from .environment import split_class_def
 from .jason_bb import JasonBeliefBaseError, jason_belief_base
-from .mas2j import AgentSpec
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .mas2j import AgentSpec  # (the project reader imports lark: a lone agent does without)
 
 
 class HookLoadError(Exception):
