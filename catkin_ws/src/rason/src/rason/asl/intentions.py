@@ -300,16 +300,18 @@ def java_map_order(items: list, key: Any) -> list:
     return sorted(items, key=bucket)
 
 
-def unifier_term(u: dict, ag: Any = None) -> ListTerm:
+def unifier_term(u: dict, ag: Any = None, through: dict | None = None) -> ListTerm:
     """A unifier as Jason's ``Unifier.getAsTerm`` gives it: ``[map(_N, Value), ...]``, one
     pair per bound variable, in the iteration order of Java's ``HashMap`` of the variable
     names. Each variable is a fresh unnamed one, its name kept after the number when longer
     than one character (``UnnamedVar.create``: ``X`` gives ``_32``, ``Ab`` gives ``_33Ab``);
     each value is resolved, and the variables inside it are fresh ones (``makeVarsAnnon``;
-    a value that is a free variable stays that variable)."""
+    a value that is a free variable stays that variable). ``through``: more bindings the
+    values are resolved with (not listed)."""
     pairs = []
+    look = u if not through else {**through, **u}
     for name in java_map_order([k for k in u if type(k) is str], str):
-        value = resolve(Var(name), u, ag)
+        value = resolve(Var(name), look, ag)
         if not isinstance(value, Var):
             value = rename_vars(value, {})
         key = Var(fresh_name() + (name if len(name) > 1 else ""))

@@ -377,9 +377,11 @@ def handle_event(ag: Agent, ev: Event) -> bool:
         return _no_plan(ag, trig, i, "relevant")
     lit = trig.literal
     ground = (type(lit) is Literal and lit.known_ground) or is_ground(lit)
-    if not ground:
+    if not ground and ev.fail_target is None:
         # an external event keeps the names of the variables inside its plan and rule terms
-        # (a told rule prints as it was written, as in Jason)
+        # (a told rule prints as it was written, as in Jason); a -!g event keeps those of the
+        # failed goal's means, as Jason's does: what its failure plan binds shows there
+        # (stdlib.goals.intention_term)
         lit = rename_vars(lit, {}, None if i is not None else _names_outside_code(lit).__contains__)
         ev = Event(Trigger(trig.op, trig.type, lit), i, ev.fail_target, ev.reply)
     opt = sel_appl(ag, lit, relevant, ev)
