@@ -183,7 +183,9 @@ def intention(ctx: IAContext, args: list) -> Any:
 
 @internal_action(".current_intention", arity=1)
 def current_intention(ctx: IAContext, args: list) -> bool:
-    """``.current_intention(I)``: ``intention(Id, [im(...)...])`` of the running intention."""
+    """``.current_intention(I)``: ``intention(Id, [im(...)...])`` of the running intention;
+    deprecated in Jason 3, which warns at every call, as here."""
+    ctx.ag.warn(".current_intention( intention(I,S) ) was replaced by .intention(I,_,S,current)")
     i = ctx.intention
     if i is None:
         return False
