@@ -202,8 +202,19 @@ def test_jasons_own_classes_are_noted_and_ignored(tmp_path: Path) -> None:
     (tmp_path / "a.asl").write_text("!g. +!g <- .print(hi).\n")
     project = tmp_path / "j.mas2j"
     project.write_text("MAS j { agents: a agentClass jason.asSemantics.Agent "
-                       "beliefBaseClass jason.bb.TextPersistentBB; }")
+                       "beliefBaseClass jason.bb.JDBCPersistentBB; }")
     done = _run_project(project)
     assert done.returncode == 0 and done.stdout.splitlines() == ["[a] hi"]
     assert "agentClass jason.asSemantics.Agent ignored" in done.stderr
-    assert "beliefBaseClass jason.bb.TextPersistentBB ignored" in done.stderr
+    assert "beliefBaseClass jason.bb.JDBCPersistentBB ignored" in done.stderr
+
+
+def test_jasons_text_persistent_belief_base_is_rasons_own(tmp_path: Path) -> None:
+    # (tests/asl/test_asl_jason_belief_bases.py: what it keeps, as Jason keeps it)
+    (tmp_path / "a.asl").write_text("!g. +!g <- +met(bob); .print(hi).\n")
+    project = tmp_path / "j.mas2j"
+    project.write_text("MAS j { agents: a beliefBaseClass jason.bb.TextPersistentBB; }")
+    done = _run_project(project)
+    assert done.returncode == 0 and done.stdout.splitlines() == ["[a] hi"]
+    assert "TextPersistentBB" not in done.stderr
+    assert (tmp_path / "a.bb").read_text().splitlines()[2:] == ["met(bob)[source(self)]."]

@@ -227,3 +227,18 @@ def test_a_told_rule_keeps_its_variable_names_and_is_stored_with_fresh_ones() ->
                              "[{ x(_) :- (_ < 30) },{ x(_) :- (_ > 10) }]"]
     stored = next(s for s in lines(out, "receiver") if s.startswith("[{ x(_"))
     assert len(set(re.findall(r"_\d+", stored))) == 2   # each rule its own variable
+
+
+def test_the_means_of_a_failed_goal_shows_what_its_failure_plan_binds() -> None:
+    # Jason's demos/failure: the -!g event keeps the goal's variables, so the means of +!g
+    # below the failure plan shows failure and 7 (Q = 7 too, bound after the plan started)
+    src = ("!t.\n+!t <- !g(X, Z); .print(end, X, Z).\n+!g(X, Z) : W = 5 <- !h(X).\n"
+           "+!h(_) <- .fail.\n"
+           "-!g(failure, Q)[error(E)] <- Q = 7; .intention(_, _, S, current); .print(S).\n")
+    shown = [re.sub(r"_\d+", "_", line) for line in lines(run_source(src))]
+    below = shown[0].split("),im(")
+    assert below[0].startswith('[im(p__[code_line(5),code_src("file:main.asl"),source(self),'
+                               'url("file:main.asl")],{ -!g(failure,7)[code(.fail)')
+    assert below[2] == ('p__[code_line(3),code_src("file:main.asl"),source(self),url("file:main.asl")],'
+                        '{ +!g(failure,7)[source(self)] },{ !h(_) },[map(_,5),map(_,failure),map(_,7)]')
+    assert shown[1] == "endfailure7"

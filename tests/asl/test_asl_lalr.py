@@ -9,6 +9,8 @@ import glob
 import os
 import random
 import re
+import subprocess
+import sys
 
 import pytest
 from asl_helpers import CONFORMANCE
@@ -158,3 +160,14 @@ def test_same_result_as_lark_on_random_texts(lark_parser: Lark) -> None:
         made += ours[0] == "made"
         errors += ours[0] != "made"
     assert made > 100 and errors > 100     # both paths are exercised
+
+
+def test_a_lone_agent_runs_without_importing_lark(tmp_path) -> None:
+    # lark (about 20 ms of an empty agent's start) is for the project reader and the generator
+    (tmp_path / "a.asl").write_text("!s.\n+!s <- .print(done).\n")
+    script = ("import runpy, sys\nsys.argv = ['rason.asl', 'run', sys.argv[1]]\n"
+              "try:\n    runpy.run_module('rason.asl', run_name='__main__')\nexcept SystemExit:\n    pass\n"
+              "print(' '.join(m for m in sys.modules if m == 'lark' or m.startswith('lark.')))\n")
+    done = subprocess.run([sys.executable, "-c", script, str(tmp_path / "a.asl")],
+                          capture_output=True, text=True, timeout=60, check=True)
+    assert done.stdout.splitlines() == ["[a] done", ""], done.stdout

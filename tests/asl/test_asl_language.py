@@ -16,7 +16,8 @@ from rason.asl.unify import resolve, term_equals, unify
     (1e-4, "1.0E-4"), (12345678.9, "1.23456789E7"), (0.1 + 0.2, "0.30000000000000004"),
     (9007199254740993.0, "9007199254740992"), (float("inf"), "Infinity"),
     (float("-inf"), "-Infinity"), (float("nan"), "NaN"), (-7.0, "-7"), (0.001, "0.001"),
-    (-2.5e-7, "-2.5E-7"),
+    (-2.5e-7, "-2.5E-7"), (1e20, "1.0E20"), (-1.5e-5, "-1.5E-5"), (0.000999, "9.99E-4"),
+    (1.7976931348623157e308, "1.7976931348623157E308"), (10000000.000000002, "1.0000000000000002E7"),
 ])
 def test_number_printing(value: float, text: str) -> None:
     assert format_number(value) == text

@@ -9,8 +9,10 @@ as Python: each names a callable by its dotted path, imported from the project's
 * ``beliefBaseClass pkg.mod.fn(p1)``: ``fn("p1")`` returns the agent's belief base (a
   :class:`.BeliefBase`, e.g. one filled from a file), made before the agent's initial beliefs.
 
-Names of Jason's own Java classes (``jason.…``) are noted and ignored, as before; any other
-name that does not import is a :class:`HookLoadError` naming the project file, line and name.
+Jason's own belief-base classes (``jason.bb.TextPersistentBB``, ``IndexedBB``, ``ChainBB``,
+``DefaultBeliefBase``) map to rason's (:mod:`.jason_bb`); other names of Jason's own Java
+classes (``jason.…``) are noted and ignored; any other name that does not import is a
+:class:`HookLoadError` naming the project file, line and name.
 """
 
 from __future__ import annotations
@@ -18,11 +20,14 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .beliefs import BeliefBase
 from .classdef import import_dotted, split_class_def
-from .mas2j import AgentSpec
+from .jason_bb import JasonBeliefBaseError, jason_belief_base
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .mas2j import AgentSpec  # (the project reader imports lark: a lone agent does without)
 
 
 class HookLoadError(Exception):
@@ -39,6 +44,8 @@ class AgentHooks:
 
     belief_base: Callable[[], BeliefBase] | None = None
     customisers: list[Callable[[Any], Any]] = field(default_factory=list)
+    #: called with the agent when the run ends (TextPersistentBB writes its file)
+    stoppers: list[Callable[[Any], Any]] = field(default_factory=list)
     #: the Java classes of Jason that were ignored (one note each)
     notes: list[str] = field(default_factory=list)
 
@@ -49,6 +56,11 @@ class AgentHooks:
     def customise(self, agent: Any) -> None:
         """Install the hooks on ``agent``."""
         for fn in self.customisers:
+            fn(agent)
+
+    def stop(self, agent: Any) -> None:
+        """The run of ``agent`` ends."""
+        for fn in self.stoppers:
             fn(agent)
 
 
@@ -67,10 +79,20 @@ def load_hooks(spec: AgentSpec, project_path: str) -> AgentHooks:
         if not class_def:
             continue
         name, params = split_class_def(class_def)
+        where = f"{project_path}:{spec.line}: agent {spec.name}: {keyword} '{name}'"
+        if key == "bb_class" and is_jason_class(name):
+            try:
+                jason_bb = jason_belief_base(name, params)
+            except JasonBeliefBaseError as e:
+                raise HookLoadError(f"{where}: {e}") from e
+            if jason_bb is not None:
+                hooks.belief_base = jason_bb.make
+                hooks.customisers.append(jason_bb.load)
+                hooks.stoppers.append(jason_bb.store)
+                continue
         if is_jason_class(name):
             hooks.notes.append(f"agent {spec.name}: {keyword} {name} ignored (a Java class of Jason)")
             continue
-        where = f"{project_path}:{spec.line}: agent {spec.name}: {keyword} '{name}'"
         try:
             target = import_dotted(name, folder)
         except Exception as e:   # ImportError, or any fault of the module while imported

@@ -39,8 +39,8 @@ class IntendedMeans:
     ``stack`` holds the remaining deeds in reverse order (the next deed is ``stack[-1]``).
     """
 
-    __slots__ = ("current", "fail_target", "open_call", "plan", "result", "stack", "trigger", "trigger_u",
-                 "u")
+    __slots__ = ("current", "fail_target", "open_call", "plan", "result", "scope_u", "stack", "trigger",
+                 "trigger_u", "u")
 
     def __init__(self, plan: Plan, trigger: Trigger, u: dict, fail_target: int | None = None,
                  open_call: bool = False) -> None:
@@ -57,6 +57,9 @@ class IntendedMeans:
         self.open_call = open_call
         #: the unifier the means started with, for its plan's goal condition (``<:``)
         self.trigger_u = dict(u) if plan.goal_condition is not None else None
+        #: the unifier the means started with, when its plan has sub-plans: theirs start
+        #: from it (Jason's ``IntendedMeans.triggerUnif``)
+        self.scope_u = dict(u) if plan.sub_library is not None else None
 
     @property
     def is_goal_add(self) -> bool:
@@ -297,16 +300,18 @@ def java_map_order(items: list, key: Any) -> list:
     return sorted(items, key=bucket)
 
 
-def unifier_term(u: dict, ag: Any = None) -> ListTerm:
+def unifier_term(u: dict, ag: Any = None, through: dict | None = None) -> ListTerm:
     """A unifier as Jason's ``Unifier.getAsTerm`` gives it: ``[map(_N, Value), ...]``, one
     pair per bound variable, in the iteration order of Java's ``HashMap`` of the variable
     names. Each variable is a fresh unnamed one, its name kept after the number when longer
     than one character (``UnnamedVar.create``: ``X`` gives ``_32``, ``Ab`` gives ``_33Ab``);
     each value is resolved, and the variables inside it are fresh ones (``makeVarsAnnon``;
-    a value that is a free variable stays that variable)."""
+    a value that is a free variable stays that variable). ``through``: more bindings the
+    values are resolved with (not listed)."""
     pairs = []
+    look = u if not through else {**through, **u}
     for name in java_map_order([k for k in u if type(k) is str], str):
-        value = resolve(Var(name), u, ag)
+        value = resolve(Var(name), look, ag)
         if not isinstance(value, Var):
             value = rename_vars(value, {})
         key = Var(fresh_name() + (name if len(name) > 1 else ""))

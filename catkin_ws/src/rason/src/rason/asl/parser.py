@@ -110,7 +110,9 @@ BLOCK_COMMENT: /\/\*(.|\n)*?\*\//
 
 GRAMMAR = r"""
 start: item*
-?item: belief | rule | init_goal | plan | directive
+?item: belief | rule | init_goal | plan | directive | sub_plans
+sub_plans: "{" sub_item* "}"
+?sub_item: plan | sub_plans
 belief: literal "."
 rule: literal ":-" log_expr "."
 init_goal: "!" literal "."
@@ -644,8 +646,13 @@ class _ToAst:
         return ("plan", Plan(label, trigger, context, body or (), line, self.src,
                              goal_condition=goal_condition), meta)
 
+    def sub_plans(self, meta: Any, c: builtins.list) -> tuple:
+        """``{ plan... }`` after a plan: its sub-plans (Jason 3.3, from Jason(ER)), attached
+        to the plan before by :func:`_attach_sub_plans`."""
+        return ("sub_plans", _attach_sub_plans(c), meta)
+
     def start(self, meta: Any, c: builtins.list) -> builtins.list:
-        return c
+        return _attach_sub_plans(c)
 
 
 class _ReduceBuilder:
@@ -879,6 +886,21 @@ def parse_source(text: str, filename: str = "<string>", src: str | None = None,
     return out
 
 
+def _attach_sub_plans(items: builtins.list) -> builtins.list:
+    """``items`` with each ``{ plan... }`` block made the sub-plans of the plan before it (a
+    block after anything else is a syntax error, as in Jason)."""
+    out: builtins.list = []
+    for item in items:
+        if item[0] != "sub_plans":
+            out.append(item)
+            continue
+        if not out or out[-1][0] != "plan":
+            raise _SemErr(item[2], "sub-plans ({ ... }) must follow a plan")
+        kind, plan, meta = out[-1]
+        out[-1] = (kind, plan.with_sub_plans(tuple(p for _, p, _ in item[1])), meta)
+    return out
+
+
 def _nested_too_deep(kind: str, obj: Any, limit: int) -> bool:
     """Does a parsed item (a belief, rule, goal, plan...) hold a term deeper than `limit`?"""
     if kind != "plan":
@@ -1058,7 +1080,8 @@ def in_namespace(kind: str, obj: Any, ns: str) -> Any:
         return Plan(obj.label, Trigger(trig.op, trig.type, _ns_formula(trig.literal, ns)),
                     _ns_formula(obj.context, ns), _ns_deeds(obj.body, ns), obj.line, obj.src,
                     atomic=obj.atomic, in_file=obj.in_file,
-                    goal_condition=_ns_formula(obj.goal_condition, ns))
+                    goal_condition=_ns_formula(obj.goal_condition, ns),
+                    sub_plans=tuple(in_namespace(kind, p, ns) for p in obj.sub_plans))
     return obj
 
 

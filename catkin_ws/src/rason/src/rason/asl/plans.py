@@ -178,7 +178,7 @@ def deed_str(d: Deed) -> str:
 
 #: the fields of a :class:`Plan` it is made from (by name: a pickled plan keeps no position)
 _PLAN_MADE_FROM = ("label", "trigger", "context", "body", "line", "src", "atomic", "in_file",
-                   "goal_condition")
+                   "goal_condition", "sub_plans")
 
 
 def _remake_plan(made_from: dict) -> Plan:
@@ -210,6 +210,14 @@ class Plan:
     #: the trigger literal's arguments when only they decide whether it unifies with an event
     #: of its key (no annotations, no tail), else None
     trigger_args: tuple | None = field(default=None, repr=False)
+    #: ``+!g <- b. { +!s <- c. }`` (Jason 3.3's sub-plans): plans relevant only for the
+    #: events of an intention that runs this plan or one of them, seeing the variables this
+    #: plan had when it was chosen; held in ``scope_library`` once the plan is in a library
+    sub_plans: tuple = ()
+    #: the library of the sub-plans (made by :meth:`PlanLibrary.add`; None without sub-plans)
+    sub_library: PlanLibrary | None = field(default=None, repr=False)
+    #: for a sub-plan: the library that holds it (None for a plan of the agent's own library)
+    scope: PlanLibrary | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         if type(self.context) is Literal and self.context.functor == "true" and not self.context.args:
@@ -232,7 +240,7 @@ class Plan:
         return self.label.functor
 
     def __str__(self) -> str:
-        return self.as_text() + "."
+        return self.as_text() if self.sub_plans else self.as_text() + "."
 
     def as_term(self) -> PlanTerm:
         """This plan as a term (Jason's ``Plan.setAsPlanTerm``): ``{ @l +!g : c <- b }``."""
@@ -248,7 +256,14 @@ class Plan:
         context = self.context if self.context is None else fn(self.context)
         cond = self.goal_condition if self.goal_condition is None else fn(self.goal_condition)
         return Plan(label, trigger, context, map_deeds(self.body, fn), self.line, self.src,
-                    in_file=self.in_file, goal_condition=cond)
+                    in_file=self.in_file, goal_condition=cond,
+                    sub_plans=tuple(p.map_terms(fn) for p in self.sub_plans))
+
+    def with_sub_plans(self, sub_plans: tuple) -> Plan:
+        """This plan with ``sub_plans`` after those it has."""
+        made = copy.copy(self)
+        made.sub_plans = self.sub_plans + sub_plans
+        return made
 
     def as_text(self, label: bool = True) -> str:
         s = ""
@@ -259,6 +274,14 @@ class Plan:
             s += " : " + term_str(self.context)
         if self.goal_condition is not None:
             s += " <: " + term_str(self.goal_condition)
+        if self.sub_plans:
+            # as Jason's Plan.toASString: the body and each sub-plan on a line of their own
+            s += " {"
+            if self.body:
+                s += "\n   <- " + body_str(self.body) + "."
+            for p in (self.sub_library.plans if self.sub_library is not None else self.sub_plans):
+                s += "\n   " + str(p)
+            return s + "\n}"
         if self.body:
             s += " <- " + body_str(self.body)
         return s
@@ -309,7 +332,10 @@ def named_plan(plan: Plan) -> Plan:
 class PlanLibrary:
     """Plans indexed by trigger (operator, type, functor, arity) in source order."""
 
-    def __init__(self) -> None:
+    def __init__(self, father: PlanLibrary | None = None) -> None:
+        #: the library whose plans come next in the search (Jason's ``getFather``): for the
+        #: sub-plans of a plan, the library that holds that plan; None for the agent's own
+        self.father = father
         self.plans: list[Plan] = []
         #: the plans of each trigger key (operator, type, functor, arity, negation), in order
         #: (read directly by the reasoning cycle's inlined RelPl; changed only here)
@@ -322,7 +348,8 @@ class PlanLibrary:
         self.goal_condition_plans = False
 
     def add(self, plan: Plan, front: bool = False) -> None:
-        plan = named_plan(plan)
+        scoped = self.father is not None or plan.sub_plans
+        plan = self._scoped(plan) if scoped else named_plan(plan)
         if front:
             self.plans.insert(0, plan)
             self._rebuild()
@@ -336,6 +363,23 @@ class PlanLibrary:
             self.goal_state_plans = True
         if plan.goal_condition is not None:
             self.goal_condition_plans = True
+
+    def _scoped(self, plan: Plan) -> Plan:
+        """The plan as this library keeps it, as Jason's parser and ``PlanLibrary`` make it:
+        its sub-plans are named first, in a library of their own whose father is this one; a
+        sub-plan knows the library it is in and its label gets no ``url``."""
+        sub_library = None
+        if plan.sub_plans:
+            sub_library = PlanLibrary(self)
+            for p in plan.sub_plans:
+                sub_library.add(p)
+        if self.father is not None:
+            plan = copy.copy(plan)
+            plan.in_file = False
+        plan = copy.copy(named_plan(plan))
+        plan.sub_library = sub_library
+        plan.scope = self if self.father is not None else None
+        return plan
 
     def replace(self, k: int, plan: Plan) -> None:
         """Put ``plan`` in place of the ``k``-th plan (same position)."""

@@ -35,6 +35,7 @@ from .plans import (
     TEST,
     Deed,
     Plan,
+    PlanLibrary,
     Trigger,
 )
 from .selection import Option
@@ -203,21 +204,22 @@ def sel_appl(ag: Agent, lit: Any, relevant: list[Plan], ev: Event | None = None)
     whose belief base has a ``select__option/4`` rule (or fact) gets the first option that it
     accepts (:func:`_sel_option_bb`).
     """
+    i = ev.intention if ev is not None else None
     if ag.selection.option is not None:
-        return _sel_option(ag, lit, relevant)
+        return _sel_option(ag, lit, relevant, i)
     if SELECT_OPTION_KEY in ag.bb.by_key:
         return _sel_option_bb(ag, lit, relevant, ev)
     for plan in relevant:
-        sol = _applicable(ag, lit, plan)
+        sol = _applicable(ag, lit, plan, i)
         if sol is not None:
             return plan, sol
     return None
 
 
-def _applicable(ag: Agent, lit: Any, plan: Plan) -> dict | None:
+def _applicable(ag: Agent, lit: Any, plan: Plan, i: Intention | None = None) -> dict | None:
     """ApplPl for one relevant plan: the unifier under which its trigger matches ``lit`` and
-    its context holds, or None."""
-    u = _relevant_unifier(ag, lit, plan)
+    its context holds, or None (``i``: the event's intention, for a sub-plan)."""
+    u = _relevant_unifier(ag, lit, plan, i)
     if u is None:
         return None
     ctx = plan.context
@@ -233,9 +235,10 @@ def _applicable(ag: Agent, lit: Any, plan: Plan) -> dict | None:
         return None
 
 
-def _relevant_unifier(ag: Agent, lit: Any, plan: Plan) -> dict | None:
-    """The unifier under which the plan's trigger matches the event's literal, or None."""
-    u: dict = {}
+def _relevant_unifier(ag: Agent, lit: Any, plan: Plan, i: Intention | None = None) -> dict | None:
+    """The unifier under which the plan's trigger matches the event's literal, or None; a
+    sub-plan starts from the unifier its parent plan's means in ``i`` started with."""
+    u: dict = {} if plan.scope is None or i is None else _scope_unifier(plan, i)
     args = plan.trigger_args
     if args is not None and type(lit) is Literal:
         # same key as the event (RelPl): only the arguments remain to unify
@@ -246,13 +249,59 @@ def _relevant_unifier(ag: Agent, lit: Any, plan: Plan) -> dict | None:
     return u
 
 
-def _sel_option(ag: Agent, lit: Any, relevant: list[Plan]) -> tuple[Plan, dict] | None:
+def _scope_unifier(plan: Plan, i: Intention) -> dict:
+    """A copy of the unifier that the means of ``i`` running the parent of sub-plan ``plan``
+    started with (the topmost such means; none: empty), as Jason's ``getOption``."""
+    for im in reversed(i.ims):
+        if im.scope_u is not None and im.plan.sub_library is plan.scope:
+            return dict(im.scope_u)
+    return {}
+
+
+def _scope_library(i: Intention | None) -> PlanLibrary | None:
+    """Where the search for the plans of an event of ``i`` starts when its top means runs a
+    plan with sub-plans or a sub-plan (Jason's ``getPLForIM``); None: the agent's own."""
+    if i is None or not i.ims:
+        return None
+    top = i.ims[-1].plan
+    return top.sub_library if top.sub_library is not None else top.scope
+
+
+def scoped_relevant(ag: Agent, i: Intention | None, trig: Trigger) -> list[Plan] | None:
+    """RelPl for an event of intention ``i`` in a scope (:func:`_scope_library`): the
+    relevant plans of that scope, then of each scope around it, the agent's own plans last;
+    None for any other event (the agent's own only)."""
+    lib = _scope_library(i)
+    if lib is None:
+        return None
+    found: list[Plan] = []
+    while lib is not None:
+        found.extend(lib.relevant(trig))
+        lib = lib.father
+    return found
+
+
+def _has_fail_plan(ag: Agent, i: Intention, type_: str, lit: Any) -> bool:
+    """Is some ``-!g`` plan relevant for goal ``lit`` of intention ``i``, in the scope of its
+    top means and those around it (Jason's ``findEventForFailure``, which looks for the
+    goal with a failure plan scope by scope), or among the agent's own plans?"""
+    lib = _scope_library(i)
+    if lib is None:
+        return ag.pl.has_candidate(DEL, type_, lit)
+    while lib is not None:
+        if lib.has_candidate(DEL, type_, lit):
+            return True
+        lib = lib.father
+    return False
+
+
+def _sel_option(ag: Agent, lit: Any, relevant: list[Plan], i: Intention | None) -> tuple[Plan, dict] | None:
     """ApplPl for every relevant plan, then the agent's ``selection.option`` function."""
     choose = ag.selection.option
     assert choose is not None
     options = []
     for plan in relevant:
-        sol = _applicable(ag, lit, plan)
+        sol = _applicable(ag, lit, plan, i)
         if sol is not None:
             options.append(Option(plan, sol))
     if not options:
@@ -280,7 +329,7 @@ def _sel_option_bb(ag: Agent, lit: Any, relevant: list[Plan], ev: Event | None) 
     the rule accepts none (Jason 3.3 then throws an ``IndexOutOfBoundsException``)."""
     int_id = float(ev.intention.id) if ev is not None and ev.intention is not None else -1.0
     for plan in relevant:
-        u = _relevant_unifier(ag, lit, plan)
+        u = _relevant_unifier(ag, lit, plan, ev.intention if ev is not None else None)
         if u is None:
             continue
         solutions = [u] if plan.context is None else _context_solutions(ag, plan, u)
@@ -316,8 +365,11 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     key = trig.key
     # RelPl (rel_pl, inlined): the plans of the trigger's key, unless some plan has a
     # variable trigger (or the trigger is a variable)
-    relevant = pl.by_key.get(key) if not pl.var_plans and key[2] is not None else pl.relevant(trig)
     i = ev.intention
+    relevant = pl.by_key.get(key) if not pl.var_plans and key[2] is not None else pl.relevant(trig)
+    if i is not None and i.ims and (i.ims[-1].plan.sub_library is not None
+                                    or i.ims[-1].plan.scope is not None):
+        relevant = scoped_relevant(ag, i, trig)   # in a plan with sub-plans or a sub-plan
     if not relevant:
         if i is not None and not trig.is_goal:
             _resume_after_belief_event(ag, i)       # the common case: +b of a plan body
@@ -325,9 +377,11 @@ def handle_event(ag: Agent, ev: Event) -> bool:
         return _no_plan(ag, trig, i, "relevant")
     lit = trig.literal
     ground = (type(lit) is Literal and lit.known_ground) or is_ground(lit)
-    if not ground:
+    if not ground and ev.fail_target is None:
         # an external event keeps the names of the variables inside its plan and rule terms
-        # (a told rule prints as it was written, as in Jason)
+        # (a told rule prints as it was written, as in Jason); a -!g event keeps those of the
+        # failed goal's means, as Jason's does: what its failure plan binds shows there
+        # (stdlib.goals.intention_term)
         lit = rename_vars(lit, {}, None if i is not None else _names_outside_code(lit).__contains__)
         ev = Event(Trigger(trig.op, trig.type, lit), i, ev.fail_target, ev.reply)
     opt = sel_appl(ag, lit, relevant, ev)
@@ -1015,7 +1069,7 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
         annots = error_annots(ag, im, d, kind or "ia_failed", msg, code=code)
     ims = i.ims
     if (from_event is not None and from_event.op == ADD and from_event.is_goal
-            and ag.pl.has_candidate(DEL, from_event.type, from_event.literal)):
+            and _has_fail_plan(ag, i, from_event.type, from_event.literal)):
         # findEventForFailure starts with the goal of the event itself (it has no means yet):
         # its -!g runs on top of the intention, then the caller goes on after the subgoal
         _post_failure_of(ag, i, from_event, annots, len(ims), from_event)
@@ -1033,7 +1087,7 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
     while idx >= 0:
         im = ims[idx]
         t = im.trigger
-        if ag.pl.has_candidate(DEL, t.type, t.literal):
+        if _has_fail_plan(ag, i, t.type, t.literal):
             if t.is_goal and t.op != GOAL_STATE:
                 if i.fork is not None and idx < i.fork.point and not _end_fork(ag, i):
                     break
@@ -1109,7 +1163,7 @@ def fail_goal_at(ag: Agent, i: Intention, idx: int, annots: tuple = ()) -> None:
     while j >= 0:
         im = ims[j]
         t = im.trigger
-        if ag.pl.has_candidate(DEL, t.type, t.literal):
+        if _has_fail_plan(ag, i, t.type, t.literal):
             if t.op == ADD and t.is_goal:
                 if ag.pl.goal_state_plans:
                     ag.circ.goal_state(t, "failed")

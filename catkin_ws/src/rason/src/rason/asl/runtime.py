@@ -9,6 +9,7 @@ import sys
 import threading
 from collections import deque
 from collections.abc import Callable
+from functools import partial
 from typing import TYPE_CHECKING
 
 from .agent import Agent, AgentOptions, load_agent_source
@@ -123,6 +124,8 @@ class LocalMas:
         self.df = ServiceDirectory(self._tell_provider)
         #: the project's environment (``environment:`` in ``.mas2j``), or None
         self.environment: Environment | None = None
+        #: called once when the run ends (:meth:`stop`)
+        self.at_stop: list[Callable[[], None]] = []
 
     # ------------------------------------------------------------ setup
     def console(self, agent_name: str, text: str) -> None:
@@ -170,8 +173,12 @@ class LocalMas:
                 ag.wake()
         self.notify()
 
-    def stop_environment(self) -> None:
-        """The MAS ends: the environment's ``stop()``, once."""
+    def stop(self) -> None:
+        """The MAS ends: what the agents' classes do then (TextPersistentBB writes its file),
+        then the environment's ``stop()``; once."""
+        at_stop, self.at_stop = self.at_stop, []
+        for fn in at_stop:
+            fn()
         env, self.environment = self.environment, None
         if env is not None:
             env.stop()
@@ -208,6 +215,8 @@ class LocalMas:
             ag.add_initial(spec.options.get("beliefs"), spec.options.get("goals"))
             ag.arch.verbose = verbosity(spec.options)
             hooks.customise(ag)
+            if hooks.stoppers:
+                self.at_stop.append(partial(hooks.stop, ag))
             self.notes.extend(hooks.notes)
         self.notes.extend(proj.notes)
 
@@ -332,7 +341,7 @@ def run_file(path: str, timeout: float | None = None, seed: int | None = None,
              source_path: list[str] | None = None) -> tuple[LocalMas, bool]:
     """Load a ``.mas2j`` or ``.asl`` file and run it locally (``options``: the agents' defaults,
     a ``.mas2j`` agent's own options win; ``source_path``: more folders for the project's
-    agents, searched first); the project's environment stops when the run ends."""
+    agents, searched first); the project's environment and agents stop when the run ends."""
     mas = LocalMas(clock)
     if options is not None:
         mas.options = options
@@ -357,5 +366,5 @@ def run_file(path: str, timeout: float | None = None, seed: int | None = None,
     try:
         ok = mas.run(timeout)
     finally:
-        mas.stop_environment()
+        mas.stop()
     return mas, ok

@@ -14,7 +14,6 @@ from __future__ import annotations
 import itertools
 import math
 import re
-from decimal import Decimal
 from typing import Any, Union
 
 from .functions import ARITH_NAMES
@@ -407,11 +406,15 @@ def java_double_str(x: float) -> str:
         return "Infinity" if x > 0 else "-Infinity"
     if x == 0 or 1e-3 <= abs(x) < 1e7:
         return repr(x)
-    sign, digits, exp = Decimal(repr(x)).as_tuple()
-    ds = "".join(map(str, digits)).rstrip("0") or "0"
-    e10 = len(digits) - 1 + int(exp)   # a finite number: exp is an int
-    mant = ds[0] + "." + (ds[1:] or "0")
-    return ("-" if sign else "") + mant + "E" + str(e10)
+    # the shortest digits that read back as x (repr's), in Java's scientific form
+    mantissa, _, exp = repr(abs(x)).partition("e")
+    whole, _, frac = mantissa.partition(".")
+    digits = whole + frac
+    point = len(whole) + (int(exp) if exp else 0)   # x = 0.digits * 10**point
+    stripped = digits.lstrip("0")
+    point -= len(digits) - len(stripped)
+    ds = stripped.rstrip("0") or "0"
+    return ("-" if x < 0 else "") + ds[0] + "." + (ds[1:] or "0") + "E" + str(point - 1)
 
 
 def _annots_str(annots: tuple, tail: Any) -> str:

@@ -15,9 +15,9 @@ from ..intentions import (
     java_map_order,
     unifier_term,
 )
-from ..plans import ACHIEVE, ADD, K_INTERNAL, Deed, Plan, deed_str, map_deeds
+from ..plans import ACHIEVE, ADD, K_INTERNAL, Deed, Plan, Trigger, deed_str, map_deeds
 from ..terms import Literal, PlanTerm, Var, make_list, term_str
-from ..unify import rename_vars, unify
+from ..unify import rename_vars, resolve, unify
 
 
 def _places(ag: Any) -> list:
@@ -49,7 +49,7 @@ def _places(ag: Any) -> list:
     return out
 
 
-def im_term(im: Any) -> Literal:
+def im_term(im: Any, through: dict | None = None) -> Literal:
     """``im(Label, {Trigger}, {Body}, [map(Var, Value), ...])`` (Jason's IntendedMeans.getAsTerm):
     the label with ``code_src``/``code_line`` of the plan, the trigger as a trigger term, the
     deeds still to run as a plan-body term, the unifier as :func:`unifier_term` gives it."""
@@ -64,13 +64,24 @@ def im_term(im: Any) -> Literal:
     mapping: dict = {}
     deeds = list(map_deeds(tuple(deeds), lambda t: rename_vars(t, mapping)))
     body = PlanTerm(tuple(deeds), "; ".join(deed_str(d) for d in deeds))
-    trig = Plan(None, im.trigger, None, ()).as_term()
-    return Literal("im", (label, trig, body, unifier_term(im.u)))
+    trigger = im.trigger
+    if through:
+        trigger = Trigger(trigger.op, trigger.type, resolve(trigger.literal, through))
+    trig = Plan(None, trigger, None, ()).as_term()
+    return Literal("im", (label, trig, body, unifier_term(im.u, through=through)))
 
 
 def intention_term(i: Any) -> Literal:
-    """``intention(Id, [im(...) top first ...])`` (Jason's Intention.getAsTerm)."""
-    return Literal("intention", (float(i.id), make_list([im_term(im) for im in reversed(i.ims)])))
+    """``intention(Id, [im(...) top first ...])`` (Jason's Intention.getAsTerm). The means of
+    a goal that a failure plan above handles shows what that plan has bound so far in its
+    goal's variables (the ``-!g`` event keeps them), as Jason's does."""
+    ims = i.ims
+    handling: dict[int, dict] = {}
+    for im in ims:
+        if im.fail_target is not None and im.is_failure_plan:
+            handling.setdefault(im.fail_target, im.u)
+    return Literal("intention", (float(i.id), make_list(
+        [im_term(im, handling.get(k)) for k, im in reversed(list(enumerate(ims)))])))
 
 
 def _intend_solutions(ctx: IAContext, pattern: Any, int_id: Any, with_suspended: bool):
@@ -172,7 +183,9 @@ def intention(ctx: IAContext, args: list) -> Any:
 
 @internal_action(".current_intention", arity=1)
 def current_intention(ctx: IAContext, args: list) -> bool:
-    """``.current_intention(I)``: ``intention(Id, [im(...)...])`` of the running intention."""
+    """``.current_intention(I)``: ``intention(Id, [im(...)...])`` of the running intention;
+    deprecated in Jason 3, which warns at every call, as here."""
+    ctx.ag.warn(".current_intention( intention(I,S) ) was replaced by .intention(I,_,S,current)")
     i = ctx.intention
     if i is None:
         return False
