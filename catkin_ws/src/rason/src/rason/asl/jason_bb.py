@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .beliefs import BeliefBase
-from .environment import split_class_def
+from .classdef import split_class_def
 from .parser import parse_literal, parse_source
 from .terms import Literal, Var, term_str
 
