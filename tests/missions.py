@@ -2,7 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from turtlebot_model.kobuki import BODY_RADIUS
+
+#: The suite's mission worlds: worlds/case_study.yaml's room and robots with a shorter task;
+#: compact: a fault at 20 s strikes before the last two waypoints; short: a 3 m task.
+COMPACT_WORLD = Path(__file__).parent / "demo" / "mission_compact.yaml"
+SHORT_WORLD = Path(__file__).parent / "demo" / "mission_short.yaml"
 
 #: The issue's bar: a waypoint counts as reached within this distance (ground truth, m).
 REACHED_WITHIN = 0.3

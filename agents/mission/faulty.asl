@@ -79,10 +79,13 @@ helperOf(helper) :- not found(_).
 
 // ---- Analyze: the cooperative diagnosis (its plans decide on reason(R) and Helper's feedback).
 // Helper's answers to an earlier diagnosis are dropped first: told again, an answer already
-// believed would bring no event (+found, +notFound), and Faulty would wait for it in vain.
+// believed would bring no event (+found, +notFound), and Faulty would wait for it in vain; so
+// is the earlier diagnosis' 90 s wait for an answer (!awaitHelp), which would otherwise end
+// this one `unknown` 90 s after the first began.
 +!analyze(R)
    : R == no_progress | R == bad_move
    <- -diagnosis(_);
+      .drop_desire(awaitHelp);
       .abolish(found(_));
       .abolish(notFound(_));
       -+reason(R);

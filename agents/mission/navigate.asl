@@ -68,12 +68,17 @@ standIn(X, Y, OX, OY, SX, SY)
       !route(SX, SY).
 +!goto(X, Y) <- !route(X, Y).
 
-+!route(X, Y)
-   : avoid(OX, OY) & viaPoint(X, Y, OX, OY, VX, VY) & maxLegs(N)
+// The line from a via point to (X, Y) is checked again (it may still pass close: above all to
+// a stand-in point next to the stopped robot), at most maxDetours via points in all, so that a
+// route goes round the robot on the clearance's circle in steps.
+maxDetours(3).
++!route(X, Y) : maxDetours(K) <- !route(X, Y, K).
++!route(X, Y, K)
+   : K > 0 & avoid(OX, OY) & viaPoint(X, Y, OX, OY, VX, VY) & maxLegs(N)
    <- .print("detour by (", VX, ", ", VY, ") around (", OX, ", ", OY, ")");
       !leg(VX, VY, N);
-      !leg(X, Y, N).
-+!route(X, Y) : legBudget(X, Y, N) <- !leg(X, Y, N).
+      !route(X, Y, K - 1).
++!route(X, Y, _) : legBudget(X, Y, N) <- !leg(X, Y, N).
 
 +!leg(X, Y, _) : distanceTo(X, Y, D) & arrivalTolerance(E) & D < E.
 +!leg(X, Y, 0) <- .fail(error(not_arrived)).

@@ -22,7 +22,7 @@ import sys
 
 import browser
 import pytest
-from missions import assert_completed, assert_faulty_then_helper
+from missions import COMPACT_WORLD, assert_completed, assert_faulty_then_helper
 from selenium import webdriver
 from selenium.common.exceptions import WebDriverException
 from selenium.webdriver.support.ui import WebDriverWait
@@ -57,6 +57,7 @@ def test_page_shows_the_mission_its_waypoints_owners_and_the_recovery(tmp_path):
         "Debian's chromium and chromium-driver are needed: ./setup.sh installs them"
     run = browser.RunProcess([sys.executable, "-m", "rason_diagnosis.mission",
                               "--fault", "both_actuators", "--at", "20", "--seed", "2",
+                              "--world", str(COMPACT_WORLD),
                               "--inspector-port", "0", "--quiet", "--hold",
                               "--out", str(tmp_path / "run")])
     driver = None
