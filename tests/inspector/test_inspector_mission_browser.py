@@ -1,12 +1,13 @@
 """The inspector's mission view in a real browser, during a real mission.
 
-``./run.sh mission --fault both_actuators --at 20 --seed 2 --inspector-port 0`` starts the
-inspector on a free port and prints its address; headless Chromium opens the page once and
-never reloads it. The page must show Faulty's waypoints as its own, then the first ones reached
-by Faulty, then (after the diagnosis) the recovery in force, the rest delegated to Helper and
-accepted, and at the end reached by Helper; the map with the waypoints is drawn and the
-screenshot (kept in the test's tmp folder) is not blank. With ``--hold`` the nodes stay up
-after the result until the test's Ctrl-C, so a browser slower than the run still sees its end.
+``./run.sh mission --fault both_actuators --at 20 --seed 2 --inspector-port 0`` (in the
+compact test world, tests/demo/mission_compact.yaml) starts the inspector on a free port and
+prints its address; headless Chromium opens the page once and never reloads it. The page must
+show Faulty's waypoints as its own, then the first ones reached by Faulty, then (after the
+diagnosis) the recovery in force, the rest delegated to Helper and accepted, and at the end
+reached by Helper; the map with the waypoints is drawn and the screenshot (kept in the test's
+tmp folder) is not blank. With ``--hold`` the nodes stay up after the result until the test's
+Ctrl-C, so a browser slower than the run still sees its end.
 
 This is also the suite's one run of a delegated mission: its result must meet the issue's bar
 (every waypoint within 0.3 m by ground truth, no contact), with Faulty alone and without a
@@ -29,7 +30,7 @@ from selenium.webdriver.support.ui import WebDriverWait
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
 
-WAYPOINTS = 4          # worlds/case_study.yaml's mission
+WAYPOINTS = 4          # tests/demo/mission_compact.yaml's mission
 
 
 def _mission(driver: webdriver.Chrome) -> dict | None:
