@@ -21,10 +21,12 @@ maxSweeps(3).           // search sweeps (each a full turn cut short by a sighti
 maxCentring(8).         // centring turns per search before giving up
 samples(5).             // full sightings averaged into one observation
 sampleTries(16).        // new frames without a usable full sighting before an observation ends
-frameWait(1500).        // ms after settleTime that waiting for late frames costs no try
+frameWait(4000).        // ms after settleTime that waiting for late frames costs no try
 framePeriod(70).        // ms: about one Kinect frame (15 Hz)
 settleTime(300).        // ms after an observation starts before its frames may be stamped
 sweepBrake(550).        // ms a cut sweep takes to stop: 120 deg/s at the base's 229 deg/s^2
+lookStep(45).           // deg between the looks of a careful search (Kinect's view: 57 deg)
+lookWait(2000).         // ms a look waits for a frame taken after Helper stopped there
 goodRange(1.0, 3.3).    // m: depths where the yaw is reliable and a 0.3 m move stays in view
 viewDepth(1.8).         // m: the depth Helper moves to when Faulty is outside goodRange
 occlusionMargin(20).    // deg: relative headings this close to +90 (orange hides green) are weak
@@ -143,6 +145,7 @@ currTerm(lost, currLost) :- true.
    <- -facing(Robot, _);
       -sighting(Robot, _);
       -swept(Robot);
+      -lookedAround(Robot);
       !findRobot(Robot, 0, 0).
 
 +!findRobot(Robot, _, _)
@@ -172,6 +175,19 @@ currTerm(lost, currLost) :- true.
       turn(Deg);
       !findRobot(Robot, Sweeps, Steps + 1).
 
+// FIX(F9), the careful search: a sweep outruns a camera whose frames come too seldom (a loaded
+// machine drops frames: at 3 frames/s, 120 deg/s turns 40 deg between frames, and Faulty may fall
+// between them). So a full turn without a sighting is followed by a search that does not depend
+// on the frame rate: a look from every lookStep of the circle, each waiting for a frame taken
+// there at rest. Only a circle of looks without a sighting gives up (F6).
++!findRobot(Robot, Sweeps, Steps)
+   : fullTurn(Robot) & not lookedAround(Robot) & lookStep(D)
+   <- -fullTurn(Robot);
+      +lookedAround(Robot);
+      .print("Nothing seen while sweeping: looking around ", Robot, " every ", D, " degrees");
+      !lookAround(Robot, math.ceil(360 / D));
+      !findRobot(Robot, Sweeps, Steps).
+
 +!findRobot(Robot, _, _)
    : fullTurn(Robot)
    <- -fullTurn(Robot);
@@ -200,6 +216,42 @@ currTerm(lost, currLost) :- true.
       +fullTurn(Robot).
 
 -!sweep(Robot, _) <- -sweeping(Robot).
+
+// A careful search with Looks looks left: Faulty in view, the search goes on from here
+// (findRobot); else a look here, then a step on to the next, unless this was the last look.
++!lookAround(Robot, _)
+   : sightedAt(Robot, _) | sees(Robot, _, _).
++!lookAround(Robot, Looks)
+   : searchSide(Robot, Dir) & lookStep(D) & settleTime(S) & lookWait(W)
+   <- .time(Now);
+      .wait(S);
+      !awaitFrame(Now + S, W);
+      !stepOn(Robot, Dir * D, Looks).
+
++!stepOn(Robot, _, _)
+   : sightedAt(Robot, _) | sees(Robot, _, _).
++!stepOn(Robot, _, 1)
+   <- +fullTurn(Robot).
++!stepOn(Robot, Turn, Looks)
+   <- turn(Turn);
+      !lookAround(Robot, Looks - 1).
+
+// Frames are stamped (the synthesizer's ~frame_stamps): remembered, as the percepts of a camera
+// silent for longer than their time to live are cleared, frame(Ms) with them.
++frame(_)[source(percept)] : not stampedFrames <- +stampedFrames.
+
+// A frame taken after After (ms of ROS time) has been processed, or Left ms have passed. Without
+// frame stamps (a synthesizer without ~frame_stamps) the percepts are the newest frame's: after
+// settleTime at rest they show this heading.
++!awaitFrame(After, _)
+   : newFrame(After, _) | not stampedFrames.
++!awaitFrame(_, Left)
+   : Left <= 0 & lookWait(W)
+   <- .print("No new camera frame in ", W, " ms: looking on").
++!awaitFrame(After, Left)
+   : framePeriod(P)
+   <- .wait(P);
+      !awaitFrame(After, Left - P).
 
 // Every sighting's heading is remembered during a search (sightedAt).
 +seen_at(Robot, H)[source(percept)]

@@ -58,6 +58,10 @@ class World:
         self.faulty_turns: list[float] = []
         self.odom_bearings = False  # the synthesizer adds seen_at(faulty, Heading)
         self.brake = 0.0   # deg Helper coasts on after a turn is given up (braking, latency)
+        # Frames too seldom for Helper's search sweep (a loaded machine): no frame taken during a
+        # full turn shows Faulty, while frames taken during shorter turns or at rest do.
+        self.blind_sweep = False
+        self.sweeping = False   # a turn of 360 degrees or more is running
         # Helper's link to Faulty goes down when Helper first sends a message of this functor
         # (its .send then fails, as it does on a real network while Faulty's presence lapsed)
         self.cut_on: str | None = None
@@ -102,6 +106,8 @@ class World:
     def percept_texts(self) -> list[str]:
         rel = wrap(self.bearing - self.heading)
         if not self.visible or abs(rel) > FOV_HALF or not 0.5 < self.distance < 4.5:
+            return []
+        if self.blind_sweep and self.sweeping:
             return []
         depth = round(self.distance * math.cos(math.radians(rel)), 3)
         facing = wrap(self.faulty_heading - self.heading)          # heading in the camera
@@ -187,6 +193,7 @@ class RobotArch(LocalArch):
                     self.clock.advance(self.world.step_s)
                 if abs(entry[5]) > 1e-9:
                     continue
+                self.world.sweeping = False
             entry[0] -= 1
             if entry[0] <= 0:
                 self._running.remove(entry)
@@ -218,6 +225,7 @@ class RobotArch(LocalArch):
             if entry[5]:
                 coast = math.copysign(min(self.world.brake, abs(entry[5])), entry[5])
                 self.world.heading = wrap(self.world.heading + coast)
+                self.world.sweeping = False
         self._running = [e for e in self._running if e[2] != action_id]
 
     def act(self, agent, action: Literal, action_id: int) -> None:
@@ -233,6 +241,7 @@ class RobotArch(LocalArch):
             ok, reason = w.faulty_turn(value)
         elif action.functor == "turn" and self.name == "helper":
             w.helper_turns.append(value)
+            w.sweeping = abs(value) >= 360.0
             ok, reason, turn = True, None, value
         elif action.functor == "turn_to" and self.name == "helper":   # the short way
             turn = wrap(value - w.heading)
@@ -452,8 +461,30 @@ def test_far_away_helper_moves_closer_first():
 def test_out_of_range_is_not_found():
     world = World("right_actuator", bearing=90.0, distance=4.8)
     diagnosis, out = diagnosis_of(world)
+    # the sweep, then a look every 45 degrees of the circle (8 looks, 7 steps between them)
+    steps = [t for t in world.helper_turns if abs(t) < 360]
+    assert [abs(t) for t in steps] == [45.0] * 7, world.helper_turns
+    assert "Nothing seen while sweeping: looking around faulty every 45 degrees" in out, out
     assert "Turned 360 degrees without finding faulty" in out
     assert diagnosis == "unknown", out
+
+
+@pytest.mark.parametrize("bearing", [-150.0, -60.0, 60.0, 90.0, 170.0])
+@pytest.mark.parametrize("stamps", [False, True])
+def test_a_sweep_too_fast_for_the_camera_is_followed_by_looks(bearing, stamps):
+    """No frame taken during the sweep shows Faulty (frames too seldom for 120 deg/s): Helper
+    looks again from every 45 degrees, each look from a frame taken there at rest (with stamps,
+    0.4 s late), finds Faulty and the diagnosis is right."""
+    world = World("left_actuator", bearing=bearing, relative_heading=-50.0, curve=-20.0)
+    world.odom_bearings = True
+    world.blind_sweep = True
+    if stamps:
+        world.stamps, world.step_s, world.latency_ms = True, 0.02, 400.0
+    diagnosis, out = diagnosis_of(world)
+    assert "Nothing seen while sweeping" in out, out
+    assert "Turned 360 degrees without finding" not in out, out
+    assert abs(wrap(world.bearing - world.heading)) < FOV_HALF, world.helper_turns
+    assert diagnosis == "left_actuator", out
 
 
 # -- late frames (issue 15, F10): observations from frames taken at rest, after they started -------
