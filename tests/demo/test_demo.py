@@ -11,6 +11,7 @@ else (:data:`COVERED_ELSEWHERE`); every fault is checked by one demo run of the 
 from __future__ import annotations
 
 import json
+import re
 import signal
 import subprocess
 import sys
@@ -72,7 +73,10 @@ def test_demo_diagnoses_the_injected_fault(fault, tmp_path):
 def test_demo_in_a_user_world(world, fault, seed, tmp_path):
     """`./run.sh demo --world FILE --json` in layouts other than the thesis': Faulty behind
     Helper's view on its left with its yaw near +-180 (a turn across the wrap), and Faulty's
-    flank self-occluded at the start. Right diagnosis, Faulty located within 5 s."""
+    flank self-occluded at the start. Right diagnosis; the search starts with the full sweep.
+    How long locating takes is a measurement (`./run.sh campaign --layouts random`), not
+    asserted: on a loaded machine the synthesizer drops frames, the sweep may miss Faulty and
+    the careful search finds it (docs/thesis-fixes.md, F9)."""
     from rason_diagnosis.paths import world_file
 
     out = tmp_path / "run"
@@ -84,8 +88,15 @@ def test_demo_in_a_user_world(world, fault, seed, tmp_path):
     printed = json.loads(done.stdout[done.stdout.index('{\n  "fault"'):])
     assert printed["diagnosis"] == fault, done.stdout[-4000:]
     assert done.returncode == 0
-    assert printed["location_s"] is not None and printed["location_s"] < 5.0, printed
+    assert printed["location_s"] is not None, printed
+    search = helper_turns(out / "logs" / "helper_motion_decomposer.log")
+    assert search and search[0] == "turn(360)", search
     assert printed["total_s"] is not None
+
+
+def helper_turns(log: Path) -> list[str]:
+    """Helper's turn actions as its motion decomposer logged them, e.g. ``turn(360)``."""
+    return re.findall(r"motion_decomposer: (turn(?:_to)?\([-\d.]+\)) of helper", log.read_text())
 
 
 def _default_sigint() -> None:
