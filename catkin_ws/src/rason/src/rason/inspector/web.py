@@ -148,6 +148,14 @@ def host_check(hosts: frozenset[str]):
     return check
 
 
+#: The application's state, typed (aiohttp's AppKey): the store, the page hub, ROS time, and
+#: the task pushing the robots' poses.
+STORE = web.AppKey("store", InspectorStore)
+HUB = web.AppKey("hub", EventHub)
+CLOCK = web.AppKey("clock", Callable[[], float])
+ROBOTS_TASK = web.AppKey("robots_task", asyncio.Task)
+
+
 def make_app(store: InspectorStore, clock: Callable[[], float],
              on_clients: Callable[[int], None] | None = None,
              hosts: frozenset[str] = LOOPBACK_NAMES) -> web.Application:
@@ -155,7 +163,7 @@ def make_app(store: InspectorStore, clock: Callable[[], float],
     `hosts` the Host names it answers (:func:`allowed_hosts`)."""
     app = web.Application(middlewares=[host_check(hosts)])
     hub = EventHub(on_clients)
-    app["store"], app["hub"], app["clock"] = store, hub, clock
+    app[STORE], app[HUB], app[CLOCK] = store, hub, clock
 
     async def bind_loop(app: web.Application) -> None:
         loop = asyncio.get_running_loop()
@@ -163,10 +171,10 @@ def make_app(store: InspectorStore, clock: Callable[[], float],
             loop.call_soon_threadsafe(hub.publish, kind, payload)
 
         store.on_change = push
-        app["robots_task"] = asyncio.create_task(_push_robots(app))
+        app[ROBOTS_TASK] = asyncio.create_task(_push_robots(app))
 
     async def stop_tasks(app: web.Application) -> None:
-        app["robots_task"].cancel()
+        app[ROBOTS_TASK].cancel()
         for queue in list(hub.queues):
             _close(queue)
         store.on_change = lambda kind, payload: None
@@ -192,12 +200,12 @@ def _error(status: type[web.HTTPException], text: str) -> web.HTTPException:
 
 
 async def agents(request: web.Request) -> web.Response:
-    store: InspectorStore = request.app["store"]
-    return web.json_response({"agents": store.agents(), "now": request.app["clock"]()})
+    store: InspectorStore = request.app[STORE]
+    return web.json_response({"agents": store.agents(), "now": request.app[CLOCK]()})
 
 
 async def mind(request: web.Request) -> web.Response:
-    store: InspectorStore = request.app["store"]
+    store: InspectorStore = request.app[STORE]
     name = request.match_info["name"]
     if not NAME.match(name):
         raise _error(web.HTTPBadRequest, f"not an agent name: {name!r}")
@@ -217,17 +225,17 @@ async def mind(request: web.Request) -> web.Response:
         what = "no mind state yet" if index is None else f"state {index} is not in the history"
         raise _error(web.HTTPNotFound, f"agent {name!r}: {what}")
     bounds, state = found            # the state as it came, spliced in (never parsed again)
-    head = json.dumps({**bounds, "now": request.app["clock"]()})
+    head = json.dumps({**bounds, "now": request.app[CLOCK]()})
     return web.Response(text=f'{head[:-1]}, "state": {state}}}', content_type="application/json")
 
 
 async def robots(request: web.Request) -> web.Response:
-    store: InspectorStore = request.app["store"]
-    return web.json_response({**store.robots.snapshot(), "now": request.app["clock"]()})
+    store: InspectorStore = request.app[STORE]
+    return web.json_response({**store.robots.snapshot(), "now": request.app[CLOCK]()})
 
 
 async def camera(request: web.Request) -> web.Response:
-    store: InspectorStore = request.app["store"]
+    store: InspectorStore = request.app[STORE]
     robot = request.match_info["robot"]
     if not NAME.match(robot):
         raise _error(web.HTTPBadRequest, f"not a robot name: {robot!r}")
@@ -254,8 +262,8 @@ def _jpeg(frame: CameraFrame) -> bytes | None:
 
 
 async def events(request: web.Request) -> web.StreamResponse:
-    hub: EventHub = request.app["hub"]
-    store: InspectorStore = request.app["store"]
+    hub: EventHub = request.app[HUB]
+    store: InspectorStore = request.app[STORE]
     queue = hub.connect()
     if queue is None:
         raise _error(web.HTTPServiceUnavailable, "too many pages open")
@@ -264,7 +272,7 @@ async def events(request: web.Request) -> web.StreamResponse:
     try:
         await response.prepare(request)
         hello = {"agents": store.agents(), "robots": store.robots.snapshot(),
-                 "now": request.app["clock"]()}
+                 "now": request.app[CLOCK]()}
         await response.write(f"event: hello\ndata: {json.dumps(hello)}\n\n".encode())
         while True:
             try:
@@ -283,14 +291,14 @@ async def events(request: web.Request) -> web.StreamResponse:
 
 async def _push_robots(app: web.Application) -> None:
     """The robots' view and the ROS clock, at most ROBOTS_HZ a second, when something changed."""
-    store: InspectorStore = app["store"]
-    hub: EventHub = app["hub"]
+    store: InspectorStore = app[STORE]
+    hub: EventHub = app[HUB]
     sent = -1
     while True:
         await asyncio.sleep(1.0 / ROBOTS_HZ)
         if not hub.queues:
             continue
-        now = app["clock"]()
+        now = app[CLOCK]()
         if store.robots.version != sent:
             snapshot = store.robots.snapshot()
             sent = snapshot["version"]
