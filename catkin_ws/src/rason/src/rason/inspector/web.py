@@ -152,7 +152,7 @@ def host_check(hosts: frozenset[str]):
 #: the task pushing the robots' poses.
 STORE = web.AppKey("store", InspectorStore)
 HUB = web.AppKey("hub", EventHub)
-CLOCK = web.AppKey("clock", Callable[[], float])
+CLOCK: web.AppKey[Callable[[], float]] = web.AppKey("clock")
 ROBOTS_TASK = web.AppKey("robots_task", asyncio.Task)
 
 
