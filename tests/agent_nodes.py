@@ -13,9 +13,9 @@ from rason.process.harness import Process, RosHarness
 
 
 def write_agent(folder: Path, name: str, source: str) -> Path:
-    """``folder/NAME.asl`` holding `source` (dedented)."""
+    """``folder/NAME.asl`` holding `source` (dedented), in UTF-8 as agents read it."""
     path = folder / f"{name}.asl"
-    path.write_text(textwrap.dedent(source))
+    path.write_text(textwrap.dedent(source), encoding="utf-8")
     return path
 
 

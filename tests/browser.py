@@ -9,6 +9,7 @@ from __future__ import annotations
 import queue
 import re
 import shutil
+import signal
 import subprocess
 import threading
 import time
@@ -27,6 +28,8 @@ CHROMIUM_FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-
                   "--disable-component-update", "--disable-sync", "--window-size=1600,1250")
 #: The demo's and the mission's line giving the inspector's address.
 INSPECTOR_LINE = r"\[(?:demo|mission)\] mind inspector: (http://127\.0\.0\.1:\d+/)"
+#: The demo's and the mission's line saying that ``--hold`` holds: the result is out.
+HOLDING_LINE = r"\[(?:demo|mission)\] holding"
 
 
 class RunProcess:
@@ -62,11 +65,20 @@ class RunProcess:
         raise AssertionError(f"the run did not print /{pattern}/; output:\n" +
                              "\n".join(self.lines[-40:]))
 
-    def finish(self, timeout: float) -> int:
+    def end(self, timeout: float) -> int:
+        """End the run as a user does: Ctrl-C (SIGINT) if it still runs, which ends a ``--hold``
+        (or, failing, the run); wait `timeout` seconds for it to stop, then SIGTERM, then SIGKILL.
+        Its exit status."""
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGINT)
         try:
             return self.proc.wait(timeout)
         except subprocess.TimeoutExpired:
             self.proc.terminate()
+        try:
+            return self.proc.wait(30)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
             return self.proc.wait(30)
 
 

@@ -9,20 +9,31 @@ asserts that X is absent.
 
 from __future__ import annotations
 
+import subprocess
 import time
 from collections.abc import Callable, Iterable
-from typing import TypeVar
-
-from rason.process.harness import Process
+from typing import Any, Protocol, TypeVar
 
 T = TypeVar("T")
+
+
+class Watched(Protocol):
+    """A process whose exit ends a wait early (the harness's ``Process`` is one)."""
+
+    name: str
+    popen: subprocess.Popen[Any]
+
+    def alive(self) -> bool: ...
+
+    def output(self) -> str: ...
+
 
 #: seconds between two looks
 PERIOD = 0.02
 
 
 def wait_until(probe: Callable[[], T], what: str, timeout: float = 20.0,
-               watch: Iterable[Process] = (), period: float = PERIOD) -> T:
+               watch: Iterable[Watched] = (), period: float = PERIOD) -> T:
     """Call ``probe`` every ``period`` seconds until it returns something true, and return
     that; an AssertionError naming ``what`` after ``timeout`` wall-clock seconds, or as soon as
     a process of ``watch`` has exited (with the end of its output)."""

@@ -3,15 +3,11 @@
 from __future__ import annotations
 
 import sys
-import textwrap
 import time
-from pathlib import Path
 
 import pytest
-from agent_nodes import connected_to
+from agent_nodes import connected_to, start_agent
 from polling import wait_until
-
-from rason.process.harness import Process, RosHarness
 
 pytestmark = pytest.mark.ros
 
@@ -21,22 +17,14 @@ INFO = ('info("say \\"hi\\" \\\\ été ☃", \'Robot lost\'(-2.5, \'X\'), [1, -0
         'f(a)[k, source(x)], [[], [~q]])')
 
 
-def start(ros: RosHarness, tmp_path: Path, name: str, source: str, ns: str) -> Process:
-    path = tmp_path / f"{name}.asl"
-    path.write_text(textwrap.dedent(source), encoding="utf-8")
-    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns)
-    ros.wait_for_node(f"{ns}/jason/{name}", watch=[proc])
-    return proc
-
-
 def test_an_askone_reply_with_hard_text_arrives_equal(ros, tmp_path):
-    teller = start(ros, tmp_path, "teller", f"""
+    teller = start_agent(ros, tmp_path, "teller", f"""
         {INFO}.
         n(20000).
         +!kqml_received(S, askOne, big, M) : n(N)
            <- .findall(v(K, "k\\\\", 'K'), .range(K, 1, N), L); .send(S, tell, L, M).
         """, ns="/t1")
-    asker = start(ros, tmp_path, "asker", f"""
+    asker = start_agent(ros, tmp_path, "asker", f"""
         !go.
         +!go : .all_names(L) & .member(teller, L)
            <- .send(teller, askOne, info(A, B, C, D, E), R);
@@ -62,7 +50,7 @@ def test_messages_with_nan_or_infinity_are_dropped_with_one_warning(ros, tmp_pat
 
     ros.init_rospy()
     pub = rospy.Publisher("/jason/messages", AgentMessage, queue_size=100)
-    agent = start(ros, tmp_path, "guard", """
+    agent = start_agent(ros, tmp_path, "guard", """
         +v(X)[source(S)] <- .print("got ", X, " from ", S).
         """, ns="/t3")
     wait_until(lambda: connected_to(pub, "/t3/jason/guard"), "the connection to guard's node")
@@ -83,7 +71,7 @@ def test_messages_with_nan_or_infinity_are_dropped_with_one_warning(ros, tmp_pat
 def test_sets_maps_and_queues_arrive_as_the_same_kind_of_collection(ros, tmp_path):
     # Jason's local infrastructure hands the receiver the collections themselves; between
     # nodes each one travels as text and is made again: same kind, same members, same order
-    receiver = start(ros, tmp_path, "keeper", """
+    receiver = start_agent(ros, tmp_path, "keeper", """
         +coll(S, M, Q, P)[source(A)]
            <- .type(S, TS); .type(M, TM); .type(Q, TQ); .type(P, TP);
               .print("kinds ", TS, " ", TM, " ", TQ, " ", TP);
@@ -92,7 +80,7 @@ def test_sets_maps_and_queues_arrive_as_the_same_kind_of_collection(ros, tmp_pat
               .print("use ", S, " ", V, " ", H, " ", N).
         +nested(L)[source(A)] <- L = [S, f(M)]; .type(S, T1); .type(M, T2); .print("nested ", T1, " ", T2).
         """, ns="/c1")
-    start(ros, tmp_path, "maker", """
+    start_agent(ros, tmp_path, "maker", """
         !go.
         +!go : .all_names(L) & .member(keeper, L)
            <- .set.create(S); .set.add(S, b); .set.add(S, a);
@@ -147,7 +135,7 @@ def test_a_message_to_an_agent_heard_before_it_listens_waits_for_it(ros, tmp_pat
     script, listen = tmp_path / "late_listener.py", tmp_path / "listen"
     script.write_text(LATE_LISTENER)
     bob = ros.run([sys.executable, str(script), str(listen)], label="bob_node")
-    alice = start(ros, tmp_path, "alice", """
+    alice = start_agent(ros, tmp_path, "alice", """
         !greet.
         +!greet : .all_names(L) & .member(bob, L)
            <- .send(bob, tell, hi(1)); .send(bob, tell, hi(2)); .print("sent").

@@ -13,13 +13,13 @@ the history can be browsed however late the browser comes.
 from __future__ import annotations
 
 import os
-import signal
 import sys
 
 import pytest
 from browser import (
     CHROMEDRIVER,
     CHROMIUM,
+    HOLDING_LINE,
     INSPECTOR_LINE,
     RunProcess,
     assert_not_blank,
@@ -131,14 +131,12 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
         driver.save_screenshot(str(tmp_path / "inspector-running.png"))
 
         assert_not_blank(shot)
-        demo.wait_for(r"\[demo\] holding", 120)
+        demo.wait_for(HOLDING_LINE, 120)
     except WebDriverException as err:
         pytest.fail(f"browser failed: {err.msg}\ndemo output:\n" + "\n".join(demo.lines[-30:]))
     finally:
         if driver is not None:
             driver.quit()
-        if demo.proc.poll() is None:
-            demo.proc.send_signal(signal.SIGINT)   # ends the hold (or, failing, the run)
-        status = demo.finish(240)
+        status = demo.end(240)          # Ctrl-C: ends the hold (or, failing, the run)
     assert status == 0, "\n".join(demo.lines[-40:])
     assert "CORRECT" in "\n".join(demo.lines)

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import json
 import os
-import signal
 import sys
 
 import browser
@@ -104,16 +103,14 @@ def test_page_shows_the_mission_its_waypoints_owners_and_the_recovery(tmp_path):
         shot = tmp_path / "inspector-mission.png"
         driver.save_screenshot(str(shot))
         browser.assert_not_blank(shot)
-        run.wait_for(r"\[mission\] holding", 120)
+        run.wait_for(browser.HOLDING_LINE, 120)
     except WebDriverException as err:
         pytest.fail(f"browser failed: {err.msg}\nowners seen: {seen}\nmission output:\n"
                     + "\n".join(run.lines[-30:]))
     finally:
         if driver is not None:
             driver.quit()
-        if run.proc.poll() is None:
-            run.proc.send_signal(signal.SIGINT)   # ends the hold (or, failing, the run)
-        status = run.finish(300)
+        status = run.end(300)          # Ctrl-C: ends the hold (or, failing, the run)
     assert status == 0, "\n".join(run.lines[-40:])
     # the diagnosis the page showed with the recovery is the one the mission ended with (on a
     # loaded machine Helper may not find Faulty: then `unknown`, a retry, and the delegation)

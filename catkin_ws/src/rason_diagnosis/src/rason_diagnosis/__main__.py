@@ -20,7 +20,6 @@ from pathlib import Path
 
 import yaml
 
-from rason.inspector.main import InspectorParams
 from rason_diagnosis import thesis, workstation
 from rason_diagnosis.drivers import SIM, WIRINGS, VisionPath, Wiring, wiring_for
 from rason_diagnosis.hosts import LinkCut, interrupt
@@ -31,8 +30,9 @@ from rason_diagnosis.scenario import (
     NO_FAULT,
     VERDICTS,
     RunResult,
+    Watch,
+    add_watch_options,
     default_fault,
-    hold_until_interrupted,
     run_scenario,
 )
 from turtlebot_sim.config import resolve
@@ -104,13 +104,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quiet", action="store_true", help="do not stream the agents' console")
     parser.add_argument("--timeout", type=float, default=300.0,
                         help="seconds allowed (simulated; wall seconds with --drivers stock)")
-    parser.add_argument("--inspector", action=argparse.BooleanOptionalAction, default=True,
-                        help="watch the run in the mind inspector (web page; default: on)")
-    parser.add_argument("--inspector-port", type=int, default=InspectorParams().port,
-                        help="the inspector's port on 127.0.0.1 (0: any free port)")
-    parser.add_argument("--hold", action="store_true",
-                        help="after the result, keep every node up (the inspector still serves "
-                             "the run's history) until Ctrl-C")
+    add_watch_options(parser, "run")
     parser.add_argument("--hosts", action="store_true",
                         help="world, helper and faulty on hosts of their own (network namespaces "
                              "on a private LAN, as two TurtleBots and a workstation; needs root)")
@@ -139,26 +133,17 @@ def main(argv: list[str] | None = None) -> int:
     # SIGTERM (the campaign's timeout, a service manager) ends the run as Ctrl-C does: every
     # node, roscore included, is stopped on the way out, also in the middle of the start
     signal.signal(signal.SIGTERM, interrupt)
-    shown = False
-
-    def print_and_hold(result: RunResult) -> None:
-        nonlocal shown
-        _print_result(result, args, out, wiring)
-        shown = True
-        hold_until_interrupted("demo")
-
+    watch: Watch[RunResult] = Watch.of(args, lambda r: _print_result(r, args, out, wiring),
+                                       "demo")
     try:
         result = run_scenario(fault, seed, out, record=args.record, echo=not args.quiet,
-                              sim_timeout=args.timeout,
-                              inspector_port=args.inspector_port if args.inspector else None,
+                              sim_timeout=args.timeout, inspector_port=watch.port,
                               hosts=args.hosts, cuts=args.cut, world=args.world,
-                              wiring=wiring, colours=args.colours,
-                              hold=print_and_hold if args.hold else None)
+                              wiring=wiring, colours=args.colours, hold=watch.hold_callback())
     except KeyboardInterrupt:
         print("\n[demo] interrupted: every node of the run was stopped", flush=True)
         return 130
-    if not shown:
-        _print_result(result, args, out, wiring)
+    watch.print_once(result)
     return 0 if result.correct else 1
 
 

@@ -12,9 +12,7 @@ from __future__ import annotations
 
 import argparse
 import csv
-import json
 import statistics
-import subprocess
 import sys
 import time
 from collections.abc import Sequence
@@ -26,12 +24,24 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import yaml
 
-from rason.process.harness import processes_left_by
 from rason_diagnosis import thesis
+from rason_diagnosis.campaign_parts import (
+    faults_run,
+    fmt,
+    image_link,
+    mean,
+    orphans,
+    plots_dir,
+    run_process,
+    save_report,
+    table_head,
+)
 from rason_diagnosis.drivers import SIM, WIRINGS, VisionPath, wiring_for
 from rason_diagnosis.paths import world_colours, world_file
 from rason_diagnosis.scenario import FAULTS, Outcome, outcome_of
 
+#: Wall seconds a demo process may take before the campaign stops it.
+RUN_WALL_TIMEOUT_S = 900
 FIELDS = ("fault", "seed", "diagnosis", "expected", "correct", "detection_s", "location_s",
           "diagnosis_s", "total_s", "wall_s", "orphans", "error", "unknown_reason")
 STEP_FIELDS = ("detection_s", "location_s", "diagnosis_s")
@@ -43,23 +53,9 @@ def run_one(fault: str, seed: int, out: Path, extra: Sequence[str] = ()) -> dict
     run_dir = out / "runs" / f"{fault}-{seed}"
     cmd = [sys.executable, "-m", "rason_diagnosis", "--fault", fault, "--seed", str(seed), "--quiet",
            "--out", str(run_dir), *extra]
-    with open(out / "runs" / f"{fault}-{seed}.log", "w") as log:
-        demo = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT)
-        try:
-            demo.wait(timeout=900)
-        except subprocess.TimeoutExpired:
-            demo.terminate()          # SIGTERM: the demo stops its nodes (and --hosts namespaces)
-            try:
-                demo.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                demo.kill()
-                demo.wait()
-    try:
-        result = json.loads((run_dir / "result.json").read_text())
-    except (OSError, ValueError):
-        result = {"fault": fault, "seed": seed, "correct": False, "error": "no result.json"}
-    result["orphans"] = len(processes_left_by(demo.pid))
-    return result
+    # on SIGTERM the demo stops its nodes (and --hosts namespaces)
+    return run_process(cmd, run_dir, out / "runs" / f"{fault}-{seed}.log", RUN_WALL_TIMEOUT_S,
+                       {"fault": fault, "seed": seed, "correct": False, "error": "no result.json"})
 
 
 def demo_options(args: argparse.Namespace) -> list[str]:
@@ -90,79 +86,55 @@ def verdict(result: dict) -> str:
     return f" ({result.get('unknown_reason') or result.get('error') or 'no reason given'})"
 
 
-def _mean(values: list[float | None]) -> float | None:
-    present = [v for v in values if v is not None]
-    return statistics.fmean(present) if present else None
-
-
-def fmt(value: float | None) -> str:
-    return "-" if value is None else f"{value:.2f}"
-
-
-def faults_run(results: list[dict]) -> list[str]:
-    """The faults (in :data:`FAULTS` order) that have at least one run in ``results``."""
-    return [f for f in FAULTS if any(r["fault"] == f for r in results)]
-
-
-def image_link(out: Path, relative: str, alt: str) -> list[str]:
-    """A report's lines showing the picture ``out/relative``: none when it was not written."""
-    return [f"![{alt}]({relative})", ""] if (out / relative).is_file() else []
-
-
 def write_report(results: list[dict], out: Path, runs: int) -> str:
     """report.md of a fixed-layout campaign: the faults that ran, and the plots written."""
     lines = [f"# Cooperative fault diagnosis: campaign of {runs} run(s) per scenario", "",
              "Simulated TurtleBot 2 robots (pybullet), latencies in simulated seconds; the thesis "
              "ran real robots (Morais 2015, ch. 7).", "",
-             "| scenario | correct (ours) | correct (thesis) | total mean (ours) | sd | "
-             "total mean (thesis) | sd |", "|---|---|---|---|---|---|---|"]
+             *table_head("scenario", "correct (ours)", "correct (thesis)", "total mean (ours)",
+                         "sd", "total mean (thesis)", "sd")]
     for fault in faults_run(results):
         mine = [r for r in results if r["fault"] == fault]
         ok = sum(1 for r in mine if r.get("correct"))
         totals = [r["total_s"] for r in mine if r.get("total_s") is not None]
-        mean = statistics.fmean(totals) if totals else None
         sd = statistics.stdev(totals) if len(totals) > 1 else None
         if fault in thesis.TABLES:
             t_ok, t_n = thesis.successes(fault)
             ref = f"{t_ok}/{t_n} | {thesis.mean(fault, 3):.2f} | {thesis.stdev(fault, 3):.2f}"
         else:
             ref = "- | - | -"
-        lines.append(f"| {fault} | {ok}/{len(mine)} | {ref.split(' | ')[0]} | {fmt(mean)} | "
+        lines.append(f"| {fault} | {ok}/{len(mine)} | {ref.split(' | ')[0]} | {fmt(mean(totals))} | "
                      f"{fmt(sd)} | {' | '.join(ref.split(' | ')[1:])} |")
     total_ok = sum(1 for r in results if r.get("correct"))
-    orphans = sum(r.get("orphans", 0) for r in results)
     walls = [r["wall_s"] for r in results if r.get("wall_s") is not None]
     lines += ["", f"Overall: {total_ok}/{len(results)} correct "
               f"({100.0 * total_ok / max(1, len(results)):.0f}%); the thesis: 19/20 (95%).",
-              f"Processes left running after the runs (orphans): {orphans}.",
-              f"Wall clock per run: mean {fmt(_mean(walls))} s, max {fmt(max(walls, default=None))} s "
+              f"Processes left running after the runs (orphans): {orphans(results)}.",
+              f"Wall clock per run: mean {fmt(mean(walls))} s, max {fmt(max(walls, default=None))} s "
               "(roscore, simulator, nodes and agents started and stopped each run).", ""]
     for fault in faults_run(results):
         mine = [r for r in results if r["fault"] == fault]
         name = thesis.TABLES[fault][0] if fault in thesis.TABLES else "no fault"
         lines += [f"## {fault} (form of {name})", "",
-                  "| run | seed | detection | location | diagnosis | total | diagnosis made |",
-                  "|---|---|---|---|---|---|---|"]
+                  *table_head("run", "seed", "detection", "location", "diagnosis", "total",
+                              "diagnosis made")]
         for i, r in enumerate(mine, 1):
             lines.append(f"| {i} | {r['seed']} | {fmt(r.get('detection_s'))} | "
                          f"{fmt(r.get('location_s'))} | {fmt(r.get('diagnosis_s'))} | "
                          f"{fmt(r.get('total_s'))} | {r.get('diagnosis')}"
                          f"{'' if r.get('correct') else verdict(r)} |")
-        means = [_mean([r.get(f) for r in mine]) for f in (*STEP_FIELDS, "total_s")]
+        means = [mean([r.get(f) for r in mine]) for f in (*STEP_FIELDS, "total_s")]
         lines.append("| mean (ours) | | " + " | ".join(fmt(m) for m in means) + " | |")
         if fault in thesis.TABLES:
             lines.append("| thesis mean | | " + " | ".join(
                 f"{thesis.mean(fault, s):.2f}" for s in range(4)) + " | |")
         lines += ["", *image_link(out, f"plots/{fault}.png", fault)]
-    text = "\n".join(lines) + "\n"
-    (out / "report.md").write_text(text)
-    return text
+    return save_report(out, lines)
 
 
 def write_plots(results: list[dict], out: Path) -> None:
     """Per scenario: stacked latency by step per run (Figs 7.1/7.3/7.5/7.7 style) and totals."""
-    plots = out / "plots"
-    plots.mkdir(exist_ok=True)
+    plots = plots_dir(out)
     for fault in faults_run(results):
         mine = [r for r in results if r["fault"] == fault]
         fig, (steps_ax, total_ax) = plt.subplots(1, 2, figsize=(11, 4))
@@ -331,8 +303,7 @@ def random_campaign(args: argparse.Namespace) -> int:
     print(write_layout_report(results, layouts, args.out))
     print(f"wrote {args.out / 'runs.csv'}, {args.out / 'report.md'}, {args.out / 'plots'}")
     wrong = sum(1 for r in results if r["outcome"] == Outcome.WRONG)
-    orphans = sum(r.get("orphans", 0) for r in results)
-    return 0 if wrong == 0 and not orphans else 1
+    return 0 if wrong == 0 and not orphans(results) else 1
 
 
 def _from_csv(row: dict) -> dict:
@@ -379,26 +350,25 @@ def write_layout_report(results: list[dict], layouts: list, out: Path) -> str:
              "room (`rason_diagnosis.layouts`); the same layouts for every fault. Latencies in "
              "simulated seconds. right: the injected fault; unknown: no component named (or no "
              "answer); wrong: a wrong component.", "",
-             "| fault | right | unknown | wrong | location mean (max) | total mean (max) |",
-             "|---|---|---|---|---|---|"]
+             *table_head("fault", "right", "unknown", "wrong", "location mean (max)",
+                         "total mean (max)")]
     for fault in faults_run(results):
         mine = [r for r in results if r["fault"] == fault]
         count = {k: sum(1 for r in mine if r["outcome"] == k) for k in OUTCOME_COLOURS}
         loc = [r["location_s"] for r in mine if r.get("location_s") is not None]
         tot = [r["total_s"] for r in mine if r.get("total_s") is not None]
         lines.append(f"| {fault} | {count[Outcome.RIGHT]}/{len(mine)} | {count[Outcome.UNKNOWN]} | "
-                     f"{count[Outcome.WRONG]} | {fmt(_mean(loc))} ({fmt(max(loc, default=None))}) | "
-                     f"{fmt(_mean(tot))} ({fmt(max(tot, default=None))}) |")
+                     f"{count[Outcome.WRONG]} | {fmt(mean(loc))} ({fmt(max(loc, default=None))}) | "
+                     f"{fmt(mean(tot))} ({fmt(max(tot, default=None))}) |")
     total = {k: sum(1 for r in results if r["outcome"] == k) for k in OUTCOME_COLOURS}
-    orphans = sum(r.get("orphans", 0) for r in results)
     lines += ["", f"Overall: {total[Outcome.RIGHT]}/{len(results)} right "
               f"({100.0 * total[Outcome.RIGHT] / max(1, len(results)):.0f}%), "
               f"{total[Outcome.UNKNOWN]} unknown, "
-              f"{total[Outcome.WRONG]} wrong. Processes left running: {orphans}.", "",
+              f"{total[Outcome.WRONG]} wrong. Processes left running: {orphans(results)}.", "",
               *image_link(out, "plots/layouts.png", "outcome against the layout"),
               "## Layouts", "",
-              "| seed | distance (m) | bearing (deg) | relative heading (deg) | Helper x, y, yaw | "
-              "Faulty x, y, yaw | outcomes |", "|---|---|---|---|---|---|---|"]
+              *table_head("seed", "distance (m)", "bearing (deg)", "relative heading (deg)",
+                          "Helper x, y, yaw", "Faulty x, y, yaw", "outcomes")]
     for lay in layouts:
         mine = [r for r in results if r["seed"] == lay.seed]
         outcomes = ", ".join(f"{r['fault']}: {r.get('diagnosis')} ({r['outcome']})" for r in mine)
@@ -406,15 +376,12 @@ def write_layout_report(results: list[dict], layouts: list, out: Path) -> str:
                      f"{lay.relative_heading:.0f} | {lay.helper_x:.2f}, {lay.helper_y:.2f}, "
                      f"{lay.helper_yaw:.0f} | {lay.faulty_x:.2f}, {lay.faulty_y:.2f}, "
                      f"{lay.faulty_yaw:.0f} | {outcomes} |")
-    text = "\n".join(lines) + "\n"
-    (out / "report.md").write_text(text)
-    return text
+    return save_report(out, lines)
 
 
 def write_layout_plot(results: list[dict], out: Path) -> None:
     """Outcome (colour) of every run against bearing, distance and relative heading."""
-    plots = out / "plots"
-    plots.mkdir(exist_ok=True)
+    plots = plots_dir(out)
     faults = faults_run(results)
     fig, axes = plt.subplots(1, 3, figsize=(15, 4), sharey=True)
     for ax, key, label, span in zip(

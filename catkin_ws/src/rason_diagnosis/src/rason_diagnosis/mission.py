@@ -27,7 +27,6 @@ from typing import Any
 
 import yaml
 
-from rason.inspector.main import InspectorParams
 from rason.process.harness import HarnessError, RosHarness
 from rason_diagnosis.hosts import interrupt
 from rason_diagnosis.paths import agents_dir, world_file
@@ -37,7 +36,9 @@ from rason_diagnosis.scenario import (
     HELPER_VISION,
     NO_FAULT,
     ROBOTS,
-    hold_until_interrupted,
+    WallClock,
+    Watch,
+    add_watch_options,
     say,
     start_inspector,
 )
@@ -234,20 +235,19 @@ def run_mission(fault: str, seed: int, out_dir: Path, at_s: float, world: Path,
     result = MissionResult(fault=fault, seed=seed, at_s=at_s, recovery_enabled=recovery,
                            out_dir=str(out_dir),
                            waypoints=[Arrival(w.x, w.y) for w in waypoints])
-    started = time.monotonic()
+    clock = WallClock()
     try:
         with RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs") as ros:
             if inspector_port is not None:
                 result.inspector = start_inspector(ros, inspector_port, "mission")
             _run(ros, result, waypoints, world, recovery, echo, sim_timeout)
             if hold is not None:
-                result.wall_s = round(time.monotonic() - started, 1)
+                result.wall_s = clock.stop()
                 hold(result)
     except HarnessError as err:
         result.error = str(err).splitlines()[0]
         result.reason = result.reason or f"error: {result.error}"
-    if not result.wall_s:   # else taken before the hold
-        result.wall_s = round(time.monotonic() - started, 1)
+    result.wall_s = clock.stop()   # the one taken before a hold, if any
     (out_dir / "result.json").write_text(json.dumps(result.summary(), indent=2))
     return result
 
@@ -365,13 +365,7 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--no-recovery", action="store_true",
                    help="the baseline: after the diagnosis Faulty gives the mission up")
     p.add_argument("--timeout", type=float, default=600.0, help="simulated seconds allowed")
-    p.add_argument("--inspector", action=argparse.BooleanOptionalAction, default=True,
-                   help="watch the mission in the mind inspector (web page; default: on)")
-    p.add_argument("--inspector-port", type=int, default=InspectorParams().port,
-                   help="the inspector's port on 127.0.0.1 (0: any free port)")
-    p.add_argument("--hold", action="store_true",
-                   help="after the result, keep every node up (the inspector still serves the "
-                        "mission's history) until Ctrl-C")
+    add_watch_options(p, "mission")
     return p
 
 
@@ -391,24 +385,16 @@ def main(argv: list[str] | None = None) -> int:
     print(f"[mission] fault {fault} at {at_s:g} s (seed {seed}), {len(waypoints)} waypoints, "
           f"recovery {'off' if args.no_recovery else 'on'}; output in {out}", flush=True)
     signal.signal(signal.SIGTERM, interrupt)
-    shown = False
-
-    def print_and_hold(result: MissionResult) -> None:
-        nonlocal shown
-        _print_result(result, args.json)
-        shown = True
-        hold_until_interrupted("mission")
-
+    watch: Watch[MissionResult] = Watch.of(args, lambda r: _print_result(r, args.json),
+                                           "mission")
     try:
         result = run_mission(fault, seed, out, at_s, world, recovery=not args.no_recovery,
                              echo=not args.quiet, sim_timeout=args.timeout,
-                             inspector_port=args.inspector_port if args.inspector else None,
-                             hold=print_and_hold if args.hold else None)
+                             inspector_port=watch.port, hold=watch.hold_callback())
     except KeyboardInterrupt:
         print("\n[mission] interrupted: every node of the run was stopped", flush=True)
         return 130
-    if not shown:
-        _print_result(result, args.json)
+    watch.print_once(result)
     return 0 if result.completed else 1
 
 

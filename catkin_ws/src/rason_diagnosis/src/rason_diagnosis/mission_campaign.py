@@ -13,7 +13,6 @@ from __future__ import annotations
 import csv
 import json
 import statistics
-import subprocess
 import sys
 import time
 from collections.abc import Sequence
@@ -26,7 +25,17 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from rason.process.harness import processes_left_by
+from rason_diagnosis.campaign_parts import (
+    faults_run,
+    fmt,
+    image_link,
+    mean,
+    orphans,
+    plots_dir,
+    run_process,
+    save_report,
+    table_head,
+)
 from rason_diagnosis.scenario import FAULTS, NO_FAULT
 from turtlebot_model.kobuki import BODY_RADIUS
 
@@ -63,24 +72,11 @@ def run_one(mode: Mode, fault: str, seed: int, out: Path, extra: Sequence[str] =
            "--quiet", "--no-inspector", "--out", str(where), *extra,
            *(["--no-recovery"] if mode == Mode.BASELINE else [])]
     where.parent.mkdir(parents=True, exist_ok=True)
-    with open(where.parent / f"{where.name}.log", "w") as log:
-        mission = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT)
-        try:
-            mission.wait(timeout=RUN_WALL_TIMEOUT_S)
-        except subprocess.TimeoutExpired:
-            mission.terminate()            # SIGTERM: the mission stops its nodes
-            try:
-                mission.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                mission.kill()
-                mission.wait()
-    try:
-        result = json.loads((where / "result.json").read_text())
-    except (OSError, ValueError):
-        result = {"fault": fault, "seed": seed, "completed": False, "waypoints": [],
-                  "error": "no result.json", "reason": "error: no result.json"}
+    # on SIGTERM the mission stops its nodes
+    result = run_process(cmd, where, where.parent / f"{where.name}.log", RUN_WALL_TIMEOUT_S,
+                         {"fault": fault, "seed": seed, "completed": False, "waypoints": [],
+                          "error": "no result.json", "reason": "error: no result.json"})
     result["mode"] = mode.value
-    result["orphans"] = len(processes_left_by(mission.pid))
     return result
 
 
@@ -168,10 +164,6 @@ def write_csv(results: list[dict], out: Path) -> None:
         writer.writerows(rows(results))
 
 
-def _fmt(value: float | None, digits: int = 2) -> str:
-    return "-" if value is None else f"{value:.{digits}f}"
-
-
 def _groups(results: list[dict]) -> list[tuple[str, Mode, list[dict]]]:
     """(fault, mode, runs) for every fault and mode that ran, faults in FAULTS order."""
     out = []
@@ -193,9 +185,9 @@ def write_report(results: list[dict], out: Path) -> str:
              "seed (with recovery); errors by ground truth at each arrival; within "
              f"{REACHED_WITHIN_M} m: completed with every waypoint that close; contact: the "
              f"robots' centres {CONTACT_M:.3f} m apart or closer (their bodies touch).", "",
-             "| fault | mode | completed | within 0.3 m | time mean (max) s | time x mean (max) | "
-             "error mean (max) m | closest m | contacts | waypoints by faulty / helper / none |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             *table_head("fault", "mode", "completed", "within 0.3 m", "time mean (max) s",
+                         "time x mean (max)", "error mean (max) m", "closest m", "contacts",
+                         "waypoints by faulty / helper / none")]
     for fault, mode, mine in _groups(results):
         figs = [figures(r, reference) for r in mine]
         totals = [f.total_s for f in figs if f.completed and f.total_s is not None]
@@ -205,47 +197,40 @@ def write_report(results: list[dict], out: Path) -> str:
         lines.append(
             f"| {fault} | {mode.value} | {sum(f.completed for f in figs)}/{len(figs)} | "
             f"{sum(f.within_bar for f in figs)}/{len(figs)} | "
-            f"{_fmt(statistics.fmean(totals) if totals else None, 1)} "
-            f"({_fmt(max(totals, default=None), 1)}) | "
-            f"{_fmt(statistics.fmean(ratios) if ratios else None)} "
-            f"({_fmt(max(ratios, default=None))}) | "
-            f"{_fmt(statistics.fmean(errors) if errors else None, 3)} "
-            f"({_fmt(max(errors, default=None), 3)}) | {_fmt(min(closest, default=None), 3)} | "
+            f"{fmt(mean(totals), 1)} ({fmt(max(totals, default=None), 1)}) | "
+            f"{fmt(mean(ratios))} ({fmt(max(ratios, default=None))}) | "
+            f"{fmt(mean(errors), 3)} ({fmt(max(errors, default=None), 3)}) | "
+            f"{fmt(min(closest, default=None), 3)} | "
             f"{sum(f.contact for f in figs)} | {sum(f.by_faulty for f in figs)} / "
             f"{sum(f.by_helper for f in figs)} / {sum(f.not_reached for f in figs)} |")
-    orphans = sum(r.get("orphans", 0) for r in results)
     walls = [r["wall_s"] for r in results if r.get("wall_s")]
     lines += ["", f"Runs: {len(results)}; processes left running after them (orphans): "
-              f"{orphans}; wall clock per run: mean {_fmt(statistics.fmean(walls) if walls else None, 0)} s, "
-              f"max {_fmt(max(walls, default=None), 0)} s.", ""]
-    if (out / "plots" / "mission.png").is_file():
-        lines += ["![completion, time and errors per fault](plots/mission.png)", ""]
-    lines += ["## Runs", "",
-              "| mode | fault | seed | injected at s | diagnosis | recovery | completed | total s | "
-              "time x | max error m | closest m | reached by | reason |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              f"{orphans(results)}; wall clock per run: mean {fmt(mean(walls), 0)} s, "
+              f"max {fmt(max(walls, default=None), 0)} s.", "",
+              *image_link(out, "plots/mission.png", "completion, time and errors per fault"),
+              "## Runs", "",
+              *table_head("mode", "fault", "seed", "injected at s", "diagnosis", "recovery",
+                          "completed", "total s", "time x", "max error m", "closest m",
+                          "reached by", "reason")]
     for fault, mode, mine in _groups(results):
         for r in mine:
             f = figures(r, reference)
             by = ", ".join(p.get("reached_by") or "-" for p in r.get("waypoints") or [])
             lines.append(
-                f"| {mode.value} | {fault} | {r['seed']} | {_fmt(r.get('injected_at_s'), 1)} | "
+                f"| {mode.value} | {fault} | {r['seed']} | {fmt(r.get('injected_at_s'), 1)} | "
                 f"{r.get('diagnosis') or '-'} | {r.get('recovery') or '-'} | "
-                f"{'yes' if f.completed else 'no'} | {_fmt(f.total_s, 1)} | "
-                f"{_fmt(f.relative_time)} | {_fmt(f.max_error_m, 3)} | "
-                f"{_fmt(f.min_distance_m, 3)} | {by} | {r.get('reason') or ''} |")
-    text = "\n".join(lines) + "\n"
-    (out / "report.md").write_text(text)
-    return text
+                f"{'yes' if f.completed else 'no'} | {fmt(f.total_s, 1)} | "
+                f"{fmt(f.relative_time)} | {fmt(f.max_error_m, 3)} | "
+                f"{fmt(f.min_distance_m, 3)} | {by} | {r.get('reason') or ''} |")
+    return save_report(out, lines)
 
 
 def write_plots(results: list[dict], out: Path) -> None:
     """plots/mission.png: completion rate, time relative to the fault-free mission and the
     waypoint errors, per fault, recovery beside baseline."""
-    plots = out / "plots"
-    plots.mkdir(parents=True, exist_ok=True)
+    plots = plots_dir(out)
     reference = fault_free_times(results)
-    faults = [f for f in FAULTS if any(r["fault"] == f for r in results)]
+    faults = faults_run(results)
     fig, (rate_ax, time_ax, error_ax) = plt.subplots(1, 3, figsize=(15, 4.2))
     width = 0.38
     for k, mode in enumerate(Mode):

@@ -7,6 +7,7 @@ injected with the real service (``rosservice call``) before Faulty starts.
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import json
 import random
@@ -16,7 +17,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 from pathlib import Path
+from typing import Generic, TypeVar
 
+from rason.inspector.main import InspectorParams
 from rason.process.harness import HarnessError, RosHarness, echo_line
 from rason_diagnosis.drivers import SIM, Wiring
 from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
@@ -145,7 +148,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                        drivers=wiring.drivers.value, vision=wiring.vision,
                        out_dir=str(out_dir), hosts=hosts or bool(cuts),
                        cuts=[str(c) for c in cuts])
-    started = time.monotonic()
+    clock = WallClock()
     with contextlib.ExitStack() as stack:
         network = stack.enter_context(CaseStudyLan(relay_port=inspector_port)) \
             if result.hosts else None
@@ -161,19 +164,18 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                 _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor,
                      network, cuts, world or world_file(), wiring, colours)
                 if hold is not None:
-                    _conclude(result, started)
+                    _conclude(result, clock.stop())
                     hold(result)
         except HarnessError as err:
             result.error = str(err).splitlines()[0]
-    if not result.wall_s:   # else concluded before the hold
-        _conclude(result, started)
+    _conclude(result, clock.stop())   # the wall time stays the one taken before a hold
     (out_dir / "result.json").write_text(result.to_json())
     return result
 
 
-def _conclude(result: RunResult, started: float) -> None:
-    """The result's wall time (since `started`, a monotonic time) and verdict."""
-    result.wall_s = round(time.monotonic() - started, 1)
+def _conclude(result: RunResult, wall_s: float) -> None:
+    """The result's wall time and verdict."""
+    result.wall_s = wall_s
     result.correct = result.diagnosis == result.expected and not result.error
 
 
@@ -272,6 +274,70 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
     except Exception as err:
         say(echo, f"[demo] could not draw the run picture: {err}")
     monitor.close()
+
+
+@dataclass
+class WallClock:
+    """A run's wall-clock seconds, on the monotonic clock; stopped by its first reading (the one
+    before ``--hold``, which the result keeps however long the hold lasts)."""
+
+    started: float = field(default_factory=time.monotonic)
+    stopped: float | None = None
+
+    def stop(self) -> float:
+        """The seconds from the start to the first call, rounded to 0.1 s."""
+        if self.stopped is None:
+            self.stopped = round(time.monotonic() - self.started, 1)
+        return self.stopped
+
+
+def add_watch_options(parser: argparse.ArgumentParser, what: str) -> None:
+    """The options of the mind inspector's watch over a run: ``--inspector/--no-inspector``,
+    ``--inspector-port`` and ``--hold``; `what` names the run in their help ("run", "mission")."""
+    parser.add_argument("--inspector", action=argparse.BooleanOptionalAction, default=True,
+                        help=f"watch the {what} in the mind inspector (web page; default: on)")
+    parser.add_argument("--inspector-port", type=int, default=InspectorParams().port,
+                        help="the inspector's port on 127.0.0.1 (0: any free port)")
+    parser.add_argument("--hold", action="store_true",
+                        help=f"after the result, keep every node up (the inspector still serves "
+                             f"the {what}'s history) until Ctrl-C")
+
+
+R = TypeVar("R")
+
+
+@dataclass
+class Watch(Generic[R]):
+    """What :func:`add_watch_options`' options ask of one run: the inspector's port (None: no
+    inspector), and the result block, printed once: before the hold with ``--hold`` (while every
+    node still runs), else when the run is over."""
+
+    port: int | None
+    hold: bool
+    show: Callable[[R], None]   # prints the result block
+    run: str = "demo"           # the tag of the hold's lines
+    printed: bool = False
+
+    @classmethod
+    def of(cls, args: argparse.Namespace, show: Callable[[R], None], run: str) -> Watch[R]:
+        """The watch the parsed options `args` ask for."""
+        return cls(port=args.inspector_port if args.inspector else None, hold=args.hold,
+                   show=show, run=run)
+
+    def hold_callback(self) -> Callable[[R], None] | None:
+        """The ``hold`` argument of the run function: None without ``--hold``."""
+        return self.print_then_hold if self.hold else None
+
+    def print_then_hold(self, result: R) -> None:
+        """Print the result block, then hold until Ctrl-C."""
+        self.print_once(result)
+        hold_until_interrupted(self.run)
+
+    def print_once(self, result: R) -> None:
+        """Print the result block unless it was printed already."""
+        if not self.printed:
+            self.printed = True
+            self.show(result)
 
 
 def hold_until_interrupted(run: str = "demo") -> None:
