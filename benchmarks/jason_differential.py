@@ -120,6 +120,8 @@ KQML_DEEDS = (
     ".send(R, askOne, hello(XV), AV); .print(told, AV)", ".send(R, askAll, hello(XV), LV); .print(LV)",
     ".send(R, tellHow, \"+!extra(N) <- .print(extra, N).\"); .send(R, askOne, v(_), _); "
     ".send(R, achieve, extra(V))",
+    ".send(R, tellHow, \"@nest +!nest(N) <- !in(N). { +!in(M) <- .print(nest, M, N). }\"); "
+    ".send(R, askOne, v(_), _); .send(R, achieve, nest(V))",
     ".send(R, askOne, b(XV)[source(SV)], AV); .print(src, AV)",
     # a session of the answerer (a plan with inner plans for told beliefs, waiting <: false):
     # notes and the close reach it through branches of its intention

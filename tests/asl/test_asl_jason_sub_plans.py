@@ -215,3 +215,45 @@ def test_the_agents_library_knows_the_keys_of_inner_belief_plans() -> None:
     lib.remove_by_label(g.label_name())
     assert lib.branch_keys == set()
 
+
+# ---------------------------------------------------------------- plans told and asked
+TUTOR = """\
+!teach.
++!teach <- .send(learner, tellHow,
+                 "@hail +!hail(N) <- !word(N); .print(done). { +!word(K) <- .print(hail, K, N). }");
+           .send(learner, tellHow, "+!wave <- !arm. { +!arm <- .print(waving). }");
+           .wait(200); .send(learner, achieve, hail(4)); .send(learner, achieve, wave);
+           .wait(200); .send(learner, achieve, show).
+"""
+
+LEARNER = """\
++!show <- .list_plans({+!hail(_)}); .list_plans({+!wave}).
+"""
+
+
+def test_a_plan_told_as_text_arrives_with_its_inner_plans_and_the_tellers_source() -> None:
+    # as in Jason: the inner plans come along, the told plan's label names the teller (the
+    # inner ones are the learner's own: source(self)) and no file
+    text = run_agents({"tutor": TUTOR, "learner": LEARNER}, timeout=5.0)
+    out = re.sub(r"p__\d+", "p__N", text)
+    assert sorted(lines(out, "learner")[:3]) == ["done", "hail44", "waving"]   # two intentions
+    listed = out[out.index("[learner] @hail"):]
+    assert listed == (
+        "[learner] @hail[source(tutor)] +!hail(N) {\n"
+        "   <- !word(N); .print(done).\n"
+        "   @p__N[source(self)] +!word(K) <- .print(hail,K,N).\n"
+        "}\n"
+        "[learner] @p__N[source(tutor)] +!wave {\n"
+        "   <- !arm.\n"
+        "   @p__N[source(self)] +!arm <- .print(waving).\n"
+        "}\n")
+
+
+def test_plans_asked_for_come_without_their_inner_plans_as_in_jason() -> None:
+    # Jason's askHow answers with .relevant_plans, whose plan terms have no inner plans: the
+    # asker gets the plan alone, and its !inner finds no plan
+    asker = "!ask.\n+!ask <- .send(tutor, askHow, {+!step(_)}); .wait(200); !step(2).\n"
+    text = run_agents({"tutor": "+!step(N) <- !inner. { +!inner <- .print(inner, N). }\n",
+                       "asker": asker}, timeout=5.0)
+    assert not any(ln.startswith("inner") for ln in lines(text, "asker"))
+    assert any("no relevant plan: +!inner" in ln for ln in lines(text, "asker"))
