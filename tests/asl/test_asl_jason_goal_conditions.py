@@ -48,3 +48,11 @@ def test_a_plan_for_a_belief_event_may_have_a_goal_condition_too() -> None:
     # waits: tests/asl/test_asl_jason_sub_plans.py
     plan = parse_source("+b[source(A)] : ok <: c(A) <- .print(x).\n").plans[0]
     assert str(plan) == "+b[source(A)] : ok <: c(A) <- .print(x)."
+
+
+def test_a_body_that_ends_before_its_condition_waits_in_a_compiled_agent_too() -> None:
+    # the body's last deed runs, then the intention waits; compiled code once read the
+    # intention's state as it was before that deed (an internal error instead of the wait)
+    src = ("!k.\n+!k <- !g; .print(after).\n+!g <: done <- .print(started); !!d.\n"
+           "+!d <- .wait(50); +done.\n")
+    assert lines(run_source(src, timeout=3.0)) == ["started", "after"]

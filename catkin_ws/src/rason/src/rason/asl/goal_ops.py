@@ -100,7 +100,7 @@ class GoalOps:
                     top.stack.pop()
                 i.suspended = None
                 reasoning.clr_int(ag, i)
-                if i.ims and not i.dropped and i.suspended is None:
+                if i.ims and not i.waits():
                     c.running.append(i)
         for i, idx in list(self._goal_positions(pattern, s)):
             self.succeed_at(i, idx)

@@ -164,6 +164,12 @@ class Intention:
         while len(self.ims) > n:
             self.pop()
 
+    def waits(self) -> bool:
+        """Is it out of the running queue's reach now (it waits, or it was dropped)? A call, not
+        an inline test, after whatever may have suspended it: compiled code trusts what a
+        test of ``suspended`` earlier in the same function narrowed it to."""
+        return self.suspended is not None or self.dropped
+
     def top(self) -> IntendedMeans | None:
         return self.ims[-1] if self.ims else None
 

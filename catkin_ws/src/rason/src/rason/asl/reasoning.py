@@ -705,7 +705,7 @@ def exec_int(ag: Agent, i: Intention) -> None:
         return
     if not ims[-1].stack:   # ClrInt only when the top means is finished
         clr_int(ag, i)
-        if not ims or i.suspended is not None or i.dropped:
+        if not ims or i.waits():
             return
     ag.circ.running.append(i)
 
