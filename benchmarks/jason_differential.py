@@ -120,7 +120,13 @@ KQML_DEEDS = (
     ".send(R, askOne, hello(XV), AV); .print(told, AV)", ".send(R, askAll, hello(XV), LV); .print(LV)",
     ".send(R, tellHow, \"+!extra(N) <- .print(extra, N).\"); .send(R, askOne, v(_), _); "
     ".send(R, achieve, extra(V))",
+    ".send(R, tellHow, \"@nest +!nest(N) <- !in(N). { +!in(M) <- .print(nest, M, N). }\"); "
+    ".send(R, askOne, v(_), _); .send(R, achieve, nest(V))",
     ".send(R, askOne, b(XV)[source(SV)], AV); .print(src, AV)",
+    # a session of the answerer (a plan with inner plans for told beliefs, waiting <: false):
+    # notes and the close reach it through branches of its intention
+    ".send(R, achieve, open(1))", ".send(R, tell, note(1, V))",
+    ".send(R, tell, close(1)); .send(R, untell, close(1))",
 )
 
 #: The answerer: what it believes, its rules and how it reacts (it never acts on its own).
@@ -131,6 +137,12 @@ rv(X) :- v(X) & X > 1.
 -hello(N) <- .print(untold, N).
 +!do(N)[source(S)] <- .print(do, N, S).
 +a(N) <- .print(a, N).
++!open(N) <: false <- .print(open, N).
+    {
+    +note(N, X) : X > 2 <- !jot(X).
+    +close(N) <- .print(closed, N); .done.
+    +!jot(Y) <- .print(note, N, Y).
+    }
 """
 
 FRESH = re.compile(r"\b_\d+\w*")

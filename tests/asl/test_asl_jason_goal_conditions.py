@@ -4,10 +4,9 @@ Expected outputs are what a Jason 3.3 build prints for the same programs."""
 
 from __future__ import annotations
 
-import pytest
 from asl_helpers import lines, run_source
 
-from rason.asl.parser import AslSyntaxError, parse_source
+from rason.asl.parser import parse_source
 
 
 def test_a_goal_ends_when_its_condition_holds_done_or_not() -> None:
@@ -44,6 +43,16 @@ def test_a_goal_condition_prints_with_its_plan_but_not_in_plan_terms() -> None:
     assert "<:" not in out[1] and out[1].startswith('{ @gp[source(self),url("file:main.asl")] +!g(')
 
 
-def test_a_goal_condition_belongs_to_an_achievement_goal_plan() -> None:
-    with pytest.raises(AslSyntaxError, match="goal condition"):
-        parse_source("+b <: c <- .print(x).\n")
+def test_a_plan_for_a_belief_event_may_have_a_goal_condition_too() -> None:
+    # as Jason's parser (its contract-net-protocol-er example has one on +cfp); how such a plan
+    # waits: tests/asl/test_asl_jason_sub_plans.py
+    plan = parse_source("+b[source(A)] : ok <: c(A) <- .print(x).\n").plans[0]
+    assert str(plan) == "+b[source(A)] : ok <: c(A) <- .print(x)."
+
+
+def test_a_body_that_ends_before_its_condition_waits_in_a_compiled_agent_too() -> None:
+    # the body's last deed runs, then the intention waits; compiled code once read the
+    # intention's state as it was before that deed (an internal error instead of the wait)
+    src = ("!k.\n+!k <- !g; .print(after).\n+!g <: done <- .print(started); !!d.\n"
+           "+!d <- .wait(50); +done.\n")
+    assert lines(run_source(src, timeout=3.0)) == ["started", "after"]

@@ -9,7 +9,7 @@ import pickle
 import re
 
 import pytest
-from asl_helpers import lines, run_source
+from asl_helpers import lines, run_agents, run_source
 
 from rason.asl.parser import AslSyntaxError, parse_source
 from rason.asl.plans import PlanLibrary
@@ -105,3 +105,155 @@ def test_inner_plans_in_a_namespace_block_are_in_it() -> None:
 def test_inner_plans_must_follow_a_plan(src: str) -> None:
     with pytest.raises(AslSyntaxError):
         parse_source(src)
+
+
+# ---------------------------------------------------------------- inner plans for belief events
+# An external belief event (told, perceived) that an inner plan of a running plan handles makes
+# a branch of that intention: the inner plan runs in a copy of the intention's stack, with the
+# parent means' variables as they are now; the agent's own plans for the event run as well.
+# ``.done`` in the branch ends the parent's goal (or event) in the intention itself.
+
+SHOP = """\
++order(Id, Item)[source(B)] : price(Item, P) <: false <- .send(B, tell, quote(Id, P)).
+  {
+    +pay(Id, Sum) : Sum >= P <- .print("paid ", Sum, " for ", Item); !pack; .print("sent ", Id); .done.
+    +pay(Id, Sum) <- .print("too little for ", Id).
+    +cancel(Id) <- .print("cancelled ", Id); .done.
+    +!pack <- .print("packing ", Item, " of ", B).
+  }
++pay(Id, _) <- .print("payment seen ", Id).
+price(tea, 3).
+price(jam, 5).
+"""
+
+BUYER = """\
+!go.
++!go <- .send(shop, tell, order(1, tea)); .send(shop, tell, order(2, jam)); .wait(300);
+        .send(shop, tell, pay(2, 4)); .wait(100); .send(shop, tell, pay(1, 3)); .wait(100);
+        .send(shop, tell, cancel(2)); .wait(100); .send(shop, achieve, show).
++quote(Id, P) <- .print("quote ", Id, " ", P).
+"""
+
+
+def test_a_told_belief_branches_the_intention_whose_inner_plan_handles_it() -> None:
+    # each order's intention waits (<: false); a payment goes to the inner plans of the order
+    # it names (Id is bound there), the agent's own +pay plan sees it too; an inner plan that
+    # ends without .done ends only its branch (the order still waits: cancel(2) reaches it)
+    shop = SHOP + "+!show <- .findall(I, .intention(I, _), L); .print(L).\n"
+    text = run_agents({"shop": shop, "buyer": BUYER}, timeout=5.0)
+    assert lines(text, "buyer") == ["quote 1 3", "quote 2 5"]
+    assert lines(text, "shop") == [
+        "payment seen 2", "too little for 2", "payment seen 1", "paid 3 for tea",
+        "packing tea of buyer", "sent 1", "cancelled 2",
+        # .done ended both orders' intentions; each branch was an intention (numbers 4, 6, 7)
+        # (Jason 3.3 keeps the ended ones, empty, among its pending intentions: [N,1,2] there)
+        "[8]"]
+    assert "dropwhenreturntohere" not in text
+
+
+WATCHER = """\
+!wait_for(3).
++!wait_for(N) <- !collect(N); .print("collected ", N).
++!collect(N) <- .print("collecting"); .wait(5000); .print("gave up").
+  {
+    +item(K) : .count(item(_), C) & C >= N <- .print("last item ", K); .done.
+  }
+"""
+
+SENDER = """\
+!go.
++!go <- .wait(200); .send(watcher, tell, item(a)); .send(watcher, tell, item(b)); .wait(200);
+        .send(watcher, tell, item(c)).
+"""
+
+
+def test_done_in_a_branch_achieves_the_goal_in_the_intention_it_copies() -> None:
+    # the first two items do not satisfy the inner plan's context: no branch; the third does,
+    # and .done there ends !collect in the waiting intention, which goes on at once
+    text = run_agents({"watcher": WATCHER, "sender": SENDER}, timeout=8.0)
+    assert lines(text, "watcher") == ["collecting", "last item c", "collected 3"]
+
+
+GUARD = """\
+!guard.
++!guard <: false <- .print(guarding); .wait(1000); .print(relieved); .done.
+  {
+    +alarm <- .print(alarm); .wait(3000); .print(still_here).
+  }
++visit[source(A)] <: gone(A) <- .print(visit_from(A)).
++!report <- .findall(s(I, S), .intention(I, S), L); .print(L).
+"""
+
+VISITOR = """\
+!go.
++!go <- .wait(300); .send(guard, tell, alarm); .send(guard, tell, visit); .wait(300);
+        .send(guard, achieve, report); .send(guard, tell, gone(visitor)); .wait(1500);
+        .send(guard, achieve, report).
+"""
+
+
+def test_done_in_the_parent_plan_ends_its_branches_and_a_belief_plan_waits_for_its_condition() -> None:
+    # the alarm's branch still waits when the guard's .done ends the goal: it goes too
+    # (no still_here); the visit's plan waits for its goal condition, then is gone
+    text = run_agents({"guard": GUARD, "visitor": VISITOR}, timeout=8.0)
+    assert lines(text, "guard") == [
+        "guarding", "alarm", "visit_from(visitor)",
+        "[s(4,running),s(2,waiting[reason(wait(2)[time(3000)])]),"
+        "s(3,waiting[reason(wait_goal_condition)]),s(1,waiting[reason(wait(1)[time(1000)])])]",
+        "relieved", "[s(5,running)]"]
+
+
+def test_the_agents_library_knows_the_keys_of_inner_belief_plans() -> None:
+    lib = PlanLibrary()
+    for plan in parse_source("+!g <- !a. { +!a. { +b(X) <- .done. } -c <- .done. +X <- .done. }\n"
+                             "+!h.\n").plans:
+        lib.add(plan)
+    g = lib.plans[0]
+    assert lib.branch_keys == {("+", "", "b", 1, False), ("-", "", "c", 0, False)}
+    assert lib.has_key(("+", "", "b", 1, False)) and not lib.has_key(("+", "", "d", 0, False))
+    assert g.sub_library is not None and g.sub_library.update_plans and not lib.update_plans
+    lib.remove_by_label(g.label_name())
+    assert lib.branch_keys == set()
+
+
+# ---------------------------------------------------------------- plans told and asked
+TUTOR = """\
+!teach.
++!teach <- .send(learner, tellHow,
+                 "@hail +!hail(N) <- !word(N); .print(done). { +!word(K) <- .print(hail, K, N). }");
+           .send(learner, tellHow, "+!wave <- !arm. { +!arm <- .print(waving). }");
+           .wait(200); .send(learner, achieve, hail(4)); .send(learner, achieve, wave);
+           .wait(200); .send(learner, achieve, show).
+"""
+
+LEARNER = """\
++!show <- .list_plans({+!hail(_)}); .list_plans({+!wave}).
+"""
+
+
+def test_a_plan_told_as_text_arrives_with_its_inner_plans_and_the_tellers_source() -> None:
+    # as in Jason: the inner plans come along, the told plan's label names the teller (the
+    # inner ones are the learner's own: source(self)) and no file
+    text = run_agents({"tutor": TUTOR, "learner": LEARNER}, timeout=5.0)
+    out = re.sub(r"p__\d+", "p__N", text)
+    assert sorted(lines(out, "learner")[:3]) == ["done", "hail44", "waving"]   # two intentions
+    listed = out[out.index("[learner] @hail"):]
+    assert listed == (
+        "[learner] @hail[source(tutor)] +!hail(N) {\n"
+        "   <- !word(N); .print(done).\n"
+        "   @p__N[source(self)] +!word(K) <- .print(hail,K,N).\n"
+        "}\n"
+        "[learner] @p__N[source(tutor)] +!wave {\n"
+        "   <- !arm.\n"
+        "   @p__N[source(self)] +!arm <- .print(waving).\n"
+        "}\n")
+
+
+def test_plans_asked_for_come_without_their_inner_plans_as_in_jason() -> None:
+    # Jason's askHow answers with .relevant_plans, whose plan terms have no inner plans: the
+    # asker gets the plan alone, and its !inner finds no plan
+    asker = "!ask.\n+!ask <- .send(tutor, askHow, {+!step(_)}); .wait(200); !step(2).\n"
+    text = run_agents({"tutor": "+!step(N) <- !inner. { +!inner <- .print(inner, N). }\n",
+                       "asker": asker}, timeout=5.0)
+    assert not any(ln.startswith("inner") for ln in lines(text, "asker"))
+    assert any("no relevant plan: +!inner" in ln for ln in lines(text, "asker"))

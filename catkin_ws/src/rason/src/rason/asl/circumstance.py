@@ -20,6 +20,7 @@ from .intentions import (
     Suspension,
     Timer,
     TimerKind,
+    java_map_order,
 )
 from .plans import ACHIEVE, ADD, GOAL_STATE, Trigger
 from .terms import Literal, term_str
@@ -73,7 +74,7 @@ class Circumstance:
         if self.event_waits:
             self.check_event_waits(ev)
         elif (ev.intention is None and not (ev.trigger.is_goal and ev.trigger.op == ADD)
-              and not pl.relevant(ev.trigger)):
+              and not pl.relevant(ev.trigger) and ev.trigger.key not in pl.branch_keys):
             return
         self.events.append(ev)
 
@@ -169,6 +170,35 @@ class Circumstance:
                 out.append(ev.intention)
         return out
 
+    def places(self) -> list[tuple[str, Intention]]:
+        """The intentions as Jason's ``Circumstance.getAllIntentions`` visits them, with their
+        place: the selected event's (SE), the current one (SI) unless it is the same, then those
+        of queued events (E), of held events (PE), waiting for an action (PA), pending (PI:
+        ``.wait``, ask, ``.suspend``, a goal condition) and running (I), each time without the SE
+        and SI intentions. An intention held by ``.suspend`` while waiting for an action is in PA
+        and in PI."""
+        out: list[tuple[str, Intention]] = []
+        se = self.selected_event
+        by_se = se.intention if se is not None else None
+        if by_se is not None:
+            out.append(("SE", by_se))
+        cur = self.current
+        by_si = cur if cur is not by_se else None
+        if by_si is not None:
+            out.append(("SI", by_si))
+
+        def others(place: str, intentions: Any) -> None:
+            out.extend((place, i) for i in intentions
+                       if i is not None and i is not by_se and i is not by_si)
+        others("E", (ev.intention for ev in self.events))
+        others("PE", (held.event.intention
+                      for held in java_map_order(self.pending_events, lambda p: p.key)))
+        pend = [i for i in self.suspended.values() if i is not cur]
+        others("PA", sorted((i for i in pend if i.suspended is Suspension.ACTION), key=lambda i: i.id & 15))
+        others("PI", java_map_order([i for i in pend if i.pi_key is not None], lambda i: i.pi_key))
+        others("I", self.running)
+        return out
+
     def suspend(self, i: Intention, why: Suspension) -> None:
         """``i`` waits (for ``why``) among the suspended intentions."""
         i.suspended = why
@@ -255,7 +285,7 @@ class Circumstance:
         i.pi_key = f"{i.id}/time{int(ms)}"
         # whole milliseconds in the reason, as Jason (its wait time is a long)
         i.wait_reason = Literal("wait", (float(i.id),), (Literal("time", (float(int(ms)),)),))
-        self.push_timer(deadline, TimerKind.WAIT, i)
+        self.push_timer(deadline, TimerKind.WAIT, i, data=i.wait_reason)
         self._goal_waiting(i, i.wait_reason)
 
     def suspend_event_wait(self, i: Intention, trig: Trigger | None, cond: Any,
@@ -305,7 +335,7 @@ class Circumstance:
                 continue
             if i is None or i.id not in self.suspended or i.dropped:   # only .at has no intention
                 continue
-            if kind is TimerKind.WAIT and i.suspended is Suspension.WAIT:
+            if kind is TimerKind.WAIT and i.suspended is Suspension.WAIT and timer.data is i.wait_reason:
                 self.resume(i)
                 did = True
             elif (kind is TimerKind.EVENT_TIMEOUT and i.suspended is Suspension.EVENT_WAIT

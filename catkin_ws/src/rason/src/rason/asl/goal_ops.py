@@ -100,18 +100,21 @@ class GoalOps:
                     top.stack.pop()
                 i.suspended = None
                 reasoning.clr_int(ag, i)
-                if i.ims and not i.dropped and i.suspended is None:
+                if i.ims and not i.waits():
                     c.running.append(i)
         for i, idx in list(self._goal_positions(pattern, s)):
-            self._succeed_at(i, idx)
+            self.succeed_at(i, idx)
 
-    def _succeed_at(self, i: Intention, idx: int) -> None:
+    def succeed_at(self, i: Intention, idx: int) -> None:
         """The goal of ``i``'s ``idx``-th means is achieved: that means and those above go,
         the caller goes on after the deed that posted the goal."""
         ag = self.ag
         c = ag.circ
+        if i.branch_of is not None:
+            c.remove_intention(i)   # a branch of the intention (Jason: dropped, no events)
+            return
         was_current = i is c.current
-        if ag.pl.goal_state_plans:
+        if ag.pl.goal_state_plans and i.ims[idx].trigger.is_goal:
             c.goal_state(i.ims[idx].trigger, "achieved")
             c.goal_state(i.ims[idx].trigger, "finished")
         c.detach(i)
@@ -127,6 +130,12 @@ class GoalOps:
             if i.ims and i.suspended is None:
                 c.running.append(i)
 
+    def drop_branches(self, i: Intention) -> None:
+        """The branches of ``i`` (``reasoning.branch_for_update``) go, without events."""
+        for _place, other in self.ag.circ.places():
+            if other.branch_of is i:
+                self.ag.circ.remove_intention(other)
+
     def clear_satisfied_goals(self) -> None:
         """Jason 3's ClrSatInt: each goal whose plan has a goal condition (``<:``) that holds
         now (with the bindings the plan started with) is achieved, done or not."""
@@ -139,7 +148,7 @@ class GoalOps:
                 if im.trigger_u is None:
                     continue
                 for _ in ag.solve(im.plan.goal_condition, im.trigger_u, i):
-                    self._succeed_at(i, idx)
+                    self.succeed_at(i, idx)
                     break
                 else:
                     continue

@@ -18,16 +18,19 @@ _ids = itertools.count(1)
 class Event:
     """A triggering event; ``intention`` is None for external events."""
 
-    __slots__ = ("fail_target", "intention", "reply", "trigger")
+    __slots__ = ("fail_target", "intention", "option", "reply", "trigger")
 
     def __init__(self, trigger: Trigger, intention: Intention | None = None,
-                 fail_target: int | None = None, reply: Any = None) -> None:
+                 fail_target: int | None = None, reply: Any = None,
+                 option: tuple[Plan, dict] | None = None) -> None:
         self.trigger = trigger
         self.intention = intention
         # for +?g events created to answer an askOne: the question message
         self.reply = reply
         # for -!g events: index in the intention stack of the +!g means that failed
         self.fail_target = fail_target
+        #: the plan and unifier chosen already (the event of a branch, Jason's Event.option)
+        self.option = option
 
     def __repr__(self) -> str:
         return str(self.trigger)
@@ -119,8 +122,8 @@ class Suspension(Enum):
 class Intention:
     """A stack of intended means; ``ims[-1]`` is the top."""
 
-    __slots__ = ("atomic_count", "dropped", "fork", "id", "ims", "pi_key", "reply", "sus_ia",
-                 "suspended", "wait_elapsed", "wait_reason")
+    __slots__ = ("atomic_count", "branch_of", "dropped", "fork", "id", "ims", "pi_key", "reply",
+                 "sus_ia", "suspended", "wait_elapsed", "wait_reason")
 
     def __init__(self, ident: int | None = None, reply: Any = None) -> None:
         self.id = ident if ident is not None else next(_ids)
@@ -142,6 +145,9 @@ class Intention:
         self.wait_elapsed: Any = None
         # a branch of ``.fork``: the fork it belongs to and its depth when forked, else None
         self.fork: ForkBranch | None = None
+        #: a branch made for an external belief event that a sub-plan of this intention's
+        #: plans handles: the intention it copies (Jason's ``gIntention``), else None
+        self.branch_of: Intention | None = None
 
     def push(self, im: IntendedMeans) -> None:
         self.ims.append(im)
@@ -157,6 +163,12 @@ class Intention:
     def truncate(self, n: int) -> None:
         while len(self.ims) > n:
             self.pop()
+
+    def waits(self) -> bool:
+        """Is it out of the running queue's reach now (it waits, or it was dropped)? A call, not
+        an inline test, after whatever may have suspended it: compiled code trusts what a
+        test of ``suspended`` earlier in the same function narrowed it to."""
+        return self.suspended is not None or self.dropped
 
     def top(self) -> IntendedMeans | None:
         return self.ims[-1] if self.ims else None

@@ -636,8 +636,6 @@ class _ToAst:
 
     def plan(self, meta: Any, c: builtins.list) -> tuple:
         label, trigger, context, goal_condition, body = c
-        if goal_condition is not None and not (trigger.op == ADD and trigger.type == ACHIEVE):
-            raise _SemErr(meta, "a goal condition (<:) belongs to a +!g plan")
         # Jason's code_line: the label's line, else that of what follows the trigger
         line = meta.line
         if label is None:

@@ -79,6 +79,11 @@ _PLAIN_KINDS = frozenset({K_ACHIEVE, K_ACHIEVE_NEW, K_ADD_BEL, K_DEL_BEL, K_DEL_
                           K_ADD_BEL_NEW, K_DEL_BEL_NEW, K_ACTION})
 
 
+def is_update(t: Trigger) -> bool:
+    """Is ``t`` a belief event, ``+b`` or ``-b`` (Jason's ``Trigger.isUpdate``)?"""
+    return t.type == BELIEF and (t.op == ADD or t.op == DEL)
+
+
 class Deed:
     """One formula of a plan body, with the source line it came from.
 
@@ -329,6 +334,12 @@ def named_plan(plan: Plan) -> Plan:
     return named
 
 
+def _for_update(plan: Plan) -> bool:
+    """Is ``plan`` for a belief event of a given literal (not ``+X``)? Those make a library
+    ``update_plans`` (Jason counts no plan with a variable trigger there)."""
+    return is_update(plan.trigger) and not isinstance(plan.trigger.literal, (Var, AnnotVar, NsLit))
+
+
 class PlanLibrary:
     """Plans indexed by trigger (operator, type, functor, arity) in source order."""
 
@@ -346,10 +357,22 @@ class PlanLibrary:
         self.goal_state_plans = False
         #: some plan has a goal condition (``<:``): intentions are checked every cycle
         self.goal_condition_plans = False
+        #: some plan of this library is for a belief event (``+b``/``-b``, not a variable):
+        #: for sub-plans, an intention running their parent is interested in external belief
+        #: events (Jason's ``hasPlansForUpdateEvents``)
+        self.update_plans = False
+        #: in the agent's own library: the trigger keys of the sub-plans for belief events, at
+        #: any depth; an external event of such a key is kept even when no plan of the agent's
+        #: own is relevant for it (an intention may branch for it, see ``reasoning``)
+        self.branch_keys: set[tuple] = set()
 
     def add(self, plan: Plan, front: bool = False) -> None:
         scoped = self.father is not None or plan.sub_plans
         plan = self._scoped(plan) if scoped else named_plan(plan)
+        if _for_update(plan):
+            self.update_plans = True
+        if plan.sub_library is not None and self.father is None:
+            plan.sub_library.collect_update_keys(self.branch_keys)
         if front:
             self.plans.insert(0, plan)
             self._rebuild()
@@ -381,6 +404,15 @@ class PlanLibrary:
         plan.scope = self if self.father is not None else None
         return plan
 
+    def collect_update_keys(self, keys: set[tuple]) -> None:
+        """Add to ``keys`` the trigger keys of this library's plans for belief events and of
+        those of every library inside it."""
+        for p in self.plans:
+            if _for_update(p):
+                keys.add(p.trigger.key)
+            if p.sub_library is not None:
+                p.sub_library.collect_update_keys(keys)
+
     def replace(self, k: int, plan: Plan) -> None:
         """Put ``plan`` in place of the ``k``-th plan (same position)."""
         self.plans[k] = plan
@@ -397,6 +429,12 @@ class PlanLibrary:
         self.var_plans = []
         self.goal_state_plans = any(p.trigger.op == GOAL_STATE for p in self.plans)
         self.goal_condition_plans = any(p.goal_condition is not None for p in self.plans)
+        self.update_plans = any(_for_update(p) for p in self.plans)
+        self.branch_keys = set()
+        if self.father is None:
+            for p in self.plans:
+                if p.sub_library is not None:
+                    p.sub_library.collect_update_keys(self.branch_keys)
         for p in self.plans:
             if isinstance(p.trigger.literal, (Var, AnnotVar, NsLit)):
                 self.var_plans.append(p)
@@ -417,8 +455,8 @@ class PlanLibrary:
         return lst or []
 
     def has_key(self, key: tuple) -> bool:
-        """True if some plan may be relevant for a trigger with this key."""
-        return key in self.by_key or bool(self.var_plans)
+        """True if some plan may be relevant for a trigger with this key (a sub-plan too)."""
+        return key in self.by_key or bool(self.var_plans) or key in self.branch_keys
 
     def has_candidate(self, op: str, type_: str, lit: Any) -> bool:
         return bool(self.relevant(Trigger(op, type_, lit)))
@@ -438,3 +476,11 @@ def plan_term_trigger(t: PlanTerm) -> Trigger | None:
     if isinstance(d.extra, Trigger):
         return d.extra
     return None
+
+
+#: the plan Jason(ER) puts under the sub-plan that handles a belief event in a branch of an
+#: intention (``reasoning.branch_for_update``): when that sub-plan ends, its first deed goes
+#: as the deed of a finished subgoal does, and the second drops the branch
+BRANCH_JOIN = Plan(None, Trigger(ADD, BELIEF, Literal("artificial_plan")), None,
+                   (Deed(K_INTERNAL, Literal(".print", (Literal("dropwhenreturntohere"),)), 0),
+                    Deed(K_INTERNAL, Literal(".drop_intention"), 0)), in_file=False)

@@ -15,6 +15,7 @@ from .logic import compile_context, eval_rel, first_solution, query_bb, solve
 from .plans import (
     ACHIEVE,
     ADD,
+    BRANCH_JOIN,
     DEL,
     GOAL_STATE,
     K_ACHIEVE,
@@ -222,6 +223,11 @@ def _applicable(ag: Agent, lit: Any, plan: Plan, i: Intention | None = None) -> 
     u = _relevant_unifier(ag, lit, plan, i)
     if u is None:
         return None
+    return _context_holds(ag, plan, u)
+
+
+def _context_holds(ag: Agent, plan: Plan, u: dict) -> dict | None:
+    """The first solution of the plan's context extending ``u``, or None."""
     ctx = plan.context
     if ctx is None:
         return u
@@ -235,10 +241,13 @@ def _applicable(ag: Agent, lit: Any, plan: Plan, i: Intention | None = None) -> 
         return None
 
 
-def _relevant_unifier(ag: Agent, lit: Any, plan: Plan, i: Intention | None = None) -> dict | None:
-    """The unifier under which the plan's trigger matches the event's literal, or None; a
-    sub-plan starts from the unifier its parent plan's means in ``i`` started with."""
-    u: dict = {} if plan.scope is None or i is None else _scope_unifier(plan, i)
+def _relevant_unifier(ag: Agent, lit: Any, plan: Plan, i: Intention | None = None,
+                      start: dict | None = None) -> dict | None:
+    """The unifier under which the plan's trigger matches the event's literal, or None; it
+    extends ``start`` when given, else a sub-plan starts from the unifier its parent plan's
+    means in ``i`` started with."""
+    u: dict = start if start is not None else (
+        {} if plan.scope is None or i is None else _scope_unifier(plan, i))
     args = plan.trigger_args
     if args is not None and type(lit) is Literal:
         # same key as the event (RelPl): only the arguments remain to unify
@@ -355,6 +364,49 @@ def _context_solutions(ag: Agent, plan: Plan, u: dict) -> list[dict]:
         return []
 
 
+def branch_for_update(ag: Agent, ev: Event) -> None:
+    """Jason(ER)'s branches (``TransitionSystem.applySelEv``): for an external belief event,
+    each intention with a means whose plan has a sub-plan applicable for it (the means tried
+    from the top of the stack, the sub-plan's context under the means' unifier as it is now)
+    gets a branch: a new intention with the same stack, ``BRANCH_JOIN`` above it and the
+    event, its plan chosen already, queued last. The intention itself goes on as before;
+    ``.done`` in the branch ends the intention's goal (``stdlib.goals.done``)."""
+    trig = ev.trigger
+    lit = trig.literal
+    if not ((type(lit) is Literal and lit.known_ground) or is_ground(lit)):
+        lit = rename_vars(lit, {})
+        trig = Trigger(trig.op, trig.type, lit)
+    for _place, i in ag.circ.places():
+        if i.branch_of is not None or not any(im.plan.sub_library is not None
+                                              and im.plan.sub_library.update_plans for im in i.ims):
+            continue
+        found = _branch_option(ag, i, lit, trig)
+        if found is None:
+            continue
+        branch = Intention(next(ag.circ.intention_ids))
+        branch.ims = list(i.ims)   # the same means (Jason's Intention.copyTo)
+        branch.atomic_count = i.atomic_count
+        branch.branch_of = i
+        branch.push(IntendedMeans(BRANCH_JOIN, trig, dict(i.ims[-1].u)))
+        branch.suspended = Suspension.EVENT
+        ag.circ.events.append(Event(trig, branch, option=found))
+
+
+def _branch_option(ag: Agent, i: Intention, lit: Any, trig: Trigger) -> tuple[Plan, dict] | None:
+    """The first sub-plan of a means of ``i`` (from the top) applicable for the belief event
+    ``trig`` under that means' unifier, with its unifier; None when there is none."""
+    for im in reversed(i.ims):
+        lib = im.plan.sub_library
+        if lib is None:
+            continue
+        for plan in lib.relevant(trig):
+            u = _relevant_unifier(ag, lit, plan, None, dict(im.u))
+            sol = None if u is None else _context_holds(ag, plan, u)
+            if sol is not None:
+                return plan, sol
+    return None
+
+
 def handle_event(ag: Agent, ev: Event) -> bool:
     """Find a plan for the event and create/extend an intention.
 
@@ -363,6 +415,10 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     trig = ev.trigger
     pl = ag.pl
     key = trig.key
+    if ev.option is not None:   # the event of a branch: its plan is chosen
+        return _intend(ag, ev, ev.option[0], ev.option[1], True)
+    if pl.branch_keys and ev.intention is None and key in pl.branch_keys:
+        branch_for_update(ag, ev)
     # RelPl (rel_pl, inlined): the plans of the trigger's key, unless some plan has a
     # variable trigger (or the trigger is a variable)
     i = ev.intention
@@ -387,8 +443,15 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     opt = sel_appl(ag, lit, relevant, ev)
     if opt is None:
         return _no_plan(ag, trig, i, "applicable")
-    plan, u = opt
-    if pl.goal_state_plans and trig.op == ADD and trig.type == ACHIEVE:
+    return _intend(ag, ev, opt[0], opt[1], ground)
+
+
+def _intend(ag: Agent, ev: Event, plan: Plan, u: dict, ground: bool) -> bool:
+    """AddIM: the means of ``plan`` under ``u`` for the event, on top of the event's
+    intention or in a new one; the intention runs."""
+    trig = ev.trigger
+    i = ev.intention
+    if ag.pl.goal_state_plans and trig.op == ADD and trig.type == ACHIEVE:
         ag.circ.goal_state(trig, "executing")   # Jason's applyAddIM
     im = IntendedMeans(plan, ev.trigger, u, ev.fail_target, not ground)
     if i is None:
@@ -642,7 +705,7 @@ def exec_int(ag: Agent, i: Intention) -> None:
         return
     if not ims[-1].stack:   # ClrInt only when the top means is finished
         clr_int(ag, i)
-        if not ims or i.suspended is not None or i.dropped:
+        if not ims or i.waits():
             return
     ag.circ.running.append(i)
 
@@ -1007,9 +1070,10 @@ def clr_int(ag: Agent, i: Intention) -> None:
     """ClrInt: pop finished intended means, passing results back to the caller's goal."""
     ims = i.ims
     while ims and not ims[-1].stack:
-        if ims[-1].trigger_u is not None and ims[-1].is_goal_add:
-            # Jason 3's goal condition: the goal is achieved when it holds, not when the
-            # plan is done; until then the intention waits (see Agent.clear_satisfied_goals)
+        if ims[-1].trigger_u is not None:
+            # Jason 3's goal condition: the goal (or belief event) is achieved when it holds,
+            # not when the plan is done; until then the intention waits
+            # (see GoalOps.clear_satisfied_goals)
             ag.circ.suspend(i, Suspension.GOAL_CONDITION)
             i.pi_key = str(i.id)   # pending (Jason's PI), under the intention's number
             return

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import copy
 import re
 from typing import Any
 
 from ..ia import SUSPEND, FailGoal, IAContext, IAError, internal_action, wrong_arg
 from ..intentions import java_map_order
 from ..parser import AslSyntaxError, parse_source, parse_term
-from ..plans import Plan, PlanTerm, Trigger, plan_term_trigger
+from ..plans import ANON_LABEL, Plan, PlanTerm, Trigger, plan_term_trigger
 from ..terms import (
     AnnotVar,
     ListTerm,
@@ -394,12 +395,14 @@ def _label_sources(label: Literal | Var | None) -> list:
 
 
 def _with_label_sources(p: Plan, sources: list) -> Plan:
-    """``p`` with exactly these label sources."""
-    assert isinstance(p.label, Literal)      # plans in the library are labelled when added
-    rest = tuple(a for a in p.label.annots if not (isinstance(a, Literal) and a.functor == "source"))
+    """``p`` (its goal condition and sub-plans too) with exactly these label sources; an
+    unlabelled plan gets an anonymous label, named when the library adds it."""
+    old = p.label if isinstance(p.label, Literal) else Literal(ANON_LABEL)
+    rest = tuple(a for a in old.annots if not (isinstance(a, Literal) and a.functor == "source"))
     srcs = [Literal("source", (s,)) for s in sources]
-    label = Literal(p.label.functor, p.label.args, merge_annots(rest, srcs))
-    return Plan(label, p.trigger, p.context, p.body, p.line, p.src, in_file=p.in_file)
+    made = copy.copy(p)
+    made.label = Literal(old.functor, old.args, merge_annots(rest, srcs))
+    return made
 
 
 @internal_action(".stopMAS", arity=(0, 2))
@@ -427,7 +430,9 @@ def _to_plan(t: Any) -> Any:
             raise IAError(str(e), "internal_action") from None
         if len(src.plans) != 1:
             raise IAError(f"not a plan: {t}", "internal_action")
-        return src.plans[0]
+        made = copy.copy(src.plans[0])
+        made.in_file = False     # as Jason's: a plan read from a string names no file
+        return made
     if isinstance(t, PlanTerm) and t.plan is not None:
         return t.plan
     raise wrong_arg(f"The term '{term_str(t)}' ({type(t).__name__}) can not be used as a plan for .add_plan.")
@@ -450,7 +455,7 @@ def add_plan(ctx: IAContext, args: list) -> bool:
             if q.label is not None and src not in _label_sources(q.label):
                 pl.replace(same, _with_label_sources(q, [*_label_sources(q.label), src]))
             continue
-        if isinstance(p.label, Literal) and src != SELF_ATOM:
+        if src != SELF_ATOM:
             p = _with_label_sources(p, [src])
         pl.add(p, front=front)
     return True

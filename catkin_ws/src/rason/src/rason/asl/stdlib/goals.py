@@ -15,38 +15,9 @@ from ..intentions import (
     java_map_order,
     unifier_term,
 )
-from ..plans import ACHIEVE, ADD, K_INTERNAL, Deed, Plan, Trigger, deed_str, map_deeds
+from ..plans import ACHIEVE, ADD, BRANCH_JOIN, K_INTERNAL, Deed, Plan, Trigger, deed_str, map_deeds
 from ..terms import Literal, PlanTerm, Var, make_list, term_str
 from ..unify import rename_vars, resolve, unify
-
-
-def _places(ag: Any) -> list:
-    """The intentions as Jason's ``Circumstance.getAllIntentions`` visits them, with their
-    place: the selected event's (SE), the current one (SI) unless it is the same, then those of
-    queued events (E), of held events (PE), waiting for an action (PA), pending (PI: ``.wait``,
-    ask, ``.suspend``) and running (I), each time without the SE and SI intentions. An
-    intention held by ``.suspend`` while waiting for an action is in PA and in PI."""
-    out: list = []
-    se = ag.circ.selected_event
-    by_se = se.intention if se is not None else None
-    if by_se is not None:
-        out.append(("SE", by_se))
-    cur = ag.circ.current
-    by_si = cur if cur is not by_se else None
-    if by_si is not None:
-        out.append(("SI", by_si))
-
-    def others(place: str, intentions: Any) -> None:
-        out.extend((place, i) for i in intentions
-                   if i is not None and i is not by_se and i is not by_si)
-    others("E", (ev.intention for ev in ag.circ.events))
-    others("PE", (held.event.intention
-                  for held in java_map_order(ag.circ.pending_events, lambda p: p.key)))
-    pend = [i for i in ag.circ.suspended.values() if i is not cur]
-    others("PA", sorted((i for i in pend if i.suspended is Suspension.ACTION), key=lambda i: i.id & 15))
-    others("PI", java_map_order([i for i in pend if i.pi_key is not None], lambda i: i.pi_key))
-    others("I", ag.circ.running)
-    return out
 
 
 def im_term(im: Any, through: dict | None = None) -> Literal:
@@ -88,7 +59,7 @@ def _intend_solutions(ctx: IAContext, pattern: Any, int_id: Any, with_suspended:
     """jason.stdlib.intend.allIntentions: one solution per ``+!G`` intended means of each
     visited intention, top of its stack first (``int_id``: unified with the intention's
     number). An intention held by ``.suspend`` counts for ``.desire`` but not for ``.intend``."""
-    for _place, i in _places(ctx.ag):
+    for _place, i in ctx.ag.circ.places():
         if i.sus_ia and not with_suspended:
             continue
         for im in reversed(i.ims):
@@ -170,7 +141,7 @@ def intention(ctx: IAContext, args: list) -> Any:
         return s2 if ok else False
 
     def gen():
-        for place, i in _places(ag):
+        for place, i in ag.circ.places():
             state = ("suspended" if i.sus_ia else "waiting") if place == "PI" else _STATE[place]
             s2 = dict(ctx.s)
             if not (unify(args[0], float(i.id), s2) and unify(args[1], _state_term(ag, place, i, state), s2)):
@@ -261,7 +232,7 @@ def suspended(ctx: IAContext, args: list) -> Any:
     an action (R = ``act``) or pending in PI (R = its reason: ``suspend_ia`` for ``.suspend``)."""
     if not isinstance(args[0], Literal):
         raise wrong_arg("first argument must be a literal")
-    for place, i in _places(ctx.ag):
+    for place, i in ctx.ag.circ.places():
         if place not in ("PA", "PI"):
             continue
         s2 = has_goal(i, args[0], ctx.s)
@@ -353,28 +324,55 @@ class ForkTerm:
 
 @internal_action(".done", arity=(0, 1))
 def done(ctx: IAContext, args: list) -> Any:
-    """``.done`` / ``.done(G)`` (Jason 3.3): the goal of the current means, or the goal G of the
-    current intention, is achieved now: its means go and its caller goes on after it. As in
-    Jason, when the current intention has no such goal, the intention stays suspended."""
+    """``.done`` / ``.done(G)`` (Jason 3.3): the goal of the current means (or of the event
+    whose plan it runs), or the goal G, is achieved now: its means and those above it go and
+    its caller goes on after it; the branches of the intention (``reasoning.branch_for_update``)
+    go too. In a branch, ``.done`` means the goal of the means under the branch's join and
+    ends it in the intention the branch copies, which goes on; the branch ends. As in Jason,
+    when the current intention has no such goal, it stays suspended."""
     if args and not isinstance(args[0], (Literal, Var)):
         raise wrong_arg("first argument must be a literal")
     ag, i, im = ctx.ag, ctx.intention, ctx.im
     if i is None or im is None:
         raise IAError("'.done' runs only in a plan body")
     if args:
-        op, typ, pattern = ADD, ACHIEVE, args[0]
+        goal = Trigger(ADD, ACHIEVE, args[0])
+    elif i.branch_of is not None:
+        goal = _under_join(i).trigger
     else:
-        op, typ, pattern = im.trigger.op, im.trigger.type, im.trigger.literal
-    for idx in range(len(i.ims) - 1, -1, -1):
-        t = i.ims[idx].trigger
-        if t.op == op and t.type == typ and unify(pattern, t.literal, dict(ctx.s), ag):
-            break
-    else:
+        goal = im.trigger
+    idx = _means_of(ag, i, goal, ctx.s)
+    if idx is None:
         return SUSPEND
+    if i.branch_of is not None:
+        ag.circ.remove_intention(i)
+        copied = i.branch_of
+        at = None if copied.dropped else _means_of(ag, copied, goal, ctx.s)
+        if at is not None:
+            ag.goals.succeed_at(copied, at)
+        return True
     if ag.pl.goal_state_plans:
         ag.circ.goal_state(i.ims[idx].trigger, "achieved")
         ag.circ.goal_state(i.ims[idx].trigger, "finished")
     i.truncate(idx)
     if i.ims and i.ims[-1].stack:
         i.ims[-1].stack.pop()     # the deed that posted the goal
+    ag.goals.drop_branches(i)
     return True
+
+
+def _under_join(branch: Intention) -> IntendedMeans:
+    """The means of a branch just under its join (the top of the intention it copies)."""
+    for k in range(len(branch.ims) - 1, 0, -1):
+        if branch.ims[k].plan is BRANCH_JOIN:
+            return branch.ims[k - 1]
+    raise IAError("a branch without its join")
+
+
+def _means_of(ag: Any, i: Intention, goal: Trigger, s: dict) -> int | None:
+    """The index of the topmost means of ``i`` whose trigger ``goal`` unifies with, or None."""
+    for idx in range(len(i.ims) - 1, -1, -1):
+        t = i.ims[idx].trigger
+        if t.op == goal.op and t.type == goal.type and unify(goal.literal, t.literal, dict(s), ag):
+            return idx
+    return None
