@@ -32,14 +32,20 @@ INSPECTOR_LINE = r"\[(?:demo|mission)\] mind inspector: (http://127\.0\.0\.1:\d+
 HOLDING_LINE = r"\[(?:demo|mission)\] holding"
 
 
+def _default_sigint() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 class RunProcess:
     """A run (``python -m rason_diagnosis ...``) with its stdout read line by line in a thread."""
 
     def __init__(self, cmd: Sequence[str]) -> None:
         self.lines: list[str] = []
         self._queue: queue.Queue[str | None] = queue.Queue()
+        # Ctrl-C as from a terminal: a suite started in the background (`cmd &` without job
+        # control) hands its children SIGINT ignored, and `end()` would then wait its timeout
         self.proc = subprocess.Popen(list(cmd), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                     text=True)
+                                     text=True, preexec_fn=_default_sigint)
         threading.Thread(target=self._read, daemon=True).start()
 
     def _read(self) -> None:
