@@ -21,7 +21,7 @@ from jason_msgs.msg import AgentMessage
 from polling import wait_until
 
 from rason.process.harness import Process, RosHarness
-from rason.ros.auth import MessageAuth, SignedFields, load_key, new_nonce
+from rason.ros.auth import START_GRACE, MessageAuth, SignedFields, load_key, new_nonce
 
 pytestmark = pytest.mark.ros
 
@@ -72,6 +72,10 @@ def test_a_captured_signed_achieve_is_refused_after_the_receiver_restarts(
     pub.publish(captured)
     first.wait_for_line(r"\[victim\] went 1 for boss", timeout=30)
     first.stop()                                    # restarted well within the 120 s window
+    # a restarted node trusts what was sent up to START_GRACE before its first check (clock
+    # skew between hosts): the replay is refused once the restart is later than that
+    later = captured.stamp + rospy.Duration(START_GRACE + 0.2)
+    wait_until(lambda: rospy.Time.now() > later, "the restart after START_GRACE", timeout=10)
     second = victim()
     pub.publish(signed_achieve(auth, "go(2)"))      # a fresh one gets in
     second.wait_for_line(r"\[victim\] went 2 for boss", timeout=30)
