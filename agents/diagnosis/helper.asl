@@ -63,6 +63,9 @@ usablePart(R, D, Dp, C, _)
 sightedAt(R, H) :- seen_at(R, H)[source(percept)].
 sightedAt(R, H) :- not seen_at(R, _)[source(percept)] & sighting(R, H).
 
+// Faulty is in view now, or was sighted during this search: a careful search stops looking.
+inView(R) :- sightedAt(R, _) | sees(R, _, _).
+
 // Centred (the thesis: |bearing| < centerThreshold). Once Helper has turned to a heading, the
 // bearing is read in its odometry frame, where a frame taken while turning (or late) is as good
 // as one taken at rest; before that (Helper at rest, not swept), on the percept as the thesis.
@@ -220,7 +223,7 @@ currTerm(lost, currLost) :- true.
 // A careful search with Looks looks left: Faulty in view, the search goes on from here
 // (findRobot); else a look here, then a step on to the next, unless this was the last look.
 +!lookAround(Robot, _)
-   : sightedAt(Robot, _) | sees(Robot, _, _).
+   : inView(Robot).
 +!lookAround(Robot, Looks)
    : searchSide(Robot, Dir) & lookStep(D) & settleTime(S) & lookWait(W)
    <- .time(Now);
@@ -229,7 +232,7 @@ currTerm(lost, currLost) :- true.
       !stepOn(Robot, Dir * D, Looks).
 
 +!stepOn(Robot, _, _)
-   : sightedAt(Robot, _) | sees(Robot, _, _).
+   : inView(Robot).
 +!stepOn(Robot, _, 1)
    <- +fullTurn(Robot).
 +!stepOn(Robot, Turn, Looks)
