@@ -64,10 +64,10 @@ def test_a_flood_under_new_sender_names_writes_few_short_warnings(ros: RosHarnes
             pub.publish(AgentMessage(sender=f"flood_{sent}", receiver="calm",
                                      performative="tell", content=f"broken({sent}"))
             sent += 1
-        time.sleep(0.01)
+        time.sleep(0.01)                         # the flood's pace
     huge = "h" * 1_000_000                       # and one huge name with huge content
     pub.publish(AgentMessage(sender=huge, receiver="calm", performative="tell", content=huge))
-    time.sleep(3.0)
+    time.sleep(3.0)                              # the rate limit's window passes (under test)
     pub.publish(AgentMessage(sender="last", receiver="calm", performative="tell",
                              content="broken("))
     elapsed = time.monotonic() - start

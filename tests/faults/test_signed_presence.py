@@ -167,7 +167,7 @@ def drive_and_kill(ros: RosHarness, tmp_path: Path, key: Path | None):
     scene.wait("turning command", lambda: any(m for _, m in scene.cmd), 60)
     if key:
         scene.wait("signed beat to replay", lambda: scene.signed_beats, 10)
-    time.sleep(0.5)
+    time.sleep(0.5)                             # the turn under way for a while (its pace)
     agent.signal_group(signal.SIGKILL)          # no cancel, no goodbye: only silence
     agent.wait(5)
     return scene, forger, rospy.get_time()
@@ -183,6 +183,8 @@ def test_with_a_key_forged_presence_does_not_keep_the_robot_driving(rig):
         assert feedback.result == "cancelled" and "not heard" in feedback.message, feedback
         print(f"kill -> cancelled: {t_end - killed:.2f} s, with {forger.sent} forged beats sent")
         assert t_end - killed <= PRESENCE_TIMEOUT + 2 * TICK + 0.5
+        # A sentinel on cmd_vel would be a later motion, which a keyed decomposer only takes
+        # from a present, keyed agent: none is left, so a second is given to late commands.
         time.sleep(1.0)
         with scene.lock:
             stops = [t for t, m in scene.cmd if not m and t >= killed]
