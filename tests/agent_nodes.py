@@ -20,11 +20,12 @@ def write_agent(folder: Path, name: str, source: str) -> Path:
 
 
 def start_agent(ros: RosHarness, folder: Path, name: str, source: str, ns: str,
-                env: dict[str, str] | None = None, **params: object) -> Process:
+                env: dict[str, str] | None = None, cwd: Path | None = None,
+                **params: object) -> Process:
     """``rosrun rason agent NAME FILE.asl __ns:=ns _param:=value...`` (with ``env`` added to
-    its environment), waited for until its ``jason/NAME/mind`` service is up."""
+    its environment, run in ``cwd``), waited for until its ``jason/NAME/mind`` service is up."""
     path = write_agent(folder, name, source)
-    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params, env=env)
+    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params, env=env, cwd=cwd)
     ros.wait_for_service(f"{ns}/jason/{name}/mind", watch=[proc])
     return proc
 

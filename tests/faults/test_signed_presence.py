@@ -14,7 +14,6 @@ from __future__ import annotations
 import os
 import secrets
 import signal
-import textwrap
 import threading
 import time
 from collections.abc import Iterator
@@ -23,12 +22,12 @@ from pathlib import Path
 
 import pytest
 import rospy
-from agent_nodes import connected_to
+from agent_nodes import connected_to, start_agent
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import AgentMessage, Event
 from polling import wait_until
 
-from rason.process.harness import Process, RosHarness
+from rason.process.harness import RosHarness
 from rason.ros.feedback import parse_feedback
 from rason.ros.presence import PRESENCE
 
@@ -161,9 +160,7 @@ def drive_and_kill(ros: RosHarness, tmp_path: Path, key: Path | None):
     # the forged beats must reach the decomposer
     wait_until(lambda: connected_to(forger.pub, f"{ns}/motion_decomposer"),
                "the forger's connection to the decomposer", timeout=20, period=0.05)
-    path = tmp_path / "driver.asl"
-    path.write_text(textwrap.dedent(DRIVER))
-    agent: Process = ros.rosrun("rason", "agent", "driver", str(path), ns=ns, params=keyed)
+    agent = start_agent(ros, tmp_path, "driver", DRIVER, ns=ns, **keyed)
     scene.wait("turning command", lambda: any(m for _, m in scene.cmd), 60)
     if key:
         scene.wait("signed beat to replay", lambda: scene.signed_beats, 10)

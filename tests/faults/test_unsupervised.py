@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import itertools
 import signal
-import textwrap
 import threading
 import time
 from collections.abc import Iterator
@@ -22,6 +21,7 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import start_agent
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event
 from nav_msgs.msg import Odometry
@@ -162,11 +162,7 @@ class Rig:
         self.log.odom_at = rospy.get_time()
 
     def agent(self, name: str, source: str, **params: object) -> Process:
-        path = self.tmp / f"{name}.asl"
-        path.write_text(textwrap.dedent(source))
-        proc = self.ros.rosrun("rason", "agent", name, str(path), ns=NS, params=params)
-        self.ros.wait_for_node(f"{NS}/jason/{name}", watch=[proc])
-        return proc
+        return start_agent(self.ros, self.tmp, name, source, ns=NS, **params)
 
     def send(self, agent: str, action: str, *params: str) -> int:
         action_id = next(self.ids)

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import itertools
 import math
-import textwrap
 import threading
 import time
 from collections.abc import Iterator
@@ -21,6 +20,7 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import start_agent
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action, Event
 from kobuki_msgs.msg import BumperEvent, CliffEvent, WheelDropEvent
@@ -276,8 +276,6 @@ AGENT = """\
 def test_an_agent_plan_for_error_bumper_runs(ros: RosHarness, tmp_path: Path):
     ros.init_rospy()
     ns = "/safety_agent"
-    source = tmp_path / "bumpy.asl"
-    source.write_text(textwrap.dedent(AGENT))
     node = ros.rosrun("rason", "motion_decomposer", ns=ns, params={"settle_time": 0.0})
     ros.wait_for_subscriber(f"{ns}/mobile_base/events/bumper", watch=[node])
     robot = Base(ns)
@@ -287,7 +285,7 @@ def test_an_agent_plan_for_error_bumper_runs(ros: RosHarness, tmp_path: Path):
         wait_until(lambda: robot.odom.get_num_connections() > 0
                    and robot.bumper.get_num_connections() > 0,
                    "the decomposer's odometry and bumper connections", timeout=20, period=0.05)
-        agent = ros.rosrun("rason", "agent", "bumpy", str(source), ns=ns)
+        agent = start_agent(ros, tmp_path, "bumpy", AGENT, ns=ns)
         robot.wait_moving()
         robot.raise_event("bumper", 1, True)
         agent.wait_for_line(r"\[bumpy\] bumped: centre bumper pressed: move\(2\) stopped",
