@@ -5,8 +5,10 @@ from __future__ import annotations
 import os
 import secrets
 import textwrap
+import xmlrpc.client
 from pathlib import Path
 
+import rosgraph
 import yaml
 
 from rason.process.harness import Process, RosHarness
@@ -20,11 +22,12 @@ def write_agent(folder: Path, name: str, source: str) -> Path:
 
 
 def start_agent(ros: RosHarness, folder: Path, name: str, source: str, ns: str,
-                env: dict[str, str] | None = None, **params: object) -> Process:
+                env: dict[str, str] | None = None, cwd: Path | None = None,
+                **params: object) -> Process:
     """``rosrun rason agent NAME FILE.asl __ns:=ns _param:=value...`` (with ``env`` added to
-    its environment), waited for until its ``jason/NAME/mind`` service is up."""
+    its environment, run in ``cwd``), waited for until its ``jason/NAME/mind`` service is up."""
     path = write_agent(folder, name, source)
-    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params, env=env)
+    proc = ros.rosrun("rason", "agent", name, str(path), ns=ns, params=params, env=env, cwd=cwd)
     ros.wait_for_service(f"{ns}/jason/{name}/mind", watch=[proc])
     return proc
 
@@ -40,6 +43,19 @@ def mind(ros: RosHarness, ns: str, name: str, timeout: float = 10.0) -> dict[str
 def connected_to(publisher, node: str) -> bool:
     """True once rospy `publisher` has a connection to the subscriber node `node` (full name)."""
     return any(getattr(c, "endpoint_id", "") == node for c in publisher.impl.connections)
+
+
+def connected_from(ros: RosHarness, node: str, topic: str, subscriber: str) -> bool:
+    """True once node `node` (full name, another process) publishes `topic` to the subscriber
+    node `subscriber`: a connection in its bus info (the ROS slave API's ``getBusInfo``)."""
+    caller = "/rason_test_bus_info"
+    try:
+        uri = rosgraph.Master(caller, master_uri=ros.master_uri).lookupNode(node)
+        code, _, info = xmlrpc.client.ServerProxy(uri).getBusInfo(caller)
+    except (OSError, rosgraph.MasterException, xmlrpc.client.Error):
+        return False
+    return code == 1 and any(c[1] == subscriber and c[2] == "o" and c[4] == topic
+                             for c in info)
 
 
 def key_file(folder: Path, name: str) -> Path:

@@ -10,6 +10,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from agent_nodes import start_agent
 
 from rason.asl import LocalMas, ModuleLoadError, internal_action, load_modules
 
@@ -123,8 +124,8 @@ def test_names_need_a_dot_and_bad_modules_raise():
 @pytest.mark.ros
 def test_agent_node_parameter_loads_the_module(ros, tmp_path: Path):
     agent = write(tmp_path)
-    proc = ros.rosrun("rason", "agent", "geo", str(agent), ns="/ia1",
-                      params={"internal_actions": ["geo_actions"]}, cwd=tmp_path)
+    proc = start_agent(ros, tmp_path, "geo", AGENT, ns="/ia1",
+                       cwd=tmp_path, internal_actions=["geo_actions"])
     proc.wait_for_line(r"\[geo\] double 8", timeout=20)
     proc.wait_for_line(r"\[geo\] colours \[green,orange\]", timeout=5)
     bad = ros.rosrun("rason", "agent", "geo2", str(agent), ns="/ia2",

@@ -233,6 +233,8 @@ def test_an_action_waits_until_its_decomposer_can_answer(ros, tmp_path):
         -!go[error(R)] <- .print("failed: ", R).
         """, ns="/b9", ack_timeout=20.0)
     ros.wait_for_subscriber("/b9/jason/action")
+    # No sentinel can follow on jason/action: the node holds everything until it hears the
+    # decomposer's jason/event, so 1.5 s of ROS time is given to a wrong send to show.
     rospy.sleep(1.5)
     assert actions == [], "sent before its decomposer could answer"
     events = rospy.Publisher("/b9/jason/event", Event, queue_size=10)

@@ -340,7 +340,7 @@ from jason_msgs.msg import AgentMessage
 
 rospy.init_node("talker", anonymous=True)
 pub = rospy.Publisher(sys.argv[1], AgentMessage, queue_size=1000)
-while pub.get_num_connections() == 0:
+while pub.get_num_connections() == 0:      # a child process: no tests/polling.py here
     rospy.sleep(0.05)
 rospy.sleep(0.5)
 for i in range(300):

@@ -32,7 +32,7 @@ NODE = textwrap.dedent("""
     print("calls", len(calls), flush=True)
     rospy.client._param_server.target = proxy
     rospy.set_param(ROSOUT_TOPICS_PARAM, True)
-    deadline = time.monotonic() + 10
+    deadline = time.monotonic() + 10      # a child process: tests/polling.py is not its to import
     while rospy.get_param_cached(ROSOUT_TOPICS_PARAM, False) is not True:
         assert time.monotonic() < deadline, "the change never reached the node"
         time.sleep(0.05)

@@ -116,14 +116,14 @@ pub = rospy.Publisher("/jason/messages", AgentMessage, queue_size=10)
 def beat():
     pub.publish(AgentMessage(sender="bob", performative="presence", stamp=rospy.Time.now()))
 
-while not os.path.exists(sys.argv[1]):
+while not os.path.exists(sys.argv[1]):     # beats at the presence pace until told to listen
     beat()
     time.sleep(0.2)
 rospy.Subscriber("/jason/messages", AgentMessage,
                  lambda m: m.receiver == "bob" and print("bob got", m.performative, m.content,
                                                          flush=True))
 print("subscribed", flush=True)
-while not rospy.is_shutdown():
+while not rospy.is_shutdown():             # the presence pace
     beat()
     time.sleep(0.2)
 """

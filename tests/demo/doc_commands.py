@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import re
 import shlex
-import time
 from dataclasses import dataclass
 from pathlib import Path
+
+from polling import wait_until
 
 from rason.process.harness import Process, RosHarness
 
@@ -81,10 +82,8 @@ def start_node(ros: RosHarness, command: str, label: str) -> Process:
     """Run `command` through bash from the repository root; wait until it registers a node."""
     before = ros.nodes()
     proc = ros.run(["bash", "-c", f"exec {command}"], label=label, cwd=REPO)
-    deadline = time.monotonic() + NODE_START_S
-    while time.monotonic() < deadline and proc.alive() and ros.nodes() == before:
-        time.sleep(0.2)
-    assert proc.alive() and ros.nodes() != before, f"{command}: no node registered\n{proc.output()}"
+    wait_until(lambda: ros.nodes() != before, f"a node registered by {command}",
+               timeout=NODE_START_S, watch=[proc], period=0.2)
     return proc
 
 

@@ -15,10 +15,10 @@ import re
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
+from polling import wait_until
 
 from rason.process.harness import processes_left_by
 from rason_diagnosis.scenario import FAULTS, expected_diagnosis
@@ -113,11 +113,10 @@ def test_an_interrupted_demo_leaves_no_process_behind(tmp_path, sig: int, starte
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             preexec_fn=_default_sigint)
     try:
-        deadline = time.monotonic() + 120
-        while len(processes_left_by(demo.pid)) < started:
+        def up() -> bool:
             assert demo.poll() is None, demo.stdout.read() if demo.stdout else ""
-            assert time.monotonic() < deadline, "the demo did not start its processes"
-            time.sleep(0.02)
+            return len(processes_left_by(demo.pid)) >= started
+        wait_until(up, f"the demo's first {started} processes", timeout=120)
         demo.send_signal(sig)
         out, _ = demo.communicate(timeout=90)
     finally:

@@ -10,10 +10,10 @@ service, which must end up holding Faulty's belief ``diagnosis(left_actuator)``.
 from __future__ import annotations
 
 import re
-import time
 
 import pytest
 from doc_commands import BY_HAND, run_in_order, section_blocks
+from polling import wait_until
 
 from rason.process.harness import RosHarness
 
@@ -41,11 +41,8 @@ def test_manual_scenario_diagnoses_the_injected_fault():
         echoed = ros.check_output(["rostopic", "echo", "-n", "1", "/helper/jason/perception"])
         assert "perception:" in echoed and "source:" in echoed
         ros.wait_for_service("/faulty/jason/faulty/mind", timeout=60)
-        deadline = time.monotonic() + 240
-        mind = ""
-        while time.monotonic() < deadline:
+        def diagnosed() -> str:
             mind = ros.check_output(["rosservice", "call", "/faulty/jason/faulty/mind"])
-            if "diagnosis(" in mind:
-                break
-            time.sleep(1.0)
+            return mind if "diagnosis(" in mind else ""
+        mind = wait_until(diagnosed, "a diagnosis in Faulty's mind", timeout=240, period=1.0)
         assert f"diagnosis({injected})" in mind, mind[-2000:]

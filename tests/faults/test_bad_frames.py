@@ -75,22 +75,20 @@ class Camera:
         self.clouds.publish(PointCloud2(header=header, **cloud))
 
     def detects_good_frame(self, timeout: float = 15.0) -> list[str]:
-        """Publish the good frame until a robot(...) perception answers it."""
+        """Publish the good frame (again every 1.5 s) until a robot(...) perception answers it."""
         with self.lock:
             seen = len(self.perceptions)
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            self.publish(self.good.image, self.good.cloud)
-            until = time.monotonic() + 1.5
-            while time.monotonic() < until:
-                with self.lock:
-                    fresh = self.perceptions[seen:]
-                hit = next((p for p in fresh if p and p[0].startswith("robot(faulty,")), None)
-                if hit:
-                    return hit
-                time.sleep(0.02)
-        raise AssertionError(f"no detection of the good frame within {timeout} s:\n"
-                             f"{self.node.output()[-3000:]}")
+        sent = [-math.inf]
+
+        def detected() -> list[str] | None:
+            if time.monotonic() - sent[0] >= 1.5:
+                self.publish(self.good.image, self.good.cloud)
+                sent[0] = time.monotonic()
+            with self.lock:
+                fresh = self.perceptions[seen:]
+            return next((p for p in fresh if p and p[0].startswith("robot(faulty,")), None)
+        return wait_until(detected, "a detection of the good frame", timeout=timeout,
+                          watch=[self.node])
 
 
 @pytest.fixture(scope="module")

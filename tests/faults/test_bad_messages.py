@@ -5,13 +5,12 @@ subscribe, and still do their job afterwards (real nodes, real roscore)."""
 from __future__ import annotations
 
 import math
-import textwrap
 import threading
-import time
 from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import start_agent
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from nav_msgs.msg import Odometry
@@ -35,13 +34,10 @@ def test_agent_node_survives_bad_events_perceptions_and_messages(ros: RosHarness
     ros.init_rospy()
     ns = "/badmsg1"
     ros.rosrun("rason", "echo_decomposer", ns=ns, params={"actions": ["move"]})
-    path = tmp_path / "sturdy.asl"
-    path.write_text(textwrap.dedent("""
+    agent = start_agent(ros, tmp_path, "sturdy", """
         +ok(X)[source(percept)] <- .print("ok ", X); move(X); .print("moved ", X).
         +!hello[source(S)] <- .print("hello from ", S).
-        """))
-    agent = ros.rosrun("rason", "agent", "sturdy", str(path), ns=ns)
-    ros.wait_for_subscriber(f"{ns}/jason/perception", watch=[agent])
+        """, ns=ns)
     events = rospy.Publisher(f"{ns}/jason/event", Event, queue_size=100)
     percepts = rospy.Publisher(f"{ns}/jason/perception", Perception, queue_size=100)
     messages = rospy.Publisher("/jason/messages", AgentMessage, queue_size=100)
@@ -57,14 +53,15 @@ def test_agent_node_survives_bad_events_perceptions_and_messages(ros: RosHarness
         for performative in ("tell", "achieve", "askOne", "tellHow", "presence", "", HUGE):
             messages.publish(AgentMessage(sender="fuzzer", receiver="sturdy",
                                           performative=performative, content=content))
-    time.sleep(2.0)
-    assert agent.alive(), agent.output()[-3000:]
-    # still perceives, acts through the decomposer, and talks
+    # still perceives, acts through the decomposer, and talks: a good perception and a good
+    # message, sent on the same publishers after the bad ones, are the sentinels (handled after
+    # them), so no sleep is needed before asking whether the node survived
     percepts.publish(Perception(source="fuzz", perception=["ok(3)"]))
     agent.wait_for_line(r"\[sturdy\] moved 3", timeout=30)
     messages.publish(AgentMessage(sender="friend", receiver="sturdy", performative="achieve",
                                   content="hello", reply_with="m1"))
     agent.wait_for_line(r"\[sturdy\] hello from friend", timeout=15)
+    assert agent.alive(), agent.output()[-3000:]
     assert "Traceback" not in agent.output()
 
 
@@ -101,20 +98,28 @@ def test_decomposer_survives_bad_actions_cancels_odometry(ros: RosHarness):
 
     wait_until(lambda: feedback_results().count("bad_parameters") >= 7,
                "bad_parameters for the malformed actions", timeout=30, watch=[node])
-    # a good odometry stream and a good action still work: move(0) ends OK at once
+    # a good odometry stream and a good action still work: move(0) ends OK at once. Odometry
+    # and actions come on different topics, so the action may be handled before the good pose:
+    # until that pose is, move(0) may end otherwise; each try sends both again.
     good = Odometry()
     good.pose.pose.orientation.w = 1.0
-    odom.publish(good)
-    time.sleep(0.2)
-    actions.publish(Action(agent="fuzz", action_id=100, action="move", parameters=["0"]))
+    ids = iter(range(100, 200))
 
-    def feedback_100() -> list[Event]:
-        with lock:
-            return [e for e in got if e.event_type == "action_feedback"
-                    and e.parameters[1] == "100"]
+    def move_0_ok() -> bool:
+        odom.publish(good)
+        action_id = next(ids)
+        actions.publish(Action(agent="fuzz", action_id=action_id, action="move",
+                               parameters=["0"]))
 
-    done = wait_until(feedback_100, "feedback for action 100", timeout=10, watch=[node])
-    assert done[0].parameters[0] == "OK", done
+        def feedback() -> list[Event]:
+            with lock:
+                return [e for e in got if e.event_type == "action_feedback"
+                        and e.parameters[1] == str(action_id)]
+
+        done = wait_until(feedback, f"feedback for action {action_id}", timeout=10, watch=[node])
+        return done[0].parameters[0] == "OK"
+
+    wait_until(move_0_ok, "move(0) ending OK after a good pose", timeout=30, watch=[node])
     assert "rejected (ValueError: odometry pose is not finite" in node.output()
     sub.unregister()
 

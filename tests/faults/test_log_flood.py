@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 import rospy
-from agent_nodes import connected_to
+from agent_nodes import connected_to, start_agent
 from jason_msgs.msg import AgentMessage
 from polling import wait_until
 
@@ -50,10 +50,7 @@ def test_new_group_names_cannot_pass_the_process_limit():
 @pytest.mark.ros
 def test_a_flood_under_new_sender_names_writes_few_short_warnings(ros: RosHarness,
                                                                    tmp_path: Path):
-    asl = tmp_path / "calm.asl"
-    asl.write_text("+hello[source(A)] <- .print(hi).\n")
-    agent = ros.rosrun("rason", "agent", "calm", str(asl), ns="/flood")
-    ros.wait_for_node("/flood/jason/calm", watch=[agent], timeout=60)
+    agent = start_agent(ros, tmp_path, "calm", "+hello[source(A)] <- .print(hi).\n", ns="/flood")
     ros.init_rospy()
     pub = rospy.Publisher("/jason/messages", AgentMessage, queue_size=10_000)
     wait_until(lambda: connected_to(pub, "/flood/jason/calm"), "the connection to calm's node")
@@ -64,10 +61,10 @@ def test_a_flood_under_new_sender_names_writes_few_short_warnings(ros: RosHarnes
             pub.publish(AgentMessage(sender=f"flood_{sent}", receiver="calm",
                                      performative="tell", content=f"broken({sent}"))
             sent += 1
-        time.sleep(0.01)
+        time.sleep(0.01)                         # the flood's pace
     huge = "h" * 1_000_000                       # and one huge name with huge content
     pub.publish(AgentMessage(sender=huge, receiver="calm", performative="tell", content=huge))
-    time.sleep(3.0)
+    time.sleep(3.0)                              # the rate limit's window passes (under test)
     pub.publish(AgentMessage(sender="last", receiver="calm", performative="tell",
                              content="broken("))
     elapsed = time.monotonic() - start

@@ -77,7 +77,7 @@ def _kept_master_connections(ros: RosHarness, pid: int, looks: int = 8) -> set[i
     for _ in range(looks):
         seen.append({c.local_port for c in tcp_connections(pid)
                      if c.remote_port == ros.port and c.established})
-        time.sleep(0.4)
+        time.sleep(0.4)                 # looks spread over the watch's 1 s period (its pace)
     return set.intersection(*seen)
 
 

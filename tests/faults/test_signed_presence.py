@@ -14,7 +14,6 @@ from __future__ import annotations
 import os
 import secrets
 import signal
-import textwrap
 import threading
 import time
 from collections.abc import Iterator
@@ -23,12 +22,12 @@ from pathlib import Path
 
 import pytest
 import rospy
-from agent_nodes import connected_to
+from agent_nodes import connected_to, start_agent
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import AgentMessage, Event
 from polling import wait_until
 
-from rason.process.harness import Process, RosHarness
+from rason.process.harness import RosHarness
 from rason.ros.feedback import parse_feedback
 from rason.ros.presence import PRESENCE
 
@@ -161,13 +160,11 @@ def drive_and_kill(ros: RosHarness, tmp_path: Path, key: Path | None):
     # the forged beats must reach the decomposer
     wait_until(lambda: connected_to(forger.pub, f"{ns}/motion_decomposer"),
                "the forger's connection to the decomposer", timeout=20, period=0.05)
-    path = tmp_path / "driver.asl"
-    path.write_text(textwrap.dedent(DRIVER))
-    agent: Process = ros.rosrun("rason", "agent", "driver", str(path), ns=ns, params=keyed)
+    agent = start_agent(ros, tmp_path, "driver", DRIVER, ns=ns, **keyed)
     scene.wait("turning command", lambda: any(m for _, m in scene.cmd), 60)
     if key:
         scene.wait("signed beat to replay", lambda: scene.signed_beats, 10)
-    time.sleep(0.5)
+    time.sleep(0.5)                             # the turn under way for a while (its pace)
     agent.signal_group(signal.SIGKILL)          # no cancel, no goodbye: only silence
     agent.wait(5)
     return scene, forger, rospy.get_time()
@@ -183,6 +180,8 @@ def test_with_a_key_forged_presence_does_not_keep_the_robot_driving(rig):
         assert feedback.result == "cancelled" and "not heard" in feedback.message, feedback
         print(f"kill -> cancelled: {t_end - killed:.2f} s, with {forger.sent} forged beats sent")
         assert t_end - killed <= PRESENCE_TIMEOUT + 2 * TICK + 0.5
+        # A sentinel on cmd_vel would be a later motion, which a keyed decomposer only takes
+        # from a present, keyed agent: none is left, so a second is given to late commands.
         time.sleep(1.0)
         with scene.lock:
             stops = [t for t, m in scene.cmd if not m and t >= killed]

@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 
 import pytest
-from agent_nodes import mind, start_agent
+from agent_nodes import connected_from, mind, start_agent
 from polling import wait_until
 
 pytestmark = pytest.mark.ros
@@ -86,8 +86,9 @@ def test_the_robot_synthesizer_declares_a_ttl_and_a_dead_camera_clears_the_robot
         ros.wait_for_subscriber("/stale2/camera/depth_registered/points", watch=[synth])
         assert ros.get_param("/stale2/jason/perception_ttl/robot_synthesizer_robot") == 0.5
         agent = start_agent(ros, tmp_path, "helper", WATCHER, ns="/stale2")
-        ros.wait_for_topic("/stale2/jason/perception", watch=[synth])
-        time.sleep(0.5)
+        wait_until(lambda: connected_from(ros, "/stale2/robot_synthesizer",
+                                          "/stale2/jason/perception", "/stale2/jason/helper"),
+                   "the agent's connection to the synthesizer", timeout=30, watch=[synth, agent])
         # Frames 0 and 1 of the bag (Faulty in view), then nothing: the camera is gone.
         play = ros.run(["rosbag", "play", "--quiet", "--keep-alive", "-u", "0.3", str(CASES_BAG),
                         "/helper/camera/rgb/image_raw:=/stale2/camera/rgb/image_raw",

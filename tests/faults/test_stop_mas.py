@@ -89,18 +89,30 @@ def drive_then_end(ros: RosHarness, tmp_path: Path, ns: str, ending: str,
 
 
 def assert_stopped(heard: Heard, action_id: int, reason: str) -> None:
-    """The move was cancelled with `reason`, answered cancelled, and the goodbye was the
-    agent's last beat."""
+    """The move was cancelled with `reason`, answered cancelled, and a goodbye came."""
     wait_until(lambda: (action_id, "cancelled") in heard.results(),
                "the decomposer to answer cancelled", timeout=15)
     with heard.lock:
         cancels = [(c.agent, c.action_id, c.reason) for c in heard.cancels]
     assert ("mover", action_id, reason) in cancels, cancels
     wait_until(lambda: any(m.content == GOODBYE for _, m in heard.beats), "a goodbye", timeout=10)
-    time.sleep(2.5)            # more than two presence periods
+
+
+def assert_goodbye_last(heard: Heard) -> None:
+    """The goodbye was the agent's last beat (call it after a sentinel: no beat can follow)."""
     with heard.lock:
         beats = [m.content for _, m in heard.beats if m.sender == "mover"]
     assert beats[-1] == GOODBYE and beats.count(GOODBYE) == 1, beats
+
+
+def assert_exited_after_goodbye(agent: Process, heard: Heard) -> None:
+    """The node exited; the sentinel is our presence subscriber losing its only publisher
+    (the node's): every beat the node sent was read before that connection closed."""
+    agent.wait(15)
+    presence = heard.subs[2]
+    wait_until(lambda: presence.get_num_connections() == 0,
+               "the exited node's presence connection to close", timeout=15)
+    assert_goodbye_last(heard)
 
 
 def test_stop_mas_cancels_the_move_says_goodbye_and_the_node_exits(ros: RosHarness,
@@ -109,6 +121,7 @@ def test_stop_mas_cancels_the_move_says_goodbye_and_the_node_exits(ros: RosHarne
     try:
         assert_stopped(heard, action_id, CancelReason.STOP_MAS)
         assert agent.wait(15) == 0, agent.output()[-2000:]
+        assert_exited_after_goodbye(agent, heard)
         assert "mover called .stopMAS: the node stops" in agent.output()
     finally:
         heard.close()
@@ -119,7 +132,7 @@ def test_sigterm_cancels_the_move_and_says_goodbye(ros: RosHarness, tmp_path: Pa
     try:
         agent.signal_group(signal.SIGTERM)
         assert_stopped(heard, action_id, CancelReason.SHUTDOWN)
-        agent.wait(15)
+        assert_exited_after_goodbye(agent, heard)
     finally:
         heard.close()
 
@@ -130,6 +143,11 @@ def test_an_agent_killing_itself_cancels_its_move_and_its_node_stays(ros: RosHar
                                              ".my_name(Me); .kill_agent(Me)")
     try:
         assert_stopped(heard, action_id, CancelReason.DROPPED)
+        # The node stays and publishes nothing more on presence, so no sentinel can follow on
+        # that topic: a beat is periodic, and its absence takes time to show (ROS time passing
+        # for the behaviour under test): more than two presence periods.
+        time.sleep(2.5)
+        assert_goodbye_last(heard)
         assert agent.alive()          # a node hosts agents: it outlives one of them
     finally:
         heard.close()

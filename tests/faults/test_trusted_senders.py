@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import secrets
-import time
 
 import pytest
 from agent_nodes import connected_to, key_file, start_agent
@@ -53,8 +52,10 @@ def test_an_untrusted_sender_cannot_install_plans_or_give_goals(ros, tmp_path):
     start_agent(ros, tmp_path, "boss1", BOSS.format(target="robot1"), ns="/trust1_boss")
     robot.wait_for_line(r"\[robot1\] legit_plan_ran", timeout=30)
     spoof(ros, "boss1", "robot1", "achieve", "hack")               # the plan was never added
+    # the sentinels: the hack goal handled (had the plan got in, "hacked" would match first)
+    # and mallory1's achieve dropped (so "hello ran" cannot come after)
     robot.wait_for_line(r"no applicable plan|no relevant plan|hack", timeout=15)
-    time.sleep(0.5)
+    robot.wait_for_line(r"dropped achieve from 'mallory1': not a trusted sender", timeout=15)
     out = robot.output()
     assert "hacked" not in out and "hello ran" not in out, out
     assert robot.alive()
@@ -143,6 +144,7 @@ def test_agents_hosted_together_pass_the_same_acceptance_hook(ros, tmp_path):
                      params={"trusted_senders": ["boss4"]})
     mas.wait_for_line(r"\[robot4\] legit_plan_ran", timeout=30)
     mas.wait_for_line(r"dropped tellHow from 'mallory4': not a trusted sender", timeout=15)
-    time.sleep(1.0)
+    # the sentinel: mallory4's achieve, sent after its tellHow, dropped too
+    mas.wait_for_line(r"dropped achieve from 'mallory4': not a trusted sender", timeout=15)
     assert "rogue_plan_ran" not in mas.output(), mas.output()
     assert mas.alive()

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import itertools
 import signal
-import textwrap
 import threading
 import time
 from collections.abc import Iterator
@@ -22,13 +21,14 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import start_agent
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event
 from nav_msgs.msg import Odometry
 from polling import wait_until
 
 from rason.process.harness import Process, RosHarness
-from rason.ros.feedback import parse_feedback
+from rason.ros.feedback import parse_accepted, parse_feedback
 from rason.ros.presence import PRESENCE
 
 pytestmark = pytest.mark.ros
@@ -43,6 +43,7 @@ CANCEL_BOUND = 0.1
 PRESENCE_TIMEOUT = 3.5     # the decomposer's default ~presence_timeout
 ODOM_TIMEOUT = 1.0         # the motion decomposer's default ~odom_timeout
 TICK = 0.05                # its watchdog period (20 Hz)
+SENTINEL_TICKS = 4         # watchdog ticks after a stop before the sentinel move is sent
 
 
 def moving(msg: Twist) -> bool:
@@ -55,7 +56,7 @@ class Log:
     """Everything the test hears, stamped with this process's ROS time on arrival."""
 
     lock: threading.Lock = field(default_factory=threading.Lock)
-    cmd: list[tuple[float, bool]] = field(default_factory=list)
+    cmd: list[tuple[float, Twist]] = field(default_factory=list)
     cancels: list[tuple[float, ActionCancel]] = field(default_factory=list)
     events: list[Event] = field(default_factory=list)
     presence: dict[str, float] = field(default_factory=dict)
@@ -69,7 +70,7 @@ class Log:
 
     def first_moving(self, timeout: float = 20.0) -> float:
         return self.wait_for("command to move", lambda: next(
-            (t for t, m in self.cmd if m), None), timeout)
+            (t for t, m in self.cmd if moving(m)), None), timeout)
 
     def wait_for(self, what: str, probe, timeout: float = 20.0):
         """``probe()`` (run with the log's lock held) once it is true."""
@@ -91,11 +92,29 @@ class Log:
     def stop_after(self, t0: float, timeout: float = 10.0) -> float:
         """ROS time of the first zero Twist at or after `t0`."""
         return self.wait_for("zero cmd_vel", lambda: next(
-            (t for t, m in self.cmd if t >= t0 and not m), None), timeout)
+            (t for t, m in self.cmd if t >= t0 and not moving(m)), None), timeout)
 
-    def moving_after(self, t0: float) -> list[float]:
+    def turning_between(self, t0: float, t1: float) -> list[float]:
+        """ROS times of the turn commands after `t0` and before `t1` (the tests' motions are
+        turns; the sentinel is a move)."""
         with self.lock:
-            return [t for t, m in self.cmd if m and t > t0]
+            return [t for t, m in self.cmd if m.angular.z and t0 < t < t1]
+
+    def sentinel(self, rig: Rig, after: float) -> float:
+        """A short move sent once the decomposer's watchdog has ticked a few times since ROS
+        time `after` (a motion driving on would command at each tick), as a sentinel on
+        cmd_vel: the ROS time of its first command. The decomposer publishes in order, so a
+        turn command it sent before that one has been heard by then. Waits until the move
+        ended and its zero Twist came, so that the decomposer is idle for the next test."""
+        wait_until(lambda: rospy.get_time() >= after + SENTINEL_TICKS * TICK,
+                   "the watchdog's ticks to pass", timeout=10, period=TICK)
+        rig.send("sentinel", "move", "0.02")
+        t_sentinel = self.wait_for("the sentinel move's first command", lambda: next(
+            (t for t, m in self.cmd if m.linear.x), None))
+        assert self.feedback("sentinel").result == "OK"
+        self.wait_for("the sentinel move's zero Twist", lambda: next(
+            (t for t, m in self.cmd if t > t_sentinel and not moving(m)), None))
+        return t_sentinel
 
 
 class Rig:
@@ -124,7 +143,7 @@ class Rig:
 
     def _on_cmd(self, msg: Twist) -> None:
         with self.log.lock:
-            self.log.cmd.append((rospy.get_time(), moving(msg)))
+            self.log.cmd.append((rospy.get_time(), msg))
 
     def _on_cancel(self, msg: ActionCancel) -> None:
         with self.log.lock:
@@ -143,11 +162,7 @@ class Rig:
         self.log.odom_at = rospy.get_time()
 
     def agent(self, name: str, source: str, **params: object) -> Process:
-        path = self.tmp / f"{name}.asl"
-        path.write_text(textwrap.dedent(source))
-        proc = self.ros.rosrun("rason", "agent", name, str(path), ns=NS, params=params)
-        self.ros.wait_for_node(f"{NS}/jason/{name}", watch=[proc])
-        return proc
+        return start_agent(self.ros, self.tmp, name, source, ns=NS, **params)
 
     def send(self, agent: str, action: str, *params: str) -> int:
         action_id = next(self.ids)
@@ -189,18 +204,16 @@ def log(rig: Rig, ros_session: RosHarness) -> Iterator[Log]:
     rig.log.clear()
     yield rig.log
     ros_session.rollback(checkpoint)
-    time.sleep(0.3)
 
 
-def assert_stopped_by_cancel(log: Log, agent: str, reason: str) -> None:
+def assert_stopped_by_cancel(rig: Rig, log: Log, agent: str, reason: str) -> None:
     t_cancel, cancel = log.cancel(agent)
     assert cancel.reason == reason
     t_stop = log.stop_after(t_cancel - 0.05)
     latency = t_stop - t_cancel
     print(f"cancel ({reason}) -> zero cmd_vel: {latency * 1000:.1f} ms")
     assert latency <= CANCEL_BOUND, f"stop {latency:.3f} s after the cancel"
-    time.sleep(0.5)
-    assert log.moving_after(t_cancel + CANCEL_BOUND) == []
+    assert log.turning_between(t_cancel + CANCEL_BOUND, log.sentinel(rig, t_stop)) == []
     feedback = log.feedback(agent)
     assert feedback.result == "cancelled", feedback
     assert feedback.action_id == cancel.action_id
@@ -213,7 +226,7 @@ def test_action_timeout_cancels_and_the_robot_stops(rig: Rig, log: Log):
         -!go[error(R)] <- .print("failed: ", R).
         """, action_timeout=1.5)
     t_move = log.first_moving()
-    assert_stopped_by_cancel(log, "timer", "action_timeout")
+    assert_stopped_by_cancel(rig, log, "timer", "action_timeout")
     assert agent.wait_for_line(r"\[timer\] failed: (\w+)", timeout=5).group(1) == \
         "action_timeout"
     t_cancel, _ = log.cancel("timer")
@@ -231,7 +244,7 @@ def test_an_abandoned_intention_cancels_its_action(rig: Rig, log: Log, abandon: 
         +!quit <- .wait(1200); {abandon}; .print("abandoned").
         """)
     log.first_moving()
-    assert_stopped_by_cancel(log, "quitter", "dropped")
+    assert_stopped_by_cancel(rig, log, "quitter", "dropped")
 
 
 def test_agent_shutdown_cancels_and_the_robot_stops(rig: Rig, log: Log):
@@ -240,9 +253,9 @@ def test_agent_shutdown_cancels_and_the_robot_stops(rig: Rig, log: Log):
         +!go <- turn(700).
         """)
     log.first_moving()
-    time.sleep(0.5)
+    time.sleep(0.5)                             # a turn under way for a while (its pace)
     agent.signal_group(signal.SIGINT)
-    assert_stopped_by_cancel(log, "leaver", "shutdown")
+    assert_stopped_by_cancel(rig, log, "leaver", "shutdown")
 
 
 def test_killed_agent_presence_lapses_and_the_robot_stops(rig: Rig, log: Log):
@@ -258,8 +271,7 @@ def test_killed_agent_presence_lapses_and_the_robot_stops(rig: Rig, log: Log):
     after = t_stop - last_heard
     print(f"last presence -> zero cmd_vel: {after:.3f} s (presence timeout {PRESENCE_TIMEOUT})")
     assert PRESENCE_TIMEOUT - 0.2 <= after <= PRESENCE_TIMEOUT + 2 * TICK + CANCEL_BOUND
-    time.sleep(0.5)
-    assert log.moving_after(t_stop) == []
+    assert log.turning_between(t_stop, log.sentinel(rig, t_stop)) == []
     feedback = log.feedback("victim")
     assert feedback.result == "cancelled" and "not heard" in feedback.message
     assert log.cancels == []
@@ -269,7 +281,7 @@ def test_silent_odometry_stops_the_robot(rig: Rig, log: Log):
     sim: Process = rig.sim          # type: ignore[attr-defined]
     rig.send("pilot", "turn", "700")
     log.first_moving()
-    time.sleep(0.5)
+    time.sleep(0.5)                             # a turn under way for a while (its pace)
     sim.signal_group(signal.SIGSTOP)             # the base's odometry stops arriving
     try:
         t_stop = log.stop_after(rospy.get_time() - 0.1, timeout=5)
@@ -281,8 +293,7 @@ def test_silent_odometry_stops_the_robot(rig: Rig, log: Log):
     print(f"last odometry -> zero cmd_vel: {after:.3f} s (odom timeout {ODOM_TIMEOUT})")
     assert ODOM_TIMEOUT - 0.1 <= after <= ODOM_TIMEOUT + 2 * TICK + CANCEL_BOUND
     assert feedback.result == "no_progress" and "no odometry" in feedback.message
-    time.sleep(0.5)
-    assert log.moving_after(t_stop) == []
+    assert log.turning_between(t_stop, log.sentinel(rig, t_stop)) == []
 
 
 @pytest.mark.parametrize(("action", "value"), [
@@ -290,13 +301,13 @@ def test_silent_odometry_stops_the_robot(rig: Rig, log: Log):
     ("move", "10.5"), ("turn", "1e9"), ("turn", "1e308"), ("turn", "NaN"), ("turn", "-Infinity"),
     ("turn", "721")])
 def test_bad_parameters_never_move(rig: Rig, log: Log, action: str, value: str):
-    rig.send("pilot", action, value)
+    bad = rig.send("pilot", action, value)
     feedback = log.feedback("pilot", timeout=5)
     assert feedback.result == "bad_parameters", feedback
-    time.sleep(0.3)
+    t_sentinel = log.sentinel(rig, rospy.get_time())   # on cmd_vel and jason/event, after it
     with log.lock:
-        assert log.cmd == []
-        assert not [e for e in log.events if e.event_type == "action_accepted"]
+        assert [t for t, _ in log.cmd if t < t_sentinel] == []
+        assert bad not in [parse_accepted(e) for e in log.events]
 
 
 def test_an_agent_sending_move_1e9_gets_bad_parameters(rig: Rig, log: Log):
@@ -308,7 +319,7 @@ def test_an_agent_sending_move_1e9_gets_bad_parameters(rig: Rig, log: Log):
     assert agent.wait_for_line(r"\[bold\] failed: (\w+)", timeout=60).group(1) == \
         "bad_parameters"
     with log.lock:
-        assert not [m for _, m in log.cmd if m]
+        assert not [m for _, m in log.cmd if moving(m)]
 
 
 def test_act_giving_up_cancels_and_the_robot_stops(rig: Rig, log: Log):
@@ -316,4 +327,4 @@ def test_act_giving_up_cancels_and_the_robot_stops(rig: Rig, log: Log):
     log.first_moving()
     assert act.wait(30) == 2
     assert "action cancelled" in act.output()
-    assert_stopped_by_cancel(log, "hand", "act: no feedback within 2 s")
+    assert_stopped_by_cancel(rig, log, "hand", "act: no feedback within 2 s")

@@ -12,9 +12,9 @@ import os
 import signal
 import subprocess
 import sys
-import time
 
 import pytest
+from polling import wait_until
 
 from rason.process import netns
 from rason.process.harness import processes_left_by
@@ -70,10 +70,7 @@ def test_lan_links_cut_restore_and_removal() -> None:
             done = subprocess.run(alpha.command(probe), capture_output=True, text=True)
             return "connected" in done.stdout
 
-        deadline = time.monotonic() + 10
-        while not reachable():
-            assert time.monotonic() < deadline, "beta's server never became reachable"
-            time.sleep(0.1)
+        wait_until(reachable, "beta's server reachable", timeout=10, period=0.1)
         lan.cut("beta")
         assert not lan.link_up("beta") and not reachable()
         lan.restore("beta")
@@ -160,10 +157,10 @@ def test_interrupted_run_removes_everything_and_a_killed_one_is_cleaned_next_tim
         demo = subprocess.Popen([sys.executable, "-m", "rason_diagnosis", "--hosts", "--quiet",
                                  "--fault", "none", "--out", str(tmp_path / name)],
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        deadline = time.monotonic() + 120
-        while len(processes_left_by(demo.pid)) < 3:      # roscore and some nodes are running
-            assert demo.poll() is None and time.monotonic() < deadline, "the demo did not start"
-            time.sleep(0.2)
+        def up() -> bool:                                # roscore and some nodes are running
+            assert demo.poll() is None, "the demo exited before it started"
+            return len(processes_left_by(demo.pid)) >= 3
+        wait_until(up, "the demo's first processes", timeout=120, period=0.2)
         assert len(_ours(demo.pid)) == 4                 # lan, world, helper, faulty
         return demo
 
@@ -178,7 +175,5 @@ def test_interrupted_run_removes_everything_and_a_killed_one_is_cleaned_next_tim
     assert _ours(demo.pid) and processes_left_by(demo.pid)
     removed = netns.clean_stale()                        # what every run does first
     assert set(_ours(demo.pid)) == set() and set(removed) >= {f"rason-{demo.pid}-faulty"}
-    deadline = time.monotonic() + 10
-    while processes_left_by(demo.pid):
-        assert time.monotonic() < deadline, processes_left_by(demo.pid)
-        time.sleep(0.1)
+    wait_until(lambda: not processes_left_by(demo.pid), "the killed run's processes gone",
+               timeout=10, period=0.1)

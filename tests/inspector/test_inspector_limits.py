@@ -91,12 +91,12 @@ def test_a_flood_of_names_is_pruned_and_bounded(graph):
             pub.publish(AgentMessage(sender=f"flood_{k}", performative=PRESENCE,
                                      content=GOODBYE))
             if k % 100 == 0:
-                time.sleep(0.01)
+                time.sleep(0.01)          # the flood's pace
         pub.publish(AgentMessage(sender="n" * 1_000_000, performative=PRESENCE))   # not kept
         for k in range(1000):             # new names that go silent (presence timeout)
             pub.publish(AgentMessage(sender=f"silent_{k}", performative=PRESENCE))
             if k % 100 == 0:
-                time.sleep(0.01)
+                time.sleep(0.01)          # the flood's pace
         seen = wait_until(lambda: (
             names := {a["name"] for a in _request(url, "/api/agents")[1]["agents"]})
             and any(n.startswith("silent_") for n in names) and names,

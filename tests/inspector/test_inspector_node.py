@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import start_agent
 from jason_msgs.msg import AgentMessage
 from polling import wait_until
 from std_msgs.msg import String
@@ -68,13 +69,11 @@ def graph(ros_session, tmp_path_factory):
 
 
 def _start_graph(ros, tmp_path: Path):
-    (tmp_path / "alice.asl").write_text(ALICE)
-    (tmp_path / "bob.asl").write_text(BOB)
     inspector = ros.rosrun("rason", "mind_inspector", params={"port": 0, "history": 5})
     url = inspector.wait_for_line(r"mind inspector: (http://127\.0\.0\.1:\d+/)", 120).group(1)
-    bob = ros.rosrun("rason", "agent", "bob", str(tmp_path / "bob.asl"), ns="/insp_b")
-    alice = ros.rosrun("rason", "agent", "alice", str(tmp_path / "alice.asl"), ns="/insp_a",
-                       params={"ack_timeout": 0, "action_timeout": 0})
+    bob = start_agent(ros, tmp_path, "bob", BOB, ns="/insp_b")
+    alice = start_agent(ros, tmp_path, "alice", ALICE, ns="/insp_a", ack_timeout=0,
+                        action_timeout=0)
     wait_until(lambda: all(
         a.get("topic") and a.get("last") is not None
         for a in _agents(url).values()) and {"alice", "bob"} <= set(_agents(url)),

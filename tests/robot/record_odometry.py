@@ -62,7 +62,7 @@ def record(fault: str, seconds: float, fault_service: rospy.ServiceProxy) -> lis
     subs = [rospy.Subscriber("/faulty/ground_truth/odom", Odometry, on_truth, queue_size=100),
             rospy.Subscriber("/faulty/odom", Odometry, on_odom, queue_size=100)]
     cmd = rospy.Publisher("/faulty/cmd_vel", Twist, queue_size=10)
-    time.sleep(1.0)
+    time.sleep(1.0)                                  # connections up (a recording, not a test)
     fault_service("cancel")
     time.sleep(0.3)                                  # odometry seen before the fault
     if fault != "none":
@@ -78,7 +78,7 @@ def record(fault: str, seconds: float, fault_service: rospy.ServiceProxy) -> lis
             if last - t0 >= seconds:
                 break
         cmd.publish(Twist(linear=Vector3(x=SPEED)))
-        time.sleep(0.01)
+        time.sleep(0.01)                             # the command stream's pace
     cmd.publish(Twist())
     for sub in subs:
         sub.unregister()

@@ -121,7 +121,7 @@ class Robot:
 
     def settle(self, seconds: float = 0.3) -> None:
         """Let the base come to rest (wall time; the sim runs at least at real time)."""
-        time.sleep(seconds)
+        time.sleep(seconds)                 # physical rest, not an event to wait for
 
     def perform(self, action: str, *params: str) -> Outcome:
         """Send one action, wait for its feedback, return it with the ground-truth motion."""
@@ -372,7 +372,7 @@ def test_reload_and_configure_change_settings_without_a_restart(robot: Robot, se
     rospy.delete_param(f"{DECOMPOSER}/min_alignment")
     # an agent's configure(Key, Value): answered at once, the running move goes on
     moving = robot.send("move", "0.3")
-    time.sleep(0.3)
+    time.sleep(0.3)                     # the move runs a while (its pace)
     configured = robot.wait_feedback(robot.send("configure", "max_distance", "10"), timeout=5)
     assert list(configured.parameters[:1]) == ["OK"] and "~max_distance = 10" in \
         configured.parameters[2]

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import itertools
 import math
-import textwrap
 import threading
 import time
 from collections.abc import Iterator
@@ -21,6 +20,7 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import start_agent
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action, Event
 from kobuki_msgs.msg import BumperEvent, CliffEvent, WheelDropEvent
@@ -105,7 +105,7 @@ class Base:
                 msg.pose.pose.orientation.z = math.sin(self.yaw / 2)
                 msg.pose.pose.orientation.w = math.cos(self.yaw / 2)
             self.odom.publish(msg)
-            time.sleep(period)
+            time.sleep(period)                         # the base's odometry rate (its pace)
 
     def send(self, action: str, *params: str) -> int:
         action_id = next(self.ids)
@@ -156,13 +156,22 @@ def base(ros: RosHarness) -> Iterator[tuple[Base, Process]]:
     robot.close()
 
 
-def assert_stopped_at_once(robot: Base, since: int) -> None:
-    """After the event: a zero Twist, and nothing but zeros once it came (wait a little)."""
-    time.sleep(0.5)
-    after = robot.commands_since(since)
+def assert_stopped_at_once(robot: Base, since: int, sentinel: int) -> None:
+    """After the event (commands from `since` on): a zero Twist, and no forward command once it
+    came, up to the command at `sentinel` (one the decomposer published later, on the same
+    topic: whatever it published before is in by then)."""
+    after = robot.commands_since(since)[:sentinel - since]
     stops = [i for i, cmd in enumerate(after) if not moving(cmd)]
     assert stops, "no zero Twist after the event"
-    assert not any(moving(cmd) for cmd in after[stops[0]:]), "drove on after the stop"
+    assert not any(cmd.linear.x > 0 for cmd in after[stops[0]:]), "drove on after the stop"
+
+
+def first_turn_since(robot: Base, index: int) -> int:
+    """Wait for a turn command at or after `index`: its index."""
+    def found() -> int | None:
+        cmds = robot.commands_since(index)
+        return next((index + i for i, cmd in enumerate(cmds) if cmd.angular.z), None)
+    return wait_until(found, "a turn command", timeout=ACTION_TIMEOUT)
 
 
 @pytest.mark.parametrize("kind, index, named", [
@@ -179,12 +188,10 @@ def test_an_event_stops_the_move_and_names_the_part(base: tuple[Base, Process], 
     result, message = robot.feedback(action)
     assert result == kind, message
     assert message.startswith(f"{named}: move(2) stopped after "), message
-    assert_stopped_at_once(robot, since)
-    # while it lasts, a forward move is refused with the same result and nothing drives
-    count = len(robot.commands_since(0))
+    # while it lasts, a forward move is refused with the same result and nothing drives (the
+    # check that no forward command came waits for the sentinel turn, below)
     result, message = robot.feedback(robot.send("move", "0.5"))
     assert (result, "refused" in message) == (kind, True), message
-    assert not any(moving(c) for c in robot.commands_since(count))
     if kind == "wheel_drop":                       # every motion, even backwards
         result, message = robot.feedback(robot.send("move", "-0.1"))
         assert result == kind, message
@@ -194,7 +201,17 @@ def test_an_event_stops_the_move_and_names_the_part(base: tuple[Base, Process], 
     robot.raise_event(kind, index, False)          # released / floor again / wheel raised
 
     # The release and the next action come on different topics, so the action may be handled
-    # first: until the release is, a move is refused as before (and drives nothing).
+    # first: until the release is, a motion is refused as before (and drives nothing). A turn
+    # once allowed is the sentinel on cmd_vel: no forward command came from the stop to it.
+    count = len(robot.commands_since(0))
+
+    def turn_allowed() -> bool:
+        result, message = robot.feedback(robot.send("turn", "10"))
+        assert result in ("OK", kind), message
+        return result == "OK"
+    wait_until(turn_allowed, "a turn allowed after the release", timeout=10)
+    assert_stopped_at_once(robot, since, first_turn_since(robot, count))
+
     def forward_allowed() -> bool:
         result, message = robot.feedback(robot.send("move", "0.1"))
         assert result in ("OK", kind), message
@@ -207,10 +224,17 @@ def test_turns_toward_a_pressed_side_bumper_are_refused_and_away_allowed(
         base: tuple[Base, Process]):
     robot, _ = base
     robot.raise_event("bumper", 0, True)           # left bumper, nothing running
-    time.sleep(0.3)
-    # turn(d) > 0 turns clockwise (right) by default: away from the left bumper
-    result, message = robot.feedback(robot.send("turn", "-10"))
-    assert result == "bumper" and "left bumper pressed: turn(-10) refused" in message, message
+    # turn(d) > 0 turns clockwise (right) by default: away from the left bumper. The press and
+    # the action come on different topics: until the press is handled, the turn runs.
+    refusals: list[str] = []
+
+    def toward_refused() -> bool:
+        result, message = robot.feedback(robot.send("turn", "-10"))
+        assert result in ("OK", "bumper"), message
+        refusals.append(message)
+        return result == "bumper"
+    wait_until(toward_refused, "a turn toward the pressed bumper refused", timeout=10)
+    assert "left bumper pressed: turn(-10) refused" in refusals[-1], refusals[-1]
     result, message = robot.feedback(robot.send("turn", "10"))
     assert result == "OK", message
     # turn_to a heading to the left (counter-clockwise from here) is refused too
@@ -252,8 +276,6 @@ AGENT = """\
 def test_an_agent_plan_for_error_bumper_runs(ros: RosHarness, tmp_path: Path):
     ros.init_rospy()
     ns = "/safety_agent"
-    source = tmp_path / "bumpy.asl"
-    source.write_text(textwrap.dedent(AGENT))
     node = ros.rosrun("rason", "motion_decomposer", ns=ns, params={"settle_time": 0.0})
     ros.wait_for_subscriber(f"{ns}/mobile_base/events/bumper", watch=[node])
     robot = Base(ns)
@@ -263,7 +285,7 @@ def test_an_agent_plan_for_error_bumper_runs(ros: RosHarness, tmp_path: Path):
         wait_until(lambda: robot.odom.get_num_connections() > 0
                    and robot.bumper.get_num_connections() > 0,
                    "the decomposer's odometry and bumper connections", timeout=20, period=0.05)
-        agent = ros.rosrun("rason", "agent", "bumpy", str(source), ns=ns)
+        agent = start_agent(ros, tmp_path, "bumpy", AGENT, ns=ns)
         robot.wait_moving()
         robot.raise_event("bumper", 1, True)
         agent.wait_for_line(r"\[bumpy\] bumped: centre bumper pressed: move\(2\) stopped",

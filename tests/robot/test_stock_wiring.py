@@ -10,7 +10,6 @@ and says so by name.
 from __future__ import annotations
 
 import threading
-import time
 from pathlib import Path
 
 import pytest
@@ -83,7 +82,11 @@ def test_odometry_fault_under_stock_names_freezes_what_the_decomposer_sees(ros, 
     wait_until(lambda: actions.get_num_connections() > 0, "the action publisher's connection",
                timeout=10, period=0.05)
     assert rospy.ServiceProxy(f"{ns}/fault_injector", FaultInjector)("odometry").return_message
-    time.sleep(0.5)
+    # the fault is in force once the service answered: count from odometry published after it
+    # (the robot stands still until the move, so a pose still in flight is the frozen one)
+    answered = len(seen)
+    wait_until(lambda: len(seen) > answered + 1, "odometry under the fault", timeout=10,
+               period=0.05)
     marks = len(driver), len(seen)
     actions.publish(Action(agent="faulty", action_id=7, action="move", parameters=["1"]))
     feedback = wait_until(lambda: next((parse_feedback(e) for e in list(events)

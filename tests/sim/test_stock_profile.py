@@ -190,7 +190,7 @@ def test_driving_into_a_wall_presses_the_centre_bumper_then_releases_it(
         deadline = time.monotonic() + timeout
         while not done() and time.monotonic() < deadline:
             cmd.publish(twist)
-            time.sleep(0.1)
+            time.sleep(0.1)                     # the command stream's pace (10 Hz)
         cmd.publish(Twist())
 
     pressed = lambda: any(e.state == BumperEvent.PRESSED for e in events.msgs)  # noqa: E731

@@ -185,7 +185,7 @@ def test_bad_kinect_frames_are_rejected_and_the_next_good_one_detected(ros):
             for pub, msg in zip(pubs, msgs, strict=True):
                 msg.header.stamp = rospy.Time(stamp)
                 pub.publish(msg)
-            time.sleep(0.3)
+            time.sleep(0.3)         # one set at a time (its pace): sets never pair across
         # the good set, sent last, is the sentinel: the bad ones before it were dealt with
         wait_until(lambda: got, "the good set's perception", timeout=20, period=0.05)
     finally:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import re
 import threading
-import time
 
 import numpy as np
 import pytest
@@ -112,4 +111,3 @@ def test_private_params_name_source_and_colours(ros):
         for a, b in pubs.values():
             a.unregister()
             b.unregister()
-    time.sleep(0.1)

@@ -69,6 +69,8 @@ def test_synthesizer_on_recorded_bag(ros, form):
                 return len(truths) >= FRAMES and len(perceptions) >= FRAMES
         wait_until(all_frames, f"{FRAMES} truths and perceptions", timeout=40,
                    watch=[play, node], period=0.1)
+        # A frame perceived twice would show as more perceptions than truths; nothing comes on
+        # the topic after the last frame to wait for, so it is given half a second to show.
         time.sleep(0.5)
         play.stop()
     finally:

@@ -4,6 +4,7 @@ and a rejected value is cleared from the parameter server so the corrected comma
 from __future__ import annotations
 
 import pytest
+from agent_nodes import start_agent
 
 from rason.process.harness import RosHarness
 
@@ -28,9 +29,7 @@ def test_an_unknown_private_parameter_is_warned_with_the_closest_name(
 
 
 def test_a_known_parameter_gives_no_warning(ros: RosHarness, tmp_path):
-    (tmp_path / "a.asl").write_text(AGENT)
-    proc = ros.rosrun("rason", "agent", "a", str(tmp_path / "a.asl"), ns="/typo_none",
-                      params={"ack_timeout": 3})
+    proc = start_agent(ros, tmp_path, "a", AGENT, ns="/typo_none", ack_timeout=3)
     proc.wait_for_line("started", timeout=60)
     assert "unknown private parameter" not in proc.output()
 

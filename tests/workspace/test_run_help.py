@@ -27,10 +27,10 @@ def _run(*args: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run([RUN, *args], capture_output=True, text=True, timeout=60, cwd=REPO)
 
 
-def _options(module: str) -> set[str]:
-    """The long options of a module's argparse parser, from its --help."""
-    out = subprocess.run([sys.executable, "-m", module, "--help"], capture_output=True, text=True,
-                         timeout=60, check=True).stdout
+def _options(module: str, *args: str) -> set[str]:
+    """The long options of a module's argparse parser, from its --help (after `args`)."""
+    out = subprocess.run([sys.executable, "-m", module, *args, "--help"], capture_output=True,
+                         text=True, timeout=60, check=True).stdout
     return set(re.findall(r"(?<![\w-])--[a-z][a-z-]*", out)) - {"--help"}
 
 
@@ -50,6 +50,13 @@ def test_help_lists_every_option_of_the_demo_the_campaign_and_the_mission(module
     assert {"--out", "--seed" if module.endswith("mission") else "--hosts"} <= options
     shown = set(re.findall(r"(?<![\w-])--[a-z][a-z-]*", _run("--help").stdout))
     assert not options - shown, f"./run.sh --help misses {sorted(options - shown)} of {module}"
+
+
+def test_the_workstation_mode_watches_as_the_demo_does():
+    """``demo --real`` declares the inspector's watch with the demo's own options."""
+    watch = {"--inspector", "--no-inspector", "--inspector-port", "--hold"}
+    assert watch <= _options("rason_diagnosis", "--real")
+    assert watch <= _options("rason_diagnosis")
 
 
 @pytest.mark.parametrize("args", [(), ("no_such_benchmark",), ("_moving",)])

@@ -10,10 +10,10 @@ refused with a warning.
 from __future__ import annotations
 
 import re
-import time
 from pathlib import Path
 
 import pytest
+from polling import wait_until
 
 from rason.process.harness import Process, RosHarness
 
@@ -52,10 +52,8 @@ def start_node(ros: RosHarness, command: str, cwd: Path) -> Process:
     """Run `command` in `cwd` and wait until it registers a node with the master."""
     before = ros.nodes()
     proc = ros.run(["bash", "-c", f"exec {command}"], label=command.split()[1][:30], cwd=cwd)
-    deadline = time.monotonic() + 30
-    while time.monotonic() < deadline and proc.alive() and ros.nodes() == before:
-        time.sleep(0.2)
-    assert proc.alive() and ros.nodes() != before, f"{command}:\n{proc.output()}"
+    wait_until(lambda: ros.nodes() != before, f"a node registered by {command}", timeout=30,
+               watch=[proc], period=0.2)
     return proc
 
 

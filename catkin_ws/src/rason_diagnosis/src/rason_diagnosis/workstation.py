@@ -20,10 +20,10 @@ import os
 import re
 import signal
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from rason.inspector.main import InspectorParams
 from rason.process.harness import HarnessError, Process, RosHarness
 from rason_diagnosis.hosts import interrupt
 from rason_diagnosis.paths import agent_file
@@ -33,6 +33,8 @@ from rason_diagnosis.scenario import (
     UNKNOWN_BECAUSE,
     VERDICTS,
     Outcome,
+    Watch,
+    add_watch_options,
     expected_diagnosis,
     outcome_of,
     read_diagnosis,
@@ -105,8 +107,11 @@ def check_robot_side(ros: RosHarness, timeout: float) -> None:
 def run_workstation(out_dir: Path, fault: str | None = None, record: bool = False,
                     echo: bool = True, timeout: float = 300.0, robots_timeout: float = 30.0,
                     inspector_port: int | None = None,
-                    master_uri: str | None = None) -> RealResult:
-    """Run the agents against the robots at `master_uri` (default ``ROS_MASTER_URI``)."""
+                    master_uri: str | None = None,
+                    hold: Callable[[RealResult], None] | None = None) -> RealResult:
+    """Run the agents against the robots at `master_uri` (default ``ROS_MASTER_URI``).
+    ``hold``: called with the result once the run is over, while the agents (and the
+    inspector) still run (``--hold``)."""
     if fault is not None and fault not in FAULTS:
         raise ValueError(f"unknown fault {fault!r}; valid: {', '.join(FAULTS)}")
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -117,6 +122,8 @@ def run_workstation(out_dir: Path, fault: str | None = None, record: bool = Fals
         say(echo, f"{PREFIX} master {ros.master_uri}; checking the robots' nodes")
         check_robot_side(ros, robots_timeout)
         _run(ros, result, out_dir, fault, record, echo, timeout, inspector_port)
+        if hold is not None:
+            hold(result)
     except HarnessError as err:
         result.error = str(err).splitlines()[0]
     finally:
@@ -216,25 +223,25 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--timeout", type=float, default=300.0, help="seconds allowed")
     parser.add_argument("--robots-timeout", type=float, default=30.0,
                         help="seconds to wait for the robots' nodes")
-    parser.add_argument("--inspector", action=argparse.BooleanOptionalAction, default=True,
-                        help="watch the agents in the mind inspector (default: on)")
-    parser.add_argument("--inspector-port", type=int, default=InspectorParams().port,
-                        help="the inspector's port on 127.0.0.1 (0: any free port)")
+    add_watch_options(parser, "run")
     parser.add_argument("--quiet", action="store_true", help="do not stream the agents' console")
     args = parser.parse_args(argv)
     out = args.out or Path("out") / f"real-{time.strftime('%Y%m%d-%H%M%S')}"
     print(f"{PREFIX} workstation side only; output in {out}", flush=True)
     signal.signal(signal.SIGTERM, interrupt)
+
+    def show(result: RealResult) -> None:
+        print_result(result)
+        if args.record:
+            print(f"{PREFIX} bag           : {out / 'run.bag'}")
+    watch: Watch[RealResult] = Watch.of(args, show, "real")
     try:
         result = run_workstation(out, args.fault, args.record, not args.quiet, args.timeout,
-                                 args.robots_timeout,
-                                 args.inspector_port if args.inspector else None)
+                                 args.robots_timeout, watch.port, hold=watch.hold_callback())
     except KeyboardInterrupt:
         print(f"\n{PREFIX} interrupted: the agents were stopped (the robots' nodes run on)")
         return 130
-    print_result(result)
-    if args.record:
-        print(f"{PREFIX} bag           : {out / 'run.bag'}")
+    watch.print_once(result)
     good = result.diagnosis is not None and not result.error and \
         result.outcome in (None, Outcome.RIGHT)
     return 0 if good else 1
