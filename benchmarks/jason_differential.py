@@ -124,8 +124,9 @@ KQML_DEEDS = (
     ".send(R, askOne, v(_), _); .send(R, achieve, nest(V))",
     ".send(R, askOne, b(XV)[source(SV)], AV); .print(src, AV)",
     # a session of the answerer (a plan with inner plans for told beliefs, waiting <: false):
-    # notes and the close reach it through branches of its intention
-    ".send(R, achieve, open(1))", ".send(R, tell, note(1, V))",
+    # notes, flags (an inner plan whose trigger is a variable) and the close reach it through
+    # branches of its intention
+    ".send(R, achieve, open(1))", ".send(R, tell, note(1, V))", ".send(R, tell, flag(V))",
     ".send(R, tell, close(1)); .send(R, untell, close(1))",
 )
 
@@ -142,6 +143,7 @@ rv(X) :- v(X) & X > 1.
     +note(N, X) : X > 2 <- !jot(X).
     +close(N) <- .print(closed, N); .done.
     +!jot(Y) <- .print(note, N, Y).
+    +X : X = flag(K)[source(_)] <- .print(flag, N, K).
     }
 """
 

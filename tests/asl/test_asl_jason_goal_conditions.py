@@ -4,9 +4,12 @@ Expected outputs are what a Jason 3.3 build prints for the same programs."""
 
 from __future__ import annotations
 
-from asl_helpers import lines, run_source
+import re
 
-from rason.asl.parser import parse_source
+import pytest
+from asl_helpers import lines, run_agents, run_source
+
+from rason.asl.parser import AslSyntaxError, parse_source
 
 
 def test_a_goal_ends_when_its_condition_holds_done_or_not() -> None:
@@ -56,3 +59,23 @@ def test_a_body_that_ends_before_its_condition_waits_in_a_compiled_agent_too() -
     src = ("!k.\n+!k <- !g; .print(after).\n+!g <: done <- .print(started); !!d.\n"
            "+!d <- .wait(50); +done.\n")
     assert lines(run_source(src, timeout=3.0)) == ["started", "after"]
+
+
+def test_a_plan_given_as_text_keeps_its_goal_condition_which_a_plan_term_cannot_hold() -> None:
+    # as Jason 3.3: .add_plan and tellHow of a plan as text keep `<:` (it acts, it is not
+    # printed in plan terms); inside `{ ... }` it is a syntax error (Jason's parser has no
+    # goal condition in a plan term)
+    src = ("!s.\n+!s <- .add_plan(\"+!k <: done_k <- .print(k).\"); !!w; .wait(100); "
+           ".print(adding); +done_k; .wait(100); .relevant_plans({+!k}, L); .print(L).\n"
+           "+!w <- !k; .print(after_k).\n")
+    out = lines(run_source(src, timeout=3.0))
+    assert out[:3] == ["k", "adding", "after_k"]
+    assert re.fullmatch(r"\[\{ @p__\d+\[source\(self\)\] \+!k <- \.print\(k\) \}\]", out[3])
+    told = lines(run_agents({
+        "a": '!s.\n+!s <- .send(b, tellHow, "@q +!n <: false <- .print(n).");\n'
+             "  .send(b, achieve, go).\n",
+        "b": "+!go <- .wait(100); !!n; .wait(100); .suspended(n, R); .print(R);\n"
+             "  .relevant_plans({+!n}, L); .print(L).\n"}, timeout=3.0), "b")
+    assert told == ["n", "wait_goal_condition", "[{ @q[source(a)] +!n <- .print(n) }]"]
+    with pytest.raises(AslSyntaxError):
+        parse_source("+!s <- P = { +!g <: c <- b }.\n")

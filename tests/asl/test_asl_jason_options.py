@@ -57,6 +57,17 @@ def test_a_function_registered_with_a_rule_is_evaluated_in_expressions() -> None
     assert lines(run_source(src)) == ["10", "1", "yes", "NaN"]
 
 
+def test_a_rule_function_of_a_variable_bound_later_in_a_query_waits_for_it() -> None:
+    # the query's action resolves its arguments first: rf.dist(N, 1) with N free has no value
+    # yet (its rule leaves a term), and stays a term until N = 2 binds it; the compiled
+    # modules once failed there (a TypeError instead), so Jason's demos/search failed its A*
+    src = ('{ register_function("rf.dist", 2, "dist") }\n'
+           "dist(A, B, D) :- D = math.abs(B - A).\np(2).\n!s.\n"
+           "+!s <- .findall(X, (N = 2 & X = rf.dist(N, 1)), L); .print(L);\n"
+           "       .findall(X, (p(N) & X = rf.dist(N, 1) + 1), L2); .print(L2).\n")
+    assert lines(run_source(src)) == ["[1]", "[2]"]
+
+
 def test_a_function_name_without_a_dot_is_refused_and_the_file_read_on(capfd) -> None:
     src = '{ register_function("nodot", 1, "half") }\n!s.\n+!s <- .print(nodot(4)).\n'
     assert lines(run_source(src)) == ["nodot(4)"]

@@ -209,11 +209,51 @@ def test_the_agents_library_knows_the_keys_of_inner_belief_plans() -> None:
                              "+!h.\n").plans:
         lib.add(plan)
     g = lib.plans[0]
-    assert lib.branch_keys == {("+", "", "b", 1, False), ("-", "", "c", 0, False)}
-    assert lib.has_key(("+", "", "b", 1, False)) and not lib.has_key(("+", "", "d", 0, False))
+    # +X: any added belief may branch an intention, none removed but -c
+    assert lib.branch_keys == {("+", "", "b", 1, False), ("-", "", "c", 0, False),
+                               ("+", "", None, 0, False)}
+    assert lib.has_key(("+", "", "b", 1, False)) and lib.has_key(("+", "", "d", 0, False))
+    assert lib.may_branch(("-", "", "c", 0, False)) and not lib.may_branch(("-", "", "d", 0, False))
+    assert not lib.may_branch(("+", "!", "d", 0, False))
     assert g.sub_library is not None and g.sub_library.update_plans and not lib.update_plans
     lib.remove_by_label(g.label_name())
-    assert lib.branch_keys == set()
+    assert lib.branch_keys == set() and not lib.has_key(("+", "", "b", 1, False))
+
+
+NEWS = """\
+!tell.
++!tell <- .wait(200); .send([reader, skimmer], tell, news(1)); .wait(100);
+          .send([reader, skimmer], untell, news(1)); .wait(100);
+          .send([reader, skimmer], tell, other).
+"""
+
+READER = """\
+!read.
++!read <: false <- .print(started).
+  {
+    +X[source(A)] <- .print(inner, " ", X, " from ", A).
+    -X <- .print(gone, " ", X).
+    +other <- .print(other).
+  }
+"""
+
+SKIMMER = """\
+!read.
++!read <: false <- .print(started).
+  {
+    +X[source(A)] <- .print(inner, " ", X, " from ", A).
+  }
+"""
+
+
+def test_an_inner_plan_for_any_belief_serves_every_belief_event_of_an_interested_intention() -> None:
+    # as Jason 3.3: the reader's intention is interested in belief events (it has an inner
+    # plan for +other), so +X and -X take news(1) too, and +X comes before +other; the
+    # skimmer's inner plans are all for any belief: Jason counts no interest there, no branch
+    text = run_agents({"news": NEWS, "reader": READER, "skimmer": SKIMMER}, timeout=5.0)
+    assert lines(text, "reader") == [
+        "started", "inner news(1) from news", "gone news(1)[source(news)]", "inner other from news"]
+    assert lines(text, "skimmer") == ["started"]
 
 
 # ---------------------------------------------------------------- plans told and asked

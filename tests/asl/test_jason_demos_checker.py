@@ -35,3 +35,32 @@ def test_the_loose_verdict_does_not_hide_other_differences() -> None:
     missing = demos.per_agent("[c] CFP to [p2,p1]\n")
     assert not demos.same_lines(demos.loosen(jason), demos.loosen(missing))
     assert demos.loosen(jason)["c"] == Counter({"winner is p3 with #": 1, "CFP to [p1,p2]": 1})
+
+
+def test_copies_made_by_hash_n_are_named_in_a_mas2j() -> None:
+    text = """MAS m { // p #9 in a comment is not an agent
+        agents: c; p #3;
+        elf worker.asl [beliefs="kind(elf), secretary(edna)"] #10;
+        bob [goals="g"]; }"""
+    assert demos.copied_agents(text) == ["p", "elf"]
+
+
+def test_within_variation_takes_each_line_between_jasons_fewest_and_most() -> None:
+    families = ["p"]
+    runs = [demos.merge_copies(demos.loosen(demos.per_agent(text)), families) for text in (
+        "[c] winner is p1 with 101.5\n[p1] I won\n[p2] I lost\n[c] waiting\n",
+        "[c] winner is p2 with 103.0\n[p2] I won\n[p1] I lost\n[c] waiting\n[c] waiting\n[c] waiting\n",
+    )]
+    assert runs[0]["p#"] == Counter({"I won": 1, "I lost": 1})
+    assert runs[0]["c"] == Counter({"winner is p# with #": 1, "waiting": 1})
+
+    def ours(text: str) -> bool:
+        return demos.within_variation(runs, demos.merge_copies(demos.loosen(demos.per_agent(text)),
+                                                               families))
+
+    # another winner and a count of a timed line that Jason's runs span: within
+    assert ours("[c] winner is p3 with 99.1\n[p3] I won\n[p1] I lost\n[c] waiting\n[c] waiting\n")
+    # a line every Jason run printed is missing, one no run printed is added, a count beyond
+    assert not ours("[p1] I won\n[p2] I lost\n[c] waiting\n")
+    assert not ours("[c] winner is p1 with 1\n[p1] I won\n[p2] I lost\n[c] waiting\n[c] tie\n")
+    assert not ours("[c] winner is p1 with 1\n[p1] I won\n[p2] I lost\n" + "[c] waiting\n" * 4)

@@ -74,7 +74,7 @@ class Circumstance:
         if self.event_waits:
             self.check_event_waits(ev)
         elif (ev.intention is None and not (ev.trigger.is_goal and ev.trigger.op == ADD)
-              and not pl.relevant(ev.trigger) and ev.trigger.key not in pl.branch_keys):
+              and not pl.relevant(ev.trigger) and not pl.may_branch(ev.trigger.key)):
             return
         self.events.append(ev)
 

@@ -66,6 +66,7 @@ from .plans import (
 )
 from .terms import (
     LOCAL_NS_PREFIX,
+    TRUE,
     AnnotVar,
     ArithExpr,
     ListTerm,
@@ -641,7 +642,10 @@ class _ToAst:
         if label is None:
             after = next((x for x in (context, goal_condition, body) if x is not None), None)
             line = self.opened_at.get(id(after), line) if after is not None else line
-        return ("plan", Plan(label, trigger, context, body or (), line, self.src,
+        deeds = tuple(body or ())
+        if deeds and deeds[0].kind == K_ACTION and deeds[0].term == TRUE:
+            deeds = deeds[1:]   # as Jason's parser: a body's first deed `true` is no deed
+        return ("plan", Plan(label, trigger, context, deeds, line, self.src,
                              goal_condition=goal_condition), meta)
 
     def sub_plans(self, meta: Any, c: builtins.list) -> tuple:
@@ -817,10 +821,13 @@ def path_include_resolver(search_path: list[str]) -> IncludeResolver:
         rel = name.split("/", 1)[1] if name.startswith("$") and "/" in name else name
         candidates += [os.path.join(d, rel) for d in folders if not os.path.isabs(rel)]
         candidates += [os.path.join(d, os.path.basename(name)) for d in folders]
+        # the file's name in its plans' url: as Jason's SourcePath.fixPath, a name found as
+        # written from the current folder is a file: URL (else rason keeps it as written)
+        src = "file:" + name if not name.startswith("$") and os.path.isfile(name) else name
         for cand in candidates:
             if os.path.isfile(cand):
                 with open(cand, encoding="utf-8") as f:
-                    return cand, f.read(), name
+                    return cand, f.read(), src
         raise FileNotFoundError(name)
     return resolve_include
 

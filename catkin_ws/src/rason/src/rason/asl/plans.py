@@ -362,8 +362,8 @@ class PlanLibrary:
         #: events (Jason's ``hasPlansForUpdateEvents``)
         self.update_plans = False
         #: in the agent's own library: the trigger keys of the sub-plans for belief events, at
-        #: any depth; an external event of such a key is kept even when no plan of the agent's
-        #: own is relevant for it (an intention may branch for it, see ``reasoning``)
+        #: any depth (``(op, BELIEF, None, 0, False)`` for one whose trigger is a variable,
+        #: ``+X``); see :meth:`may_branch`
         self.branch_keys: set[tuple] = set()
 
     def add(self, plan: Plan, front: bool = False) -> None:
@@ -405,10 +405,10 @@ class PlanLibrary:
         return plan
 
     def collect_update_keys(self, keys: set[tuple]) -> None:
-        """Add to ``keys`` the trigger keys of this library's plans for belief events and of
-        those of every library inside it."""
+        """Add to ``keys`` the trigger keys of this library's plans for belief events (``+b``,
+        ``-b``, ``+X``) and of those of every library inside it."""
         for p in self.plans:
-            if _for_update(p):
+            if is_update(p.trigger):
                 keys.add(p.trigger.key)
             if p.sub_library is not None:
                 p.sub_library.collect_update_keys(keys)
@@ -456,7 +456,17 @@ class PlanLibrary:
 
     def has_key(self, key: tuple) -> bool:
         """True if some plan may be relevant for a trigger with this key (a sub-plan too)."""
-        return key in self.by_key or bool(self.var_plans) or key in self.branch_keys
+        return key in self.by_key or bool(self.var_plans) or self.may_branch(key)
+
+    def may_branch(self, key: tuple) -> bool:
+        """May an intention branch for an external belief event with this trigger key: is
+        some sub-plan, at any depth, for that key or for any belief event (``+X``, which Jason
+        tries for every such event once the intention has some other sub-plan for belief
+        events)?  Such an event is kept even when no plan of the agent's own is relevant for
+        it (see ``reasoning.branch_for_update``)."""
+        bk = self.branch_keys
+        return bool(bk) and (key in bk or (key[1] == BELIEF and key[2] is not None
+                                           and (key[0], BELIEF, None, 0, False) in bk))
 
     def has_candidate(self, op: str, type_: str, lit: Any) -> bool:
         return bool(self.relevant(Trigger(op, type_, lit)))

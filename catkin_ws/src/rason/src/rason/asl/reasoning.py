@@ -417,7 +417,7 @@ def handle_event(ag: Agent, ev: Event) -> bool:
     key = trig.key
     if ev.option is not None:   # the event of a branch: its plan is chosen
         return _intend(ag, ev, ev.option[0], ev.option[1], True)
-    if pl.branch_keys and ev.intention is None and key in pl.branch_keys:
+    if pl.branch_keys and ev.intention is None and pl.may_branch(key):
         branch_for_update(ag, ev)
     # RelPl (rel_pl, inlined): the plans of the trigger's key, unless some plan has a
     # variable trigger (or the trigger is a variable)

@@ -180,6 +180,9 @@ _RESULT = "__RuleToFunctionResult"
 def _user_function(uf: UserFunction, t: Literal, s: Subst, ag: FunctionHost | None) -> float:
     """A registered function (``register_function``) applied to the arguments of ``t``."""
     args = [resolve(a, s, ag) for a in t.args]
+    # Any: a rule's result may be a term that is no number (refused below), which a variable
+    # typed float would refuse earlier with a TypeError in the compiled (mypyc) module
+    value: Any
     if uf.compute is not None:
         try:
             value = uf.compute(ag, args)

@@ -175,21 +175,53 @@ def list_rules(ctx: IAContext, args: list) -> bool:
 
 @internal_action(".list_plans")
 def list_plans(ctx: IAContext, args: list) -> bool:
-    """``.list_plans`` prints the plans (those of the KQML protocol aside); with a trigger
-    term, only the plans relevant for it."""
-    trig = None
-    if args:
-        trig = plan_term_trigger(args[0]) if isinstance(args[0], PlanTerm) else None
-        if trig is None:
-            raise wrong_arg("the argument must be a trigger term, e.g. {+!g}")
+    """``.list_plans(T)`` with a goal's trigger term (``{+!g(_)}``) prints, one message each,
+    the plans whose trigger unifies with it; otherwise (no argument, or any other term) one
+    message with every plan grouped by the file it came from, as Jason's
+    ``PlanLibrary.getAsTxt``: ``// plans from FILE`` groups in the order of Java's hash map of
+    the file names, then ``// plans without file`` (added or told), the KQML plans left out."""
+    trig = _trigger_term(args[0]) if args else None
+    if trig is None:
+        info(ctx, plans_as_text(ctx.ag.pl.plans))
+        return True
+    pattern = trig.literal
+    if isinstance(pattern, Literal) and not pattern.has_source():
+        pattern = pattern.add_annots([Literal("source", (Var("_"),))])
     for p in ctx.ag.pl.plans:
         if p.src == KQML_SRC:
             continue
-        if trig is not None and not (p.trigger.op == trig.op and p.trigger.type == trig.type
-                                     and unify(trig.literal, p.trigger.literal, {})):
-            continue
-        info(ctx, str(p))
+        if p.trigger.op == trig.op and p.trigger.type == trig.type \
+                and unify(p.trigger.literal, pattern, {}):
+            info(ctx, str(p))
     return True
+
+
+def _trigger_term(t: Any) -> Trigger | None:
+    """The trigger of a trigger term ``{+!g}`` (a plan term of a goal's trigger alone; Jason
+    reads ``{+b}`` as a body adding ``b``), else None."""
+    if not isinstance(t, PlanTerm) or t.plan is None:
+        return None
+    p = t.plan
+    if p.label is not None or p.context is not None or p.body or p.goal_condition is not None \
+            or p.trigger.type == BELIEF:
+        return None
+    return p.trigger
+
+
+def plans_as_text(plans: list) -> str:
+    """Jason's ``PlanLibrary.getAsTxt(false)`` of ``plans``: see :func:`list_plans`."""
+    groups: dict[str, list[str]] = {}
+    for p in plans:
+        if p.src == KQML_SRC:
+            continue
+        groups.setdefault(p.src if p.in_file else "", []).append(str(p))
+
+    def group_text(name: str) -> str:
+        head = f"// plans from {name}" if name else "// plans without file"
+        return "\n\n" + head + "\n\n" + "".join(line + "\n" for line in groups[name])
+    files = [name for name in java_map_order(list(groups), str) if name]
+    return ("".join(group_text(name) for name in files) + "\n"
+            + (group_text("") if "" in groups else ""))
 
 
 @internal_action(".relevant_plan", arity=2)
