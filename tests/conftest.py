@@ -8,6 +8,11 @@ ROS tests use real processes started by :class:`rason.process.harness.RosHarness
   Call ``ros.init_rospy()`` before using rospy in the test itself. Use a namespace of your own
   per test so topics of different tests never meet.
 * ``fresh_ros``: a brand-new roscore for this test alone (no rospy in the test process).
+
+``./run.sh test`` runs the suite on two pytest-xdist workers (``--dist loadgroup``), each with a
+roscore of its own. The end-to-end runs (a simulator and agents each, see ``E2E``) are one
+xdist group, so one worker runs them in turn while the other runs the rest: two of them at once
+would share two cores with four robots' worth of processes.
 """
 
 from __future__ import annotations
@@ -15,6 +20,8 @@ from __future__ import annotations
 import os
 import shutil
 from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
 
 import pytest
 
@@ -39,12 +46,37 @@ def _harness() -> Iterator[RosHarness]:
 ROS_FIXTURES = frozenset({"ros", "ros_session", "fresh_ros"})
 
 
+@dataclass(frozen=True)
+class E2E:
+    """The CPU-heavy end-to-end tests: the xdist group that one worker runs one after another."""
+
+    group: str = "e2e"
+    #: markers of whole runs: the demo and mission (simulator, agents, often a browser), hosts
+    markers: tuple[str, ...] = ("demo", "hosts")
+    #: other tests of that weight, by node id prefix: a catkin build then a demo; the agent
+    #: language suite again as plain Python
+    nodeids: tuple[str, ...] = (
+        "tests/workspace/test_install_space.py",
+        "tests/asl/test_asl_native.py::test_the_agent_language_suite_passes_as_plain_python_too",
+    )
+
+    def holds(self, item: pytest.Item) -> bool:
+        """Whether ``item`` is one of them."""
+        return (any(item.get_closest_marker(m) for m in self.markers)
+                or item.nodeid.startswith(self.nodeids))
+
+
+@pytest.hookimpl(tryfirst=True)     # before xdist reads the groups into the node ids
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Mark ``ros`` every test that uses a roscore fixture (files that start ROS processes
-    themselves say ``pytestmark = pytest.mark.ros``)."""
+    themselves say ``pytestmark = pytest.mark.ros``); put the end-to-end tests in one xdist
+    group (see :class:`E2E`)."""
+    e2e = E2E()
     for item in items:
         if ROS_FIXTURES & set(getattr(item, "fixturenames", ())):
             item.add_marker(pytest.mark.ros)
+        if e2e.holds(item):
+            item.add_marker(pytest.mark.xdist_group(e2e.group))
 
 
 @pytest.fixture(scope="session")
@@ -95,9 +127,29 @@ def fresh_ros() -> Iterator[RosHarness]:
     yield from _harness()
 
 
+#: orphans the xdist workers reported (see ``pytest_testnodedown``), on the controller's config
+_WORKER_ORPHANS = pytest.StashKey[list]()
+
+
+@pytest.hookimpl(optionalhook=True)   # an xdist hook: absent with -p no:xdist
+def pytest_testnodedown(node: Any, error: object) -> None:
+    """On the controller: a worker is done; keep the orphans it reported (a worker that crashed
+    reports none, but xdist fails the run for the crash itself)."""
+    found = getattr(node, "workeroutput", {}).get("orphans", [])
+    node.config.stash.setdefault(_WORKER_ORPHANS, []).extend(found)
+
+
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
-    """After the suite, no roscore, rosout or node started by the harness may be left running."""
+    """After the suite, no roscore, rosout or node started by the harness may be left running.
+
+    An xdist worker hands its orphans to the controller (a worker's exit status is not the
+    run's), which reports them with its own and fails the run."""
     leftovers = processes_left_by(os.getpid())
+    workeroutput = getattr(session.config, "workeroutput", None)
+    if workeroutput is not None:
+        workeroutput["orphans"] = leftovers
+        return
+    leftovers += session.config.stash.get(_WORKER_ORPHANS, [])
     if leftovers:
         print("\nORPHAN ROS PROCESSES LEFT BY THE SUITE:\n  " + "\n  ".join(leftovers))
         session.exitstatus = 1
