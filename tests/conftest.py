@@ -11,19 +11,23 @@ ROS tests use real processes started by :class:`rason.process.harness.RosHarness
 
 ``./run.sh test`` runs the suite on two pytest-xdist workers (``--dist loadgroup``), each with a
 roscore of its own. The end-to-end runs (a simulator and agents each, see ``E2E``) are one
-xdist group, so one worker runs them in turn while the other runs the rest: two of them at once
-would share two cores with four robots' worth of processes.
+group, so one worker runs them in turn while the other runs the rest: two of them at once
+would share two cores with two robots' simulators, agents and vision each.
 """
 
 from __future__ import annotations
 
+import functools
 import os
+import re
 import shutil
 from collections.abc import Iterator
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import pytest
+from xdist.scheduler import LoadGroupScheduling
 
 from rason.process.harness import Process, RosHarness, processes_left_by
 
@@ -48,11 +52,14 @@ ROS_FIXTURES = frozenset({"ros", "ros_session", "fresh_ros"})
 
 @dataclass(frozen=True)
 class E2E:
-    """The CPU-heavy end-to-end tests: the xdist group that one worker runs one after another."""
+    """The CPU-heavy end-to-end tests, which one xdist worker runs one after another.
+
+    Chosen by node id, as xdist's controller sees only node ids: the test modules whose
+    ``pytestmark`` names one of ``markers``, and ``nodeids``."""
 
     group: str = "e2e"
     #: markers of whole runs: the demo and mission (simulator, agents, often a browser), hosts
-    markers: tuple[str, ...] = ("demo", "hosts")
+    markers: frozenset[str] = frozenset({"demo", "hosts"})
     #: other tests of that weight, by node id prefix: a catkin build then a demo; the agent
     #: language suite again as plain Python
     nodeids: tuple[str, ...] = (
@@ -60,23 +67,46 @@ class E2E:
         "tests/asl/test_asl_native.py::test_the_agent_language_suite_passes_as_plain_python_too",
     )
 
-    def holds(self, item: pytest.Item) -> bool:
-        """Whether ``item`` is one of them."""
-        return (any(item.get_closest_marker(m) for m in self.markers)
-                or item.nodeid.startswith(self.nodeids))
+    def holds(self, nodeid: str, root: Path) -> bool:
+        """Whether the test ``nodeid`` (relative to ``root``) is one of them."""
+        return (nodeid.startswith(self.nodeids)
+                or bool(self.markers & module_marks(root / nodeid.split("::")[0])))
 
 
-@pytest.hookimpl(tryfirst=True)     # before xdist reads the groups into the node ids
+@functools.cache
+def module_marks(path: Path) -> frozenset[str]:
+    """The markers a test module's ``pytestmark = ...`` line names (none for other paths)."""
+    if path.suffix != ".py" or not path.is_file():
+        return frozenset()
+    line = next((line for line in path.read_text(encoding="utf-8").splitlines()
+                 if line.startswith("pytestmark")), "")
+    return frozenset(re.findall(r"pytest\.mark\.(\w+)", line))
+
+
+class E2EScheduling(LoadGroupScheduling):
+    """xdist's ``loadgroup``, with the :class:`E2E` tests as one more group.
+
+    (``xdist_group`` marks cannot make that group with pytest 9.2: xdist 3.8 puts the group in
+    the node id, which pytest 9.2 no longer lets it change; pytest-xdist issue 1386.)"""
+
+    def _split_scope(self, nodeid: str) -> str:
+        if E2E().holds(nodeid, self.config.rootpath):
+            return E2E.group
+        return super()._split_scope(nodeid)
+
+
+@pytest.hookimpl(optionalhook=True)   # an xdist hook: absent with -p no:xdist
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> E2EScheduling | None:
+    """``--dist loadgroup`` (as ``./run.sh test`` passes) schedules with :class:`E2EScheduling`."""
+    return E2EScheduling(config, log) if config.getvalue("dist") == "loadgroup" else None
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Mark ``ros`` every test that uses a roscore fixture (files that start ROS processes
-    themselves say ``pytestmark = pytest.mark.ros``); put the end-to-end tests in one xdist
-    group (see :class:`E2E`)."""
-    e2e = E2E()
+    themselves say ``pytestmark = pytest.mark.ros``)."""
     for item in items:
         if ROS_FIXTURES & set(getattr(item, "fixturenames", ())):
             item.add_marker(pytest.mark.ros)
-        if e2e.holds(item):
-            item.add_marker(pytest.mark.xdist_group(e2e.group))
 
 
 @pytest.fixture(scope="session")
