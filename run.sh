@@ -51,7 +51,8 @@
 #       --inspector-port N, --inspector, --no-inspector   as for demo (the inspector's mission view)
 #       --hold                      as for demo
 #   ./run.sh bench NAME [ARGS...]   a benchmark of benchmarks/ (./run.sh bench lists them)
-#   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs), or a part: a file, -k NAME
+#   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs) on 2 workers, or a part: a
+#                                   file, -k NAME (a file or -n 0 runs serially; docs/layout.md)
 #   ./run.sh env                    a shell with ROS and the workspace ready (or: source env.sh)
 #   ./run.sh help                   this text (also -h, --help)
 # Each command's own --help gives its options with their defaults (./run.sh demo --help).
@@ -74,6 +75,25 @@ list_benchmarks() {
   done
 }
 
+#: pytest workers for ./run.sh test (RASON_TEST_WORKERS=0: serially in one process)
+TEST_WORKERS="${RASON_TEST_WORKERS:-2}"
+
+test_workers() {
+  # pytest-xdist options for ./run.sh test ARGS: TEST_WORKERS workers for the suite, each
+  # with its own roscore; the end-to-end runs stay on one of them (their xdist group, see
+  # tests/conftest.py). None when ARGS name tests by path (one file runs fast serially) or
+  # already choose (-n, --dist, -p no:xdist) or need one process (--pdb, --collect-only).
+  local arg
+  for arg in "$@"; do
+    case "$arg" in
+      -n|-n*|--numprocesses*|--dist*|no:xdist|--pdb|--trace|--co|--collect-only) return ;;
+      -*) ;;
+      *) if [[ "$arg" == *::* ]] || [ -e "$arg" ]; then return; fi ;;
+    esac
+  done
+  [ "$TEST_WORKERS" = 0 ] || echo "-n $TEST_WORKERS --dist loadgroup"
+}
+
 ensure_setup() {
   if [ "$(id -u)" = 0 ]; then
     "$ROOT/setup.sh" | sed -u 's/^/  /'
@@ -94,7 +114,8 @@ case "$cmd" in
       # (tests/draws.py)
       shift; RASON_TEST_FAST=1 exec python3 -m pytest -m "not ros and not slow" "$@"
     fi
-    exec python3 -m pytest "$@"
+    # shellcheck disable=SC2046  # test_workers gives words (options) or nothing
+    exec python3 -m pytest $(test_workers "$@") "$@"
     ;;
   demo)
     ensure_setup

@@ -8,15 +8,26 @@ ROS tests use real processes started by :class:`rason.process.harness.RosHarness
   Call ``ros.init_rospy()`` before using rospy in the test itself. Use a namespace of your own
   per test so topics of different tests never meet.
 * ``fresh_ros``: a brand-new roscore for this test alone (no rospy in the test process).
+
+``./run.sh test`` runs the suite on two pytest-xdist workers (``--dist loadgroup``), each with a
+roscore of its own. The end-to-end runs (a simulator and agents each, see ``E2E``) are one
+group, so one worker runs them in turn while the other runs the rest: two of them at once
+would share two cores with two robots' simulators, agents and vision each.
 """
 
 from __future__ import annotations
 
+import functools
 import os
+import re
 import shutil
 from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 import pytest
+from xdist.scheduler import LoadGroupScheduling
 
 from rason.process.harness import Process, RosHarness, processes_left_by
 
@@ -37,6 +48,57 @@ def _harness() -> Iterator[RosHarness]:
 #: fixtures that start a roscore: a test using one (directly or through another fixture) gets
 #: the ``ros`` marker, which ``./run.sh test --fast`` (``-m "not ros"``) leaves out
 ROS_FIXTURES = frozenset({"ros", "ros_session", "fresh_ros"})
+
+
+@dataclass(frozen=True)
+class E2E:
+    """The CPU-heavy end-to-end tests, which one xdist worker runs one after another.
+
+    Chosen by node id, as xdist's controller sees only node ids: the test modules whose
+    ``pytestmark`` names one of ``markers``, and ``nodeids``."""
+
+    group: str = "e2e"
+    #: markers of whole runs: the demo and mission (simulator, agents, often a browser), hosts
+    markers: frozenset[str] = frozenset({"demo", "hosts"})
+    #: other tests of that weight, by node id prefix: a catkin build then a demo; the agent
+    #: language suite again as plain Python
+    nodeids: tuple[str, ...] = (
+        "tests/workspace/test_install_space.py",
+        "tests/asl/test_asl_native.py::test_the_agent_language_suite_passes_as_plain_python_too",
+    )
+
+    def holds(self, nodeid: str, root: Path) -> bool:
+        """Whether the test ``nodeid`` (relative to ``root``) is one of them."""
+        return (nodeid.startswith(self.nodeids)
+                or bool(self.markers & module_marks(root / nodeid.split("::")[0])))
+
+
+@functools.cache
+def module_marks(path: Path) -> frozenset[str]:
+    """The markers a test module's ``pytestmark = ...`` line names (none for other paths)."""
+    if path.suffix != ".py" or not path.is_file():
+        return frozenset()
+    line = next((line for line in path.read_text(encoding="utf-8").splitlines()
+                 if line.startswith("pytestmark")), "")
+    return frozenset(re.findall(r"pytest\.mark\.(\w+)", line))
+
+
+class E2EScheduling(LoadGroupScheduling):
+    """xdist's ``loadgroup``, with the :class:`E2E` tests as one more group.
+
+    (``xdist_group`` marks cannot make that group with pytest 9.2: xdist 3.8 puts the group in
+    the node id, which pytest 9.2 no longer lets it change; pytest-xdist issue 1386.)"""
+
+    def _split_scope(self, nodeid: str) -> str:
+        if E2E().holds(nodeid, self.config.rootpath):
+            return E2E.group
+        return super()._split_scope(nodeid)
+
+
+@pytest.hookimpl(optionalhook=True)   # an xdist hook: absent with -p no:xdist
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> E2EScheduling | None:
+    """``--dist loadgroup`` (as ``./run.sh test`` passes) schedules with :class:`E2EScheduling`."""
+    return E2EScheduling(config, log) if config.getvalue("dist") == "loadgroup" else None
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
@@ -95,9 +157,29 @@ def fresh_ros() -> Iterator[RosHarness]:
     yield from _harness()
 
 
+#: orphans the xdist workers reported (see ``pytest_testnodedown``), on the controller's config
+_WORKER_ORPHANS = pytest.StashKey[list]()
+
+
+@pytest.hookimpl(optionalhook=True)   # an xdist hook: absent with -p no:xdist
+def pytest_testnodedown(node: Any, error: object) -> None:
+    """On the controller: a worker is done; keep the orphans it reported (a worker that crashed
+    reports none, but xdist fails the run for the crash itself)."""
+    found = getattr(node, "workeroutput", {}).get("orphans", [])
+    node.config.stash.setdefault(_WORKER_ORPHANS, []).extend(found)
+
+
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
-    """After the suite, no roscore, rosout or node started by the harness may be left running."""
+    """After the suite, no roscore, rosout or node started by the harness may be left running.
+
+    An xdist worker hands its orphans to the controller (a worker's exit status is not the
+    run's), which reports them with its own and fails the run."""
     leftovers = processes_left_by(os.getpid())
+    workeroutput = getattr(session.config, "workeroutput", None)
+    if workeroutput is not None:
+        workeroutput["orphans"] = leftovers
+        return
+    leftovers += session.config.stash.get(_WORKER_ORPHANS, [])
     if leftovers:
         print("\nORPHAN ROS PROCESSES LEFT BY THE SUITE:\n  " + "\n  ".join(leftovers))
         session.exitstatus = 1

@@ -83,6 +83,10 @@ def drive_then_end(ros: RosHarness, tmp_path: Path, ns: str, ending: str,
     heard = Heard(ns)
     ros.rosrun("rason", "echo_decomposer", ns=ns, params={"delay": 60.0})
     ros.wait_for_subscriber(f"{ns}/jason/cancel")
+    # the decomposer says "accepted" once, unlatched: our jason/event subscriber must be
+    # connected to it before the agent asks (under load it connected after, and missed it)
+    wait_until(lambda: heard.subs[1].get_num_connections() > 0,
+               "our jason/event subscriber to connect to the decomposer", timeout=20)
     agent = start_agent(ros, tmp_path, "mover", MOVER.format(ending=ending), ns=ns)
     wait_until(lambda: heard.accepted(), "move(60) to be accepted", timeout=20)
     return agent, heard, heard.accepted()[0]

@@ -28,6 +28,9 @@ from rason.ros.node import AgentNodeParams
 
 #: wall-clock seconds a decomposer starting at the same time has to subscribe to jason/action
 GRAPH_WAIT = 2.0
+#: wall-clock seconds for the connections to a subscribed decomposer (the action to it, its
+#: events to us) before the action is sent anyway
+CONNECT_WAIT = 10.0
 
 
 def subscribers(topic: str) -> list[str]:
@@ -44,6 +47,16 @@ def wait_for_subscribers(topic: str, wait: float) -> list[str]:
         if nodes or time.monotonic() >= deadline or rospy.is_shutdown():
             return nodes
         time.sleep(0.1)
+
+
+def wait_connected(publisher: rospy.Publisher, subscriber: rospy.Subscriber, wait: float) -> bool:
+    """Whether both have a connection, waiting up to ``wait`` wall-clock seconds."""
+    deadline = time.monotonic() + wait
+    while not (publisher.get_num_connections() and subscriber.get_num_connections()):
+        if time.monotonic() >= deadline or rospy.is_shutdown():
+            return False
+        time.sleep(0.02)
+    return True
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -91,15 +104,23 @@ def main(argv: list[str] | None = None) -> int:
             done.set()
             time.sleep(0.2)             # let the cancel leave before the node goes
 
+    def send() -> None:
+        publisher.publish(Action(agent=args.agent, action_id=action_id, action=name,
+                                 parameters=parameters))
+        print(f"sent {args.action} as {args.agent} (action_id {action_id})", flush=True)
+
     rospy.on_shutdown(lambda: give_up("act interrupted"))
-    publisher.publish(Action(agent=args.agent, action_id=action_id, action=name,
-                             parameters=parameters))
-    print(f"sent {args.action} as {args.agent} (action_id {action_id})", flush=True)
     if args.timeout <= 0:
+        send()
         rospy.sleep(0.5)
         return 0
     topic = publisher.resolved_name
-    if not wait_for_subscribers(topic, GRAPH_WAIT):
+    if wait_for_subscribers(topic, GRAPH_WAIT):
+        # the decomposer answers once, unlatched, and its ack time starts at the sending: send
+        # once its connections to us are up (on a loaded machine they took seconds)
+        wait_connected(publisher, events, CONNECT_WAIT)
+        send()
+    else:
         give_up(f"act: nothing subscribes to {topic}")
         print(f"no decomposer: nothing subscribes to {topic} (namespace "
               f"{rospy.get_namespace()}); start one there, e.g. rosrun rason motion_decomposer "
