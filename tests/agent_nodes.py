@@ -9,7 +9,9 @@ import xmlrpc.client
 from pathlib import Path
 
 import rosgraph
+import rospy
 import yaml
+from std_srvs.srv import SetBool
 
 from rason.process.harness import Process, RosHarness
 
@@ -56,6 +58,31 @@ def connected_from(ros: RosHarness, node: str, topic: str, subscriber: str) -> b
         return False
     return code == 1 and any(c[1] == subscriber and c[2] == "o" and c[4] == topic
                              for c in info)
+
+
+def player_connected(ros: RosHarness, topic: str) -> str:
+    """The name of the ``rosbag play`` node publishing ``topic`` once every subscriber of every
+    topic it publishes is connected to it (its bus info), else "": a player started with
+    ``--pause`` may then be resumed (:func:`resume_player`) without a subscriber missing the
+    first messages, however long connecting took."""
+    try:
+        publishers, subscribers, _ = rosgraph.Master("/rason_test_player", master_uri=ros.master_uri
+                                                     ).getSystemState()
+    except (OSError, rosgraph.MasterException):
+        return ""
+    player = next((nodes[0] for name, nodes in publishers if name == topic and nodes), "")
+    if not player:
+        return ""
+    wanted = [(name, sub) for name, nodes in publishers if player in nodes
+              for sub_topic, subs in subscribers if sub_topic == name for sub in subs]
+    return player if all(connected_from(ros, player, t, sub) for t, sub in wanted) else ""
+
+
+def resume_player(player: str) -> None:
+    """Resume a ``rosbag play --pause`` node (its ``pause_playback`` service, false); rospy
+    initialised on ``ros`` (``ros.init_rospy()``)."""
+    rospy.wait_for_service(f"{player}/pause_playback", timeout=20)
+    rospy.ServiceProxy(f"{player}/pause_playback", SetBool)(False)
 
 
 def key_file(folder: Path, name: str) -> Path:

@@ -12,6 +12,7 @@ import threading
 import time
 
 import pytest
+from agent_nodes import player_connected, resume_player
 from polling import wait_until
 from vision_truth import CASES_BAG, COMPRESSED_BAG, KINECT_BAG, LITERAL, PARTIAL, check
 
@@ -62,13 +63,24 @@ def test_synthesizer_on_recorded_bag(ros, form):
         wait_until(lambda: subs[0].get_num_connections() > 0, "our subscriber's connection to "
                    "the node's perceptions", timeout=20, watch=[node], period=0.05)
         # --keep-alive: an exiting rosbag may drop the last big messages still in its queues.
-        play = ros.run(["rosbag", "play", "--delay", "2", "--quiet", "--keep-alive",
-                        str(bag)], label="rosbag_play")
+        # --pause: played once the node and this test are connected to every topic they read
+        # (a fixed --delay was too short once under a loaded machine: a frame missed)
+        play = ros.run(["rosbag", "play", "--pause", "--quiet", "--keep-alive", str(bag)],
+                       label="rosbag_play")
+        player = wait_until(lambda: player_connected(ros, "/ground_truth/faulty_relative"),
+                            "the subscribers' connections to rosbag play", timeout=30,
+                            watch=[play, node], period=0.1)
+        resume_player(player)
+
         def all_frames() -> bool:
             with lock:
                 return len(truths) >= FRAMES and len(perceptions) >= FRAMES
-        wait_until(all_frames, f"{FRAMES} truths and perceptions", timeout=40,
-                   watch=[play, node], period=0.1)
+        try:
+            wait_until(all_frames, f"{FRAMES} truths and perceptions", timeout=40,
+                       watch=[play, node], period=0.1)
+        except AssertionError as err:
+            raise AssertionError(f"{err}: {len(truths)} truths, {len(perceptions)} perceptions"
+                                 ) from err
         # A frame perceived twice would show as more perceptions than truths; nothing comes on
         # the topic after the last frame to wait for, so it is given half a second to show.
         time.sleep(0.5)
