@@ -18,6 +18,7 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+from interrupts import sigint_as_in_a_terminal
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
 
@@ -32,10 +33,6 @@ INSPECTOR_LINE = r"\[(?:demo|mission)\] mind inspector: (http://127\.0\.0\.1:\d+
 HOLDING_LINE = r"\[(?:demo|mission)\] holding"
 
 
-def _default_sigint() -> None:
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
 class RunProcess:
     """A run (``python -m rason_diagnosis ...``) with its stdout read line by line in a thread."""
 
@@ -45,7 +42,7 @@ class RunProcess:
         # Ctrl-C as from a terminal: a suite started in the background (`cmd &` without job
         # control) hands its children SIGINT ignored, and `end()` would then wait its timeout
         self.proc = subprocess.Popen(list(cmd), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                     text=True, preexec_fn=_default_sigint)
+                                     text=True, preexec_fn=sigint_as_in_a_terminal)
         threading.Thread(target=self._read, daemon=True).start()
 
     def _read(self) -> None:

@@ -18,6 +18,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from interrupts import sigint_as_in_a_terminal, signal_state
 from polling import wait_until
 
 from rason.process.harness import processes_left_by
@@ -99,10 +100,6 @@ def helper_turns(log: Path) -> list[str]:
     return re.findall(r"motion_decomposer: (turn(?:_to)?\([-\d.]+\)) of helper", log.read_text())
 
 
-def _default_sigint() -> None:
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
 @pytest.mark.parametrize(("sig", "started"), [(signal.SIGTERM, 1), (signal.SIGINT, 4)])
 def test_an_interrupted_demo_leaves_no_process_behind(tmp_path, sig: int, started: int):
     # interrupted while roscore starts (1 process of the run up) or while the nodes start (4)
@@ -111,17 +108,18 @@ def test_an_interrupted_demo_leaves_no_process_behind(tmp_path, sig: int, starte
     demo = subprocess.Popen([sys.executable, "-m", "rason_diagnosis", "--fault", "none",
                              "--quiet", "--no-inspector", "--out", str(tmp_path / "run")],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                            preexec_fn=_default_sigint)
+                            preexec_fn=sigint_as_in_a_terminal)
     try:
         def up() -> bool:
             assert demo.poll() is None, demo.stdout.read() if demo.stdout else ""
             return len(processes_left_by(demo.pid)) >= started
         wait_until(up, f"the demo's first {started} processes", timeout=120)
+        signals = signal_state(demo.pid)
         demo.send_signal(sig)
         out, _ = demo.communicate(timeout=90)
     finally:
         if demo.poll() is None:
             demo.kill()
-    assert demo.returncode == 130, out[-3000:]
+    assert demo.returncode == 130, f"{out[-3000:]}\nthe demo's signals when sent: {signals}"
     assert "interrupted: every node of the run was stopped" in out
     assert processes_left_by(demo.pid) == []
