@@ -51,8 +51,8 @@
 #       --inspector-port N, --inspector, --no-inspector   as for demo (the inspector's mission view)
 #       --hold                      as for demo
 #   ./run.sh bench NAME [ARGS...]   a benchmark of benchmarks/ (./run.sh bench lists them)
-#   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs) on 2 workers, or a part: a
-#                                   file, -k NAME (a file or -n 0 runs serially; docs/layout.md)
+#   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs), or a part: a file, -k NAME
+#                                   (RASON_TEST_WORKERS=2: on 2 workers; docs/layout.md)
 #   ./run.sh env                    a shell with ROS and the workspace ready (or: source env.sh)
 #   ./run.sh help                   this text (also -h, --help)
 # Each command's own --help gives its options with their defaults (./run.sh demo --help).
@@ -75,8 +75,9 @@ list_benchmarks() {
   done
 }
 
-#: pytest workers for ./run.sh test (RASON_TEST_WORKERS=0: serially in one process)
-TEST_WORKERS="${RASON_TEST_WORKERS:-2}"
+#: pytest workers for ./run.sh test: 0 (the default, serially in one process), or N xdist workers
+#: (docs/layout.md: each run on 2 workers so far met a timing failure under their load)
+TEST_WORKERS="${RASON_TEST_WORKERS:-0}"
 
 test_workers() {
   # pytest-xdist options for ./run.sh test ARGS: TEST_WORKERS workers for the suite, each

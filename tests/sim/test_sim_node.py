@@ -80,7 +80,11 @@ def test_sim_node_drives_publishes_odometry_clock_and_kinect(ros):
         moving = wait_until(lambda: (m := odom.last()).header.stamp.to_sec() > sent and m,
                             "odometry after the last command", timeout=60)
         assert moving.pose.pose.position.x > 0.2, moving.pose.pose.position
-        assert moving.twist.twist.linear.x == pytest.approx(0.3, abs=0.05)
+        # the commanded speed, reached while commanded: on a busy machine this test's 10 Hz stream
+        # can miss the 0.6 s (simulated) command timeout, and the base then slows for a moment
+        speeds = [m.twist.twist.linear.x for m in odom.wait()
+                  if t0 < m.header.stamp.to_sec() <= moving.header.stamp.to_sec()]
+        assert max(speeds) == pytest.approx(0.3, abs=0.05), speeds
         gt = truth.last()
         assert gt.header.frame_id == "world"
         assert gt.pose.pose.position.y == pytest.approx(-1.5, abs=0.02)
