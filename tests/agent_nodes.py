@@ -47,24 +47,29 @@ def connected_to(publisher, node: str) -> bool:
     return any(getattr(c, "endpoint_id", "") == node for c in publisher.impl.connections)
 
 
-def connected_from(ros: RosHarness, node: str, topic: str, subscriber: str) -> bool:
-    """True once node `node` (full name, another process) publishes `topic` to the subscriber
-    node `subscriber`: a connection in its bus info (the ROS slave API's ``getBusInfo``)."""
+def outgoing_connections(ros: RosHarness, node: str) -> set[tuple[str, str]] | None:
+    """The (topic, subscriber node) pairs node ``node`` (full name, another process) publishes
+    to now: its bus info (the ROS slave API's ``getBusInfo``); None if it cannot be asked."""
     caller = "/rason_test_bus_info"
     try:
         uri = rosgraph.Master(caller, master_uri=ros.master_uri).lookupNode(node)
         code, _, info = xmlrpc.client.ServerProxy(uri).getBusInfo(caller)
     except (OSError, rosgraph.MasterException, xmlrpc.client.Error):
-        return False
-    return code == 1 and any(c[1] == subscriber and c[2] == "o" and c[4] == topic
-                             for c in info)
+        return None
+    # each connection: (id, other end, direction, transport, topic, ...)
+    return {(c[4], c[1]) for c in info if c[2] == "o"} if code == 1 else None
+
+
+def connected_from(ros: RosHarness, node: str, topic: str, subscriber: str) -> bool:
+    """True once node ``node`` publishes ``topic`` to the subscriber node ``subscriber``."""
+    return (topic, subscriber) in (outgoing_connections(ros, node) or set())
 
 
 def player_connected(ros: RosHarness, topic: str) -> str:
     """The name of the ``rosbag play`` node publishing ``topic`` once every subscriber of every
-    topic it publishes is connected to it (its bus info), else "": a player started with
-    ``--pause`` may then be resumed (:func:`resume_player`) without a subscriber missing the
-    first messages, however long connecting took."""
+    topic it publishes is connected to it (its bus info, read once), else "": a player started
+    with ``--pause`` may then be resumed (:func:`resume_player`) without a subscriber missing
+    the first messages, however long connecting took."""
     try:
         publishers, subscribers, _ = rosgraph.Master("/rason_test_player", master_uri=ros.master_uri
                                                      ).getSystemState()
@@ -73,9 +78,10 @@ def player_connected(ros: RosHarness, topic: str) -> str:
     player = next((nodes[0] for name, nodes in publishers if name == topic and nodes), "")
     if not player:
         return ""
-    wanted = [(name, sub) for name, nodes in publishers if player in nodes
-              for sub_topic, subs in subscribers if sub_topic == name for sub in subs]
-    return player if all(connected_from(ros, player, t, sub) for t, sub in wanted) else ""
+    wanted = {(name, sub) for name, nodes in publishers if player in nodes
+              for sub_topic, subs in subscribers if sub_topic == name for sub in subs}
+    connected = outgoing_connections(ros, player)
+    return player if connected is not None and wanted <= connected else ""
 
 
 def resume_player(player: str) -> None:

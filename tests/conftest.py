@@ -9,10 +9,11 @@ ROS tests use real processes started by :class:`rason.process.harness.RosHarness
   per test so topics of different tests never meet.
 * ``fresh_ros``: a brand-new roscore for this test alone (no rospy in the test process).
 
-``./run.sh test`` runs the suite on two pytest-xdist workers (``--dist loadgroup``), each with a
-roscore of its own. The end-to-end runs (a simulator and agents each, see ``E2E``) are one
-group, so one worker runs them in turn while the other runs the rest: two of them at once
-would share two cores with two robots' simulators, agents and vision each.
+``./run.sh test`` runs the suite in one process; ``RASON_TEST_WORKERS=2 ./run.sh test`` on two
+pytest-xdist workers (``--dist loadgroup``), each with a roscore of its own. The end-to-end runs
+(a simulator and agents each, see :func:`is_end_to_end`) are then one group, so one worker runs
+them in turn while the other runs the rest: two of them at once would share two cores with two
+robots' simulators, agents and vision each.
 """
 
 from __future__ import annotations
@@ -22,7 +23,6 @@ import os
 import re
 import shutil
 from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -50,27 +50,24 @@ def _harness() -> Iterator[RosHarness]:
 ROS_FIXTURES = frozenset({"ros", "ros_session", "fresh_ros"})
 
 
-@dataclass(frozen=True)
-class E2E:
-    """The CPU-heavy end-to-end tests, which one xdist worker runs one after another.
+#: the xdist group of the CPU-heavy end-to-end tests, which one worker runs one after another
+E2E_GROUP = "e2e"
+#: their modules' markers (``pytestmark``): whole runs of the demo and mission (simulator,
+#: agents, often a browser) and of hosts
+E2E_MARKERS = frozenset({"demo", "hosts"})
+#: other tests of that weight, by node id prefix: a catkin build then a demo; the agent language
+#: suite again as plain Python
+E2E_NODEIDS = (
+    "tests/workspace/test_install_space.py",
+    "tests/asl/test_asl_native.py::test_the_agent_language_suite_passes_as_plain_python_too",
+)
 
-    Chosen by node id, as xdist's controller sees only node ids: the test modules whose
-    ``pytestmark`` names one of ``markers``, and ``nodeids``."""
 
-    group: str = "e2e"
-    #: markers of whole runs: the demo and mission (simulator, agents, often a browser), hosts
-    markers: frozenset[str] = frozenset({"demo", "hosts"})
-    #: other tests of that weight, by node id prefix: a catkin build then a demo; the agent
-    #: language suite again as plain Python
-    nodeids: tuple[str, ...] = (
-        "tests/workspace/test_install_space.py",
-        "tests/asl/test_asl_native.py::test_the_agent_language_suite_passes_as_plain_python_too",
-    )
-
-    def holds(self, nodeid: str, root: Path) -> bool:
-        """Whether the test ``nodeid`` (relative to ``root``) is one of them."""
-        return (nodeid.startswith(self.nodeids)
-                or bool(self.markers & module_marks(root / nodeid.split("::")[0])))
+def is_end_to_end(nodeid: str, root: Path) -> bool:
+    """Whether the test ``nodeid`` (relative to ``root``) is one of the end-to-end tests; by
+    node id, as xdist's controller sees only node ids."""
+    return (nodeid.startswith(E2E_NODEIDS)
+            or bool(E2E_MARKERS & module_marks(root / nodeid.split("::")[0])))
 
 
 @functools.cache
@@ -84,20 +81,21 @@ def module_marks(path: Path) -> frozenset[str]:
 
 
 class E2EScheduling(LoadGroupScheduling):
-    """xdist's ``loadgroup``, with the :class:`E2E` tests as one more group.
+    """xdist's ``loadgroup``, with the end-to-end tests as one more group.
 
     (``xdist_group`` marks cannot make that group with pytest 9.2: xdist 3.8 puts the group in
     the node id, which pytest 9.2 no longer lets it change; pytest-xdist issue 1386.)"""
 
     def _split_scope(self, nodeid: str) -> str:
-        if E2E().holds(nodeid, self.config.rootpath):
-            return E2E.group
+        if is_end_to_end(nodeid, self.config.rootpath):
+            return E2E_GROUP
         return super()._split_scope(nodeid)
 
 
 @pytest.hookimpl(optionalhook=True)   # an xdist hook: absent with -p no:xdist
 def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> E2EScheduling | None:
-    """``--dist loadgroup`` (as ``./run.sh test`` passes) schedules with :class:`E2EScheduling`."""
+    """``--dist loadgroup`` (as ``RASON_TEST_WORKERS=2 ./run.sh test`` passes) schedules with
+    :class:`E2EScheduling`."""
     return E2EScheduling(config, log) if config.getvalue("dist") == "loadgroup" else None
 
 

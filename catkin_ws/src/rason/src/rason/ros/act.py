@@ -18,6 +18,8 @@ import random
 import sys
 import threading
 import time
+from collections.abc import Callable
+from typing import TypeVar
 
 import rosgraph
 import rospy
@@ -32,6 +34,8 @@ GRAPH_WAIT = 2.0
 #: events to us) before the action is sent anyway
 CONNECT_WAIT = 10.0
 
+T = TypeVar("T")
+
 
 def subscribers(topic: str) -> list[str]:
     """The nodes subscribed to ``topic`` (a resolved name), as the master knows them."""
@@ -39,24 +43,26 @@ def subscribers(topic: str) -> list[str]:
     return next((nodes for name, nodes in subscribed if name == topic), [])
 
 
-def wait_for_subscribers(topic: str, wait: float) -> list[str]:
-    """The subscribers of ``topic``, waiting up to ``wait`` wall-clock seconds for the first."""
+def poll(ready: Callable[[], T], wait: float, period: float) -> T:
+    """``ready()`` once truthy, or its last value after ``wait`` wall-clock seconds (or at
+    shutdown), asking every ``period`` s."""
     deadline = time.monotonic() + wait
     while True:
-        nodes = subscribers(topic)
-        if nodes or time.monotonic() >= deadline or rospy.is_shutdown():
-            return nodes
-        time.sleep(0.1)
+        value = ready()
+        if value or time.monotonic() >= deadline or rospy.is_shutdown():
+            return value
+        time.sleep(period)
+
+
+def wait_for_subscribers(topic: str, wait: float) -> list[str]:
+    """The subscribers of ``topic``, waiting up to ``wait`` wall-clock seconds for the first."""
+    return poll(lambda: subscribers(topic), wait, 0.1)
 
 
 def wait_connected(publisher: rospy.Publisher, subscriber: rospy.Subscriber, wait: float) -> bool:
     """Whether both have a connection, waiting up to ``wait`` wall-clock seconds."""
-    deadline = time.monotonic() + wait
-    while not (publisher.get_num_connections() and subscriber.get_num_connections()):
-        if time.monotonic() >= deadline or rospy.is_shutdown():
-            return False
-        time.sleep(0.02)
-    return True
+    return poll(lambda: bool(publisher.get_num_connections() and subscriber.get_num_connections()),
+                wait, 0.02)
 
 
 def main(argv: list[str] | None = None) -> int:
