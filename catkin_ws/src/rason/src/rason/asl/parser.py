@@ -62,7 +62,6 @@ from .plans import (
     Plan,
     Trigger,
     body_str,
-    deed_str,
 )
 from .terms import (
     LOCAL_NS_PREFIX,
@@ -534,7 +533,7 @@ class _ToAst:
     def s_del_new(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_DEL_BEL_NEW, c[0], meta.line)
 
-    def s_expr(self, meta: Any, c: builtins.list) -> Deed:
+    def s_expr(self, meta: Any, c: builtins.list) -> Deed | builtins.list:
         t = c[0]
         if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], PlanTerm):
             return _plan_term_deed(t[1], ADD, meta.line)
@@ -544,6 +543,8 @@ class _ToAst:
             return Deed(K_ADD_BEL, t[1], meta.line)
         if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, _BELIEF_TERMS):
             return Deed(K_DEL_BEL, t.left, meta.line)
+        if type(t) is PlanTerm and t.plan is None and t.rule is None:
+            return builtins.list(t.body)    # ``{a; b}`` as a deed: its deeds in place (Jason)
         t = _fix(t)
         if isinstance(t, Literal):
             if is_internal_action(t.functor):
@@ -920,15 +921,17 @@ def _nested_too_deep(kind: str, obj: Any, limit: int) -> bool:
     return bool(found)
 
 
-def _fork_deed(kind: str, left: Deed, right: Deed, line: int) -> Deed:
+def _fork_deed(kind: str, left: Deed | builtins.list, right: Deed | builtins.list, line: int) -> Deed:
     """``A |&| B`` / ``A ||| B``: ``.fork(and|or, {A}, {B})``, as Jason's parser makes it (a
-    chain of the same operator is one fork, each operand one formula)."""
-    def branch(d: Deed) -> PlanTerm:
-        return PlanTerm((d,), deed_str(d))
+    chain of the same operator is one fork, each operand one formula, or the deeds of a
+    plan-body term ``{a; b}``); the branches print without braces, as Jason's."""
+    def branch(d: Deed | builtins.list) -> PlanTerm:
+        deeds = tuple(d) if isinstance(d, builtins.list) else (d,)
+        return PlanTerm(deeds, body_str(deeds), braces=False)
     branches = [branch(left)]
-    rt = right.term
-    if (right.kind == K_INTERNAL and isinstance(rt, Literal) and rt.functor == ".fork"
-            and rt.args and rt.args[0] == Literal(kind)):
+    rt = right.term if isinstance(right, Deed) else None
+    if (isinstance(right, Deed) and right.kind == K_INTERNAL and isinstance(rt, Literal)
+            and rt.functor == ".fork" and rt.args and rt.args[0] == Literal(kind)):
         branches.extend(rt.args[1:])
     else:
         branches.append(branch(right))
