@@ -21,6 +21,14 @@ and at most as often as the one that printed it most (a line every Jason run pri
 there, one no Jason run printed must not). The strict verdict stays the one counted first.
 
     python benchmarks/jason_demos.py JASON_TREE --classpath CP [--time S] [--jason-runs N] [-k NAME]
+        [--keep DIR] [--start-limit S]
+
+The time base: each run goes on for ``--time`` seconds from the first line an agent prints,
+so that neither side's start-up counts (Jason's JVM and MAS take about a second before the
+first line, rason about a tenth); a run that prints no agent line within ``--start-limit``
+seconds goes on for ``--time`` seconds from then. The summary gives each side's median
+time to its first line. ``--keep DIR`` keeps every run's output (``DIR/PROJECT/RUN/all.txt``,
+one ``AGENT.txt`` per agent with its lines as printed).
 
 Prints a table: project | agents | Jason's runs agree? | same? | same up to numbers and list
 order? | within Jason's variation? | first difference (strict).
@@ -33,11 +41,14 @@ import os
 import re
 import shutil
 import signal
+import statistics
 import subprocess
 import sys
 import tempfile
+import threading
+import time
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 #: folders of the source tree whose projects are run
@@ -61,6 +72,14 @@ COPIES = re.compile(r"\b([a-z]\w*)\b[^#:]*#\s*(\d+)\s*$")
 
 
 @dataclass
+class StartUp:
+    """Seconds from launch to the first agent line, of Jason's runs and of rason's."""
+
+    jason: list[float]
+    rason: list[float]
+
+
+@dataclass
 class Outcome:
     """One project's comparison."""
 
@@ -74,6 +93,9 @@ class Outcome:
     jason_agrees: bool = True
     #: every loosened line printed as often as between the fewest and most times of Jason's runs
     within_variation: bool = False
+    #: when each side's first agent line came
+    start_up: StartUp = field(default_factory=lambda: StartUp([], []))
+
 
 
 def find_projects(tree: Path) -> list[Path]:
@@ -89,23 +111,75 @@ def find_projects(tree: Path) -> list[Path]:
     return found
 
 
-def run_for(cmd: list[str], cwd: Path, seconds: float) -> str:
-    """Run ``cmd`` in ``cwd`` for at most ``seconds``; what it printed (stdout and stderr)."""
+@dataclass
+class Run:
+    """What one run printed, and when its first agent line came."""
+
+    output: str
+    #: seconds from the launch to the first agent line (None: no agent line)
+    first_line: float | None
+
+
+def run_for(cmd: list[str], cwd: Path, seconds: float, start_limit: float,
+            env: dict[str, str] | None = None) -> Run:
+    """Run ``cmd`` in ``cwd`` for ``seconds`` from its first agent line (the time base both
+    sides share: Jason's JVM and MAS start-up is not counted, nor rason's); when no agent line
+    comes within ``start_limit`` seconds, for ``seconds`` from then. Returns what it printed
+    (stdout and stderr) and when its first agent line came."""
+    start = time.monotonic()
+    chunks: list[str] = []
+    first: list[float] = []
     with subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          stdin=subprocess.DEVNULL, start_new_session=True) as proc:
+                          stdin=subprocess.DEVNULL, start_new_session=True, env=env) as proc:
+        def read() -> None:
+            assert proc.stdout is not None
+            for raw in proc.stdout:
+                line = raw.decode(errors="replace")
+                if not first and AGENT_LINE.match(line.rstrip()):
+                    first.append(time.monotonic())
+                chunks.append(line)
+        reader = threading.Thread(target=read, daemon=True)
+        reader.start()
         try:
-            out, _ = proc.communicate(timeout=seconds)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGTERM)
-            try:
-                out, _ = proc.communicate(timeout=5)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                out, _ = proc.communicate()
+            while proc.poll() is None:
+                now = time.monotonic()
+                if first and first[0] - start <= start_limit:
+                    anchor = first[0]
+                elif now - start < start_limit:
+                    anchor = now                       # no agent line yet: still starting
+                else:
+                    anchor = start + start_limit
+                if now >= anchor + seconds:
+                    break
+                time.sleep(0.02)
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGTERM)
+                try:
+                    proc.wait(timeout=5)
+                except subprocess.TimeoutExpired:
+                    os.killpg(proc.pid, signal.SIGKILL)
+            reader.join(timeout=10)
         finally:   # this script stopped (Ctrl-C): the run must not outlive it
             if proc.poll() is None:
                 os.killpg(proc.pid, signal.SIGKILL)
-    return out.decode(errors="replace")
+    return Run("".join(chunks), first[0] - start if first else None)
+
+
+def keep_run(keep: Path | None, project: str, run: str, output: str) -> None:
+    """With ``--keep``: the run's whole output as ``KEEP/PROJECT/RUN/all.txt`` and each agent's
+    lines, as printed, as ``KEEP/PROJECT/RUN/AGENT.txt``."""
+    if keep is None:
+        return
+    folder = keep / project.replace("/", "__").removesuffix(".mas2j") / run
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "all.txt").write_text(output)
+    agents: dict[str, list[str]] = {}
+    for line in output.splitlines():
+        m = AGENT_LINE.match(line.rstrip())
+        if m:
+            agents.setdefault(m.group(1), []).append(m.group(2) + "\n")
+    for agent, said in agents.items():
+        (folder / f"{agent}.txt").write_text("".join(said))
 
 
 def per_agent(output: str) -> dict[str, Counter]:
@@ -212,24 +286,35 @@ def compare(mas: Path, tree: Path, args: argparse.Namespace) -> Outcome:
     java = ["java", "-cp", args.classpath, "jason.infra.local.RunLocalMAS", mas.name,
             "--log-conf", str(tree / LOG_CONF)]
     rason = [sys.executable, "-m", "rason.asl", "run", mas.name]
+    # rason's lines reach the pipe as printed, as Jason's do (its first line times the run)
+    unbuffered = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    starts: list[float | None] = []
     with tempfile.TemporaryDirectory(prefix="jason-demo-") as tmp:
         runs = []
         for _ in range(args.jason_runs):
             work = Path(tmp) / f"jason{len(runs)}"
             shutil.copytree(mas.parent, work)
-            runs.append(per_agent(run_for(java, work, args.time)))
+            run = run_for(java, work, args.time, args.start_limit)
+            keep_run(args.keep, name, work.name, run.output)
+            starts.append(run.first_line)
+            runs.append(per_agent(run.output))
         work = Path(tmp) / "rason"
         shutil.copytree(mas.parent, work)
-        ours = per_agent(run_for(rason, work, args.time))
+        run = run_for(rason, work, args.time, args.start_limit, unbuffered)
+        keep_run(args.keep, name, work.name, run.output)
+        ours = per_agent(run.output)
     agents = len(set().union(*runs, ours))
+    jason_start = [t for t in starts if t is not None]
+    timing = StartUp(jason_start, [run.first_line] if run.first_line is not None else [])
     agree = all(same_lines(runs[0], r) for r in runs[1:])
     if any(same_lines(theirs, ours) for theirs in runs):
-        return Outcome(name, agents, True, "", True, agree, True)
+        return Outcome(name, agents, True, "", True, agree, True, timing)
     loose = any(same_lines(loosen(theirs), loosen(ours)) for theirs in runs)
     families = copied_agents(mas.read_text(errors="replace"))
     varied = loose or within_variation([merge_copies(loosen(r), families) for r in runs],
                                        merge_copies(loosen(ours), families))
-    return Outcome(name, agents, False, first_difference(runs[0], ours), loose, agree, varied)
+    return Outcome(name, agents, False, first_difference(runs[0], ours), loose, agree, varied,
+                   timing)
 
 
 def yes_no(flag: bool) -> str:
@@ -240,7 +325,13 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("tree", type=Path, help="a Jason source tree (jason-lang/jason checkout)")
     ap.add_argument("--classpath", required=True, help="class path of a Jason build (java -cp)")
-    ap.add_argument("--time", type=float, default=10.0, help="seconds each run may take")
+    ap.add_argument("--time", type=float, default=10.0,
+                    help="seconds each run goes on from its first agent line")
+    ap.add_argument("--start-limit", type=float, default=10.0,
+                    help="seconds a run may take to print its first agent line before its "
+                         "--time counts anyway")
+    ap.add_argument("--keep", type=Path, default=None,
+                    help="keep every run's output: KEEP/PROJECT/RUN/all.txt and AGENT.txt")
     ap.add_argument("--jason-runs", type=int, default=3, help="runs of Jason per project")
     ap.add_argument("-k", default="", help="only projects whose path contains this text")
     args = ap.parse_args()
@@ -252,8 +343,12 @@ def main() -> int:
           "| within Jason's variation? | first difference (strict) |")
     print("|---|---|---|---|---|---|---|")
     same = loose = varied = varying = 0
+    jason_starts: list[float] = []
+    rason_starts: list[float] = []
     for mas in projects:
         o = compare(mas, args.tree, args)
+        jason_starts += o.start_up.jason
+        rason_starts += o.start_up.rason
         same += o.same
         loose += o.same_loosely
         varied += o.within_variation
@@ -264,6 +359,11 @@ def main() -> int:
     print(f"\n{same} of {len(projects)} projects print the same; {loose} of {len(projects)} the "
           f"same up to numbers and list order; {varied} of {len(projects)} within Jason's variation; "
           f"Jason's own runs differed for {varying}")
+    for side, starts in (("Jason", jason_starts), ("rason", rason_starts)):
+        if starts:
+            print(f"{side}'s first agent line came {statistics.median(starts):.2f} s after the "
+                  f"launch (median of {len(starts)} runs; {min(starts):.2f}-{max(starts):.2f} s), "
+                  f"not counted in --time")
     return 0
 
 

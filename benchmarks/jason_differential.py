@@ -95,6 +95,9 @@ q2(40).
 META_DEEDS = (
     ".intention(_, _, [im(_, _, _, UV)|_], current); .print(unif, UV)",
     "BV = {.print(in_body_var); +x(2)}; BV", ".print(fn, df.add(2, 3) * 2)", "!sel(V)",
+    # plan texts (statements and forks as Jason prints them), a plan-body term as a deed
+    ".relevant_plans({+!ctl(_)}, LV); .print(LV)", ".plan_label(PV, ctl); .print(PV)",
+    "{.print(in_block); +x(2)}; .print(after_block)",
 )
 
 #: With ``--meta``: read first (a function is one from its directive on, as Jason reads it).
@@ -102,6 +105,8 @@ META_HEADER = """{ register_function("df.add", 2, "add3") }
 add3(X, Y, Z) :- Z = X + Y.
 +!sel(N) : r(R) & R > N <- .print(sel, N, R).
 +!sel(N) <- .print(sel_none, N).
+@ctl +!ctl(N) <- if (N > 1) { .print(a); .print(b) } elif (w) { .print(c) } else { };
+    for (r(R)) { .print(R) }; while (x(_)) { -x(_) }; !h |&| {.print(d); !sub}; !h ||| (!sub |&| !h).
 """
 # Not here: a select__option rule. One that refuses the plans labelled [skip] only
 # (``not (P = {@L +!T : C <- B} & L =.. [_, _, As] & .member(skip, As))``) refuses, in
@@ -123,6 +128,7 @@ KQML_DEEDS = (
     ".send(R, tellHow, \"@nest +!nest(N) <- !in(N). { +!in(M) <- .print(nest, M, N). }\"); "
     ".send(R, askOne, v(_), _); .send(R, achieve, nest(V))",
     ".send(R, askOne, b(XV)[source(SV)], AV); .print(src, AV)",
+    ".send(R, askHow, {+!ctl(_)}, LV); .print(how, LV)",
     # a session of the answerer (a plan with inner plans for told beliefs, waiting <: false):
     # notes, flags (an inner plan whose trigger is a variable) and the close reach it through
     # branches of its intention
@@ -138,6 +144,7 @@ rv(X) :- v(X) & X > 1.
 -hello(N) <- .print(untold, N).
 +!do(N)[source(S)] <- .print(do, N, S).
 +a(N) <- .print(a, N).
+@ctl +!ctl(N) <- if (N > 1) { .print(a) } else { .print(b) }; for (v(X)) { .print(X) }; !do(N) ||| !do(1).
 +!open(N) <: false <- .print(open, N).
     {
     +note(N, X) : X > 2 <- !jot(X).

@@ -64,3 +64,31 @@ def test_within_variation_takes_each_line_between_jasons_fewest_and_most() -> No
     assert not ours("[p1] I won\n[p2] I lost\n[c] waiting\n")
     assert not ours("[c] winner is p1 with 1\n[p1] I won\n[p2] I lost\n[c] waiting\n[c] tie\n")
     assert not ours("[c] winner is p1 with 1\n[p1] I won\n[p2] I lost\n" + "[c] waiting\n" * 4)
+
+
+def test_a_run_is_timed_from_its_first_agent_line(tmp_path: Path) -> None:
+    # a slow start (as Jason's JVM) is not counted: the run goes on 0.8 s from its first line,
+    # so both lines are there although the start alone took longer than 0.8 s
+    script = ("import sys, time\ntime.sleep(1.0)\nprint('[a] first', flush=True)\n"
+              "time.sleep(0.3)\nprint('[a] second', flush=True)\ntime.sleep(60)\n")
+    run = demos.run_for([sys.executable, "-c", script], tmp_path, 0.8, start_limit=20.0)
+    assert run.first_line is not None and run.first_line >= 1.0
+    assert demos.per_agent(run.output)["a"] == Counter({"first": 1, "second": 1})
+
+
+def test_a_run_without_agent_lines_stops_after_the_start_limit(tmp_path: Path) -> None:
+    script = "import time\nprint('not an agent line', flush=True)\ntime.sleep(60)\n"
+    run = demos.run_for([sys.executable, "-c", script], tmp_path, 0.2, start_limit=0.5)
+    assert run.first_line is None
+    assert run.output == "not an agent line\n"
+
+
+def test_keep_writes_each_runs_output_and_each_agents_lines(tmp_path: Path) -> None:
+    output = "[a] one\nJava says something\n[b] two\n[a] three _12\n"
+    demos.keep_run(tmp_path, "demos/x/x.mas2j", "jason0", output)
+    folder = tmp_path / "demos__x__x" / "jason0"
+    assert (folder / "all.txt").read_text() == output
+    assert (folder / "a.txt").read_text() == "one\nthree _12\n"
+    assert (folder / "b.txt").read_text() == "two\n"
+    demos.keep_run(None, "demos/x/x.mas2j", "rason", output)   # no --keep: nothing written
+    assert not (tmp_path / "demos__x__x" / "rason").exists()

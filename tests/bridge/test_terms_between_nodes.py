@@ -148,3 +148,29 @@ def test_a_message_to_an_agent_heard_before_it_listens_waits_for_it(ros, tmp_pat
     bob.wait_for_line(r"bob got tell hi\(2\)", timeout=30)
     got = [line for line in bob.lines() if line.startswith("bob got")]
     assert got == ["bob got tell hi(1)", "bob got tell hi(2)"]
+
+
+def test_a_plan_with_statements_and_forks_arrives_whole_and_runs(ros, tmp_path):
+    # plan terms travel as rason's source text (Jason's printed form, with `.if_then_else`
+    # and blocks of several deeds as arguments, does not read back); the asker prints the
+    # answer as Jason prints it and runs it
+    start_agent(ros, tmp_path, "teller", """
+        +!g(X) <- if (X > 1) { .print(big); .print(X) } else { .print(small) };
+                  for (.member(Y, [a, b])) { .print(Y) }; {.print(p); !q} |&| (!q ||| !q).
+        """, ns="/t5")
+    asker = start_agent(ros, tmp_path, "asker", """
+        !go.
+        +!go : .all_names(L) & .member(teller, L)
+           <- .send(teller, askHow, {+!g(_)}, Plans); .print("got ", Plans);
+              .add_plan(Plans); !g(2); .print("ran").
+        +!go <- .wait(200); !go.
+        +!q <- .print(q).
+        """, ns="/t6")
+    asker.wait_for_line(r"\[asker\] ran$", timeout=60)
+    lines = [ln.split("] ", 1)[1] for ln in asker.output().splitlines() if ln.startswith("[asker] ")]
+    got = next(ln for ln in lines if ln.startswith("got "))
+    assert ".if_then_else((_" in got and ",.print(big); .print(_" in got, got
+    assert ".foreach(.member(_" in got and ".fork(and,.print(p); !q,.fork(or,!q,!q))" in got, got
+    ran = lines[lines.index(got) + 1:]
+    assert ran[:4] == ["big", "2", "a", "b"] and ran[-1] == "ran", ran
+    assert "p" in ran and "q" in ran, ran

@@ -118,8 +118,9 @@ KQML_PLANS = r"""
    <- .print("Communication error -- ", EID, ": ", EMsg).
 """
 
-#: the ``src`` of the default plans (a program's own ``kqml_received`` plans have another one)
-KQML_SRC = "file:kqmlPlans.asl"
+#: the ``src`` of the default plans (a program's own ``kqml_received`` plans have another one):
+#: their labels' ``url("kqmlPlans.asl")``, as Jason's (a resource of its jar, no ``file:``)
+KQML_SRC = "kqmlPlans.asl"
 
 _cache: list = []
 

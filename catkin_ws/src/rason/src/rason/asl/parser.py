@@ -9,8 +9,10 @@ from __future__ import annotations
 import builtins
 import itertools
 import os
+import posixpath
 import sys
 import threading
+import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -62,7 +64,6 @@ from .plans import (
     Plan,
     Trigger,
     body_str,
-    deed_str,
 )
 from .terms import (
     LOCAL_NS_PREFIX,
@@ -534,7 +535,7 @@ class _ToAst:
     def s_del_new(self, meta: Any, c: builtins.list) -> Deed:
         return Deed(K_DEL_BEL_NEW, c[0], meta.line)
 
-    def s_expr(self, meta: Any, c: builtins.list) -> Deed:
+    def s_expr(self, meta: Any, c: builtins.list) -> Deed | builtins.list:
         t = c[0]
         if isinstance(t, tuple) and t and t[0] == "+pos" and isinstance(t[1], PlanTerm):
             return _plan_term_deed(t[1], ADD, meta.line)
@@ -544,6 +545,8 @@ class _ToAst:
             return Deed(K_ADD_BEL, t[1], meta.line)
         if isinstance(t, ArithExpr) and t.op == "neg" and isinstance(t.left, _BELIEF_TERMS):
             return Deed(K_DEL_BEL, t.left, meta.line)
+        if type(t) is PlanTerm and t.plan is None and t.rule is None:
+            return builtins.list(t.body)    # ``{a; b}`` as a deed: its deeds in place (Jason)
         t = _fix(t)
         if isinstance(t, Literal):
             if is_internal_action(t.functor):
@@ -807,29 +810,62 @@ IncludeResolver = Callable[[str, str], tuple[str, str, str]]
 
 
 def path_include_resolver(search_path: list[str]) -> IncludeResolver:
-    """Jason's include lookup: the file as written, relative to the including file's folder,
-    then to each folder of the source path (``aslSourcePath``). A path Jason resolves inside
-    its own jar (``$jasonJar/...``) or any other path not found is then looked up by its file
-    name in the same folders."""
+    """Jason's include lookup (``SourcePath.fixPath``): the file as written (``file:`` before
+    it or not), relative to the including file's folder, then to each folder of the source
+    path (``aslSourcePath``); ``jar:file:JAR!/ENTRY`` reads the entry of that jar (a zip), and a
+    file included from a jar looks beside itself in it first. A path Jason resolves inside its
+    own jar (``$jasonJar/...``) or any other path not found is then looked up by its file name
+    in the same folders. The src name (the plans' ``url``) is Jason's: ``file:`` and the path
+    found, relative to the current folder when it is inside it (a ``$`` path as written)."""
     def resolve_include(name: str, including: str) -> tuple[str, str, str]:
         name = name.replace("\\", "/")
+        if name.startswith("jar:"):
+            return name, _jar_entry(name), name
+        plain = name[len("file:"):] if name.startswith("file:") else name
         folders = []
-        if including and not including.startswith("<"):
-            folders.append(os.path.dirname(os.path.abspath(including)))
+        if including.startswith("jar:") and "!/" in including:
+            jar, entry = including.split("!/", 1)
+            inside = f"{jar}!/{posixpath.join(posixpath.dirname(entry), plain)}"
+            try:
+                return inside, _jar_entry(inside), inside
+            except OSError:
+                pass
+        elif including and not including.startswith("<"):
+            folders.append(os.path.dirname(os.path.abspath(including.removeprefix("file:"))))
         folders.extend(search_path)
-        candidates = [name] if os.path.isabs(name) else []
-        rel = name.split("/", 1)[1] if name.startswith("$") and "/" in name else name
+        candidates = [plain]
+        rel = plain.split("/", 1)[1] if plain.startswith("$") and "/" in plain else plain
         candidates += [os.path.join(d, rel) for d in folders if not os.path.isabs(rel)]
-        candidates += [os.path.join(d, os.path.basename(name)) for d in folders]
-        # the file's name in its plans' url: as Jason's SourcePath.fixPath, a name found as
-        # written from the current folder is a file: URL (else rason keeps it as written)
-        src = "file:" + name if not name.startswith("$") and os.path.isfile(name) else name
         for cand in candidates:
             if os.path.isfile(cand):
                 with open(cand, encoding="utf-8") as f:
-                    return cand, f.read(), src
+                    return cand, f.read(), name if plain.startswith("$") else "file:" + _url_path(cand)
+        for cand in (os.path.join(d, os.path.basename(plain)) for d in folders):
+            if os.path.isfile(cand):     # found by its file name only: named as written
+                with open(cand, encoding="utf-8") as f:
+                    return cand, f.read(), name
         raise FileNotFoundError(name)
     return resolve_include
+
+
+def _url_path(path: str) -> str:
+    """A found file's path as Jason's url has it: relative to the current folder when inside
+    it (Jason joins the relative folders it was given), else absolute."""
+    full = os.path.abspath(path)
+    rel = os.path.relpath(full)
+    return full if rel.startswith("..") else rel
+
+
+def _jar_entry(url: str) -> str:
+    """The text of ``jar:file:JAR!/ENTRY`` (``OSError`` when the jar or the entry is missing)."""
+    jar, sep, entry = url[len("jar:"):].partition("!/")
+    if not sep or not jar.startswith("file:"):
+        raise FileNotFoundError(url)
+    try:
+        with zipfile.ZipFile(jar[len("file:"):]) as z:
+            return z.read(entry).decode("utf-8")
+    except (KeyError, zipfile.BadZipFile) as err:
+        raise FileNotFoundError(url) from err
 
 
 def parse_source(text: str, filename: str = "<string>", src: str | None = None,
@@ -920,15 +956,17 @@ def _nested_too_deep(kind: str, obj: Any, limit: int) -> bool:
     return bool(found)
 
 
-def _fork_deed(kind: str, left: Deed, right: Deed, line: int) -> Deed:
+def _fork_deed(kind: str, left: Deed | builtins.list, right: Deed | builtins.list, line: int) -> Deed:
     """``A |&| B`` / ``A ||| B``: ``.fork(and|or, {A}, {B})``, as Jason's parser makes it (a
-    chain of the same operator is one fork, each operand one formula)."""
-    def branch(d: Deed) -> PlanTerm:
-        return PlanTerm((d,), deed_str(d))
+    chain of the same operator is one fork, each operand one formula, or the deeds of a
+    plan-body term ``{a; b}``); the branches print without braces, as Jason's."""
+    def branch(d: Deed | builtins.list) -> PlanTerm:
+        deeds = tuple(d) if isinstance(d, builtins.list) else (d,)
+        return PlanTerm(deeds, body_str(deeds), braces=False)
     branches = [branch(left)]
-    rt = right.term
-    if (right.kind == K_INTERNAL and isinstance(rt, Literal) and rt.functor == ".fork"
-            and rt.args and rt.args[0] == Literal(kind)):
+    rt = right.term if isinstance(right, Deed) else None
+    if (isinstance(right, Deed) and right.kind == K_INTERNAL and isinstance(rt, Literal)
+            and rt.functor == ".fork" and rt.args and rt.args[0] == Literal(kind)):
         branches.extend(rt.args[1:])
     else:
         branches.append(branch(right))

@@ -113,6 +113,10 @@ class Deed:
     def __repr__(self) -> str:
         return deed_str(self)
 
+    def jason_str(self) -> str:
+        """This deed as Jason prints it (:func:`deed_str`)."""
+        return deed_str(self, True)
+
     def __reduce__(self) -> tuple:
         """Pickled as what it is made from (its ``builder`` is made anew)."""
         return (Deed, (self.kind, self.term, self.line, self.extra))
@@ -141,44 +145,115 @@ def _with_self_source(term: Any) -> Literal | None:
     return lit
 
 
-def body_str(body: tuple | list) -> str:
-    return "; ".join(deed_str(d) for d in body)
+def body_str(body: tuple | list, jason: bool = False) -> str:
+    """The deeds of a body as rason's source text (read back by rason's parser), or with
+    `jason` as Jason prints them (see :func:`deed_str`)."""
+    return "; ".join(deed_str(d, jason) for d in body)
 
 
-def deed_str(d: Deed) -> str:
+def deed_str(d: Deed, jason: bool = False) -> str:
+    """One deed as rason's source text, or with `jason` as Jason prints it: the statements
+    as the internal actions Jason's parser makes of them (``.if_then_else(C,T,E)``, an
+    ``elif`` a nested one, ``.foreach(C,B)``, ``.loop(C,B)``, blocks without braces) and the
+    branches of ``|&|``/``|||`` without braces. The source text keeps the statements and
+    puts every ``.fork`` branch in braces, so that rason reads it back."""
     k = d.kind
     t = d.term
     if k == K_ACHIEVE:
-        return "!" + term_str(t)
+        return "!" + term_str(t, jason)
     if k == K_ACHIEVE_NEW:
-        return "!!" + term_str(t)
+        return "!!" + term_str(t, jason)
     if k == K_TEST:
-        return "?" + term_str(t)
+        return "?" + term_str(t, jason)
     if k == K_ADD_BEL:
-        return "+" + term_str(t)
+        return "+" + term_str(t, jason)
     if k == K_DEL_BEL:
-        return "-" + term_str(t)
+        return "-" + term_str(t, jason)
     if k == K_DEL_ADD_BEL:
-        return "-+" + term_str(t)
+        return "-+" + term_str(t, jason)
     if k == K_ADD_BEL_NEW:
-        return "++" + term_str(t)
+        return "++" + term_str(t, jason)
     if k == K_DEL_BEL_NEW:
-        return "--" + term_str(t)
+        return "--" + term_str(t, jason)
     if k == K_IF:
+        if jason:
+            return _jason_if(d.extra[0], d.extra[1])
         parts = []
         for i, (cond, body) in enumerate(d.extra[0]):
             kw = "if" if i == 0 else "elif"
-            parts.append(kw + " (" + term_str(cond) + ") { " + body_str(body) + " }")
+            parts.append(kw + " (" + term_str(cond, False) + ") { " + body_str(body) + " }")
         if d.extra[1] is not None:
             parts.append("else { " + body_str(d.extra[1]) + " }")
         return " ".join(parts)
     if k == K_WHILE:
-        return "while (" + term_str(t) + ") { " + body_str(d.extra) + " }"
+        return _loop_str("while", t, d.extra, jason)
     if k == K_FOR:
-        return "for (" + term_str(t) + ") { " + body_str(d.extra) + " }"
+        return _loop_str("for", t, d.extra, jason)
     if k == K_LOOP:
-        return "{ loop }"
-    return term_str(t)
+        # the next round of a while/for: Jason's ``.loop``/``.foreach`` deed put back after
+        # the block (Jason adds hidden arguments: the unifier, the solutions left)
+        loop = d.extra[1]
+        return _loop_str(d.extra[0], loop.term, loop.extra, jason) if jason else "{ loop }"
+    if not jason and k == K_INTERNAL and type(t) is Literal and t.functor == ".fork":
+        return _fork_source(t)
+    return term_str(t, jason)
+
+
+def _fork_source(t: Literal) -> str:
+    """A ``.fork`` deed as source text: a fork made by ``|&|``/``|||`` (branches not in
+    braces) as those operators, so that it reads back the same; another with every body in
+    braces (rason's parser reads no bare body as an argument)."""
+    ops = _operator_fork(t)
+    if ops is not None:
+        return ops
+    if t.annots:
+        return term_str(t, False)
+    return ".fork(" + ",".join("{ " + a.text + " }" if type(a) is PlanTerm and a.plan is None
+                               and a.rule is None else term_str(a, False)
+                               for a in t.args) + ")"
+
+
+def _operator_fork(t: Literal) -> str | None:
+    """``A |&| B`` / ``A ||| B`` for a fork whose branches are bodies out of braces (as the
+    operators make them), else None. A branch that is such a fork goes in parentheses, one
+    of several deeds or a statement in braces (a plan-body term, run in place)."""
+    branches = t.args[1:]
+    op = {"and": " |&| ", "or": " ||| "}.get(term_str(t.args[0])) if t.args else None
+    if op is None or t.annots or len(branches) < 2 or not all(
+            type(a) is PlanTerm and not a.braces and a.plan is None and a.rule is None
+            for a in branches):
+        return None
+    parts = []
+    for a in branches:
+        body = a.body
+        if len(body) != 1 or body[0].kind in (K_IF, K_WHILE, K_FOR, K_LOOP):
+            parts.append("{ " + body_str(body) + " }")
+            continue
+        inner = _operator_fork(body[0].term) if (
+            body[0].kind == K_INTERNAL and type(body[0].term) is Literal
+            and body[0].term.functor == ".fork") else None
+        parts.append("(" + inner + ")" if inner is not None else deed_str(body[0]))
+    return op.join(parts)
+
+
+def _jason_if(branches: list, els: tuple | None) -> str:
+    """``if``/``elif``/``else`` as Jason prints it: ``.if_then_else(C,T[,E])``, each ``elif``
+    the else part of the one before."""
+    cond, body = branches[0]
+    s = ".if_then_else(" + term_str(cond) + "," + body_str(body, True)
+    if len(branches) > 1:
+        s += "," + _jason_if(branches[1:], els)
+    elif els:    # an empty else is no else part in Jason (an empty then part prints empty)
+        s += "," + body_str(els, True)
+    return s + ")"
+
+
+def _loop_str(kind: str, cond: Any, block: tuple, jason: bool) -> str:
+    """``while``/``for`` as source text, or as Jason's ``.loop``/``.foreach``."""
+    if jason:
+        return (".loop(" if kind == "while" else ".foreach(") + term_str(cond) + "," + \
+            body_str(block, True) + ")"
+    return kind + " (" + term_str(cond, False) + ") { " + body_str(block) + " }"
 
 
 #: the fields of a :class:`Plan` it is made from (by name: a pickled plan keeps no position)
@@ -245,7 +320,9 @@ class Plan:
         return self.label.functor
 
     def __str__(self) -> str:
-        return self.as_text() if self.sub_plans else self.as_text() + "."
+        """The plan as Jason prints it (``.list_plans``)."""
+        text = self.as_text(jason=True)
+        return text if self.sub_plans else text + "."
 
     def as_term(self) -> PlanTerm:
         """This plan as a term (Jason's ``Plan.setAsPlanTerm``): ``{ @l +!g : c <- b }``."""
@@ -270,25 +347,27 @@ class Plan:
         made.sub_plans = self.sub_plans + sub_plans
         return made
 
-    def as_text(self, label: bool = True) -> str:
+    def as_text(self, label: bool = True, jason: bool = False) -> str:
+        """The plan's text without its dot: rason's source text (read back by rason's
+        parser), or with `jason` as Jason prints it (see :func:`deed_str`)."""
         s = ""
         if self.label is not None and label:
-            s += "@" + term_str(self.label) + " "
+            s += "@" + term_str(self.label, jason) + " "
         s += str(self.trigger)
         if self.context is not None:
-            s += " : " + term_str(self.context)
+            s += " : " + term_str(self.context, jason)
         if self.goal_condition is not None:
-            s += " <: " + term_str(self.goal_condition)
+            s += " <: " + term_str(self.goal_condition, jason)
         if self.sub_plans:
             # as Jason's Plan.toASString: the body and each sub-plan on a line of their own
             s += " {"
             if self.body:
-                s += "\n   <- " + body_str(self.body) + "."
+                s += "\n   <- " + body_str(self.body, jason) + "."
             for p in (self.sub_library.plans if self.sub_library is not None else self.sub_plans):
-                s += "\n   " + str(p)
+                s += "\n   " + p.as_text(jason=jason) + ("" if p.sub_plans else ".")
             return s + "\n}"
         if self.body:
-            s += " <- " + body_str(self.body)
+            s += " <- " + body_str(self.body, jason)
         return s
 
 

@@ -336,6 +336,17 @@ class PlanTerm:
     def __repr__(self) -> str:
         return term_str(self)
 
+    def jason_text(self) -> str:
+        """The text Jason prints inside the braces (:func:`term_str`); :attr:`text` is rason's
+        source text of the same term, read back by rason's parser (messages between nodes)."""
+        if self.rule is not None:
+            return self.text
+        if self.plan is not None:
+            return self.plan.as_text(jason=True)
+        if not self.body:
+            return self.text
+        return "; ".join(d.jason_str() for d in self.body)
+
     @classmethod
     def of_body(cls, deeds: tuple) -> PlanTerm:
         """A body part as a term, printed without braces (a tail taken by ``{ A; _ }``)."""
@@ -417,12 +428,12 @@ def java_double_str(x: float) -> str:
     return ("-" if x < 0 else "") + ds[0] + "." + (ds[1:] or "0") + "E" + str(point - 1)
 
 
-def _annots_str(annots: tuple, tail: Any) -> str:
+def _annots_str(annots: tuple, tail: Any, jason: bool = True) -> str:
     if not annots and tail is None:
         return ""
-    inner = ",".join(term_str(a) for a in annots)
+    inner = ",".join(term_str(a, jason) for a in annots)
     if tail is not None:
-        inner += "|" + term_str(tail) if inner else term_str(tail)
+        inner += "|" + term_str(tail, jason) if inner else term_str(tail, jason)
     return "[" + inner + "]"
 
 
@@ -447,45 +458,49 @@ def string_text(s: str) -> str:
 _ARITH_SYM = {"+": "+", "-": "-", "*": "*", "/": "/", "div": " div ", "mod": " mod ", "**": "**"}
 
 
-def term_str(t: Any) -> str:
-    """Jason's ``toString`` of a term (strings keep their quotes)."""
+def term_str(t: Any, jason: bool = True) -> str:
+    """Jason's ``toString`` of a term (strings keep their quotes). Plan terms print as Jason
+    prints them (``if``/``for``/``while`` as ``.if_then_else``/``.foreach``/``.loop``, the
+    branches of ``|&|``/``|||`` without braces); with ``jason=False`` they print as rason's
+    source text instead (:meth:`PlanTerm.text`), which rason's parser reads back."""
     if isinstance(t, float):
         return format_number(t)
     if isinstance(t, Literal):
         s = ("~" if t.neg else "") + t.functor
         if t.args:
-            s += "(" + ",".join(term_str(a) for a in t.args) + ")"
+            s += "(" + ",".join(term_str(a, jason) for a in t.args) + ")"
         if t.annots or t.tail is not None:
-            s += _annots_str(t.annots, t.tail)
+            s += _annots_str(t.annots, t.tail, jason)
         return s
     if isinstance(t, str):
         return '"' + t + '"'
     if isinstance(t, Var):
         return t.name
     if isinstance(t, AnnotVar):
-        return t.name + _annots_str(t.annots, t.tail)
+        return t.name + _annots_str(t.annots, t.tail, jason)
     if isinstance(t, NsLit):
-        return term_str(t.ns) + "::" + term_str(t.lit)
+        return term_str(t.ns, jason) + "::" + term_str(t.lit, jason)
     if isinstance(t, ListTerm):
-        inner = ",".join(term_str(a) for a in t.items)
+        inner = ",".join(term_str(a, jason) for a in t.items)
         if t.tail is not None:
-            inner += "|" + term_str(t.tail)
+            inner += "|" + term_str(t.tail, jason)
         return "[" + inner + "]"
     if isinstance(t, ArithExpr):
         if t.op == "neg":
-            return "(-" + term_str(t.left) + ")"
-        return "(" + term_str(t.left) + _ARITH_SYM[t.op] + term_str(t.right) + ")"
+            return "(-" + term_str(t.left, jason) + ")"
+        return "(" + term_str(t.left, jason) + _ARITH_SYM[t.op] + term_str(t.right, jason) + ")"
     if isinstance(t, RelExpr):
-        return "(" + term_str(t.left) + " " + t.op + " " + term_str(t.right) + ")"
+        return "(" + term_str(t.left, jason) + " " + t.op + " " + term_str(t.right, jason) + ")"
     if isinstance(t, LogExpr):
         if t.op == "not":
-            return "not (" + term_str(t.left) + ")"
-        return "(" + term_str(t.left) + " " + t.op + " " + term_str(t.right) + ")"
+            return "not (" + term_str(t.left, jason) + ")"
+        return "(" + term_str(t.left, jason) + " " + t.op + " " + term_str(t.right, jason) + ")"
     if isinstance(t, PlanTerm):
+        text = t.jason_text() if jason else t.text
         if t.braces:
-            return "{ " + t.text + " }"
+            return "{ " + text + " }"
         # a labelled plan out of braces is Jason's Plan (made by ``=..``), printed with its dot
-        return t.text + "." if t.plan is not None and t.plan.label is not None else t.text
+        return text + "." if t.plan is not None and t.plan.label is not None else text
     if isinstance(t, int):
         return format_number(float(t))
     return str(t)
@@ -520,7 +535,7 @@ def term_text(t: Any) -> str:
     wire = getattr(t, "wire", None)   # a set, map or queue (rason.asl.containers)
     if wire is not None:
         return term_text(wire())
-    return term_str(t)
+    return term_str(t, False)
 
 
 def non_finite_part(t: Any) -> str | None:
