@@ -9,8 +9,8 @@ from pathlib import Path
 def sigint_as_in_a_terminal() -> None:
     """``preexec_fn`` for a run the test ends with Ctrl-C: SIGINT handled by default and not
     blocked, as a shell started from a terminal has it. A suite backgrounded without job control
-    hands its children SIGINT ignored, and a child inherits its parent thread's signal mask (a
-    demo once ran to its end under two xdist workers, a SIGTERM of the same test taking effect)."""
+    hands its children SIGINT ignored, and a child inherits its parent thread's signal mask.
+    (Not why a demo once ran to its end after Ctrl-C under two xdist workers: see CHANGELOG.)"""
     signal.signal(signal.SIGINT, signal.SIG_DFL)
     signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 

@@ -86,8 +86,12 @@ def test_page_follows_a_demo_live_and_steps_back(tmp_path):
 
         # both agents, found through presence
         wait.until(lambda d: _agents(d) >= {"faulty", "helper"})
-        driver.execute_script(
-            "document.querySelector('#agent-list li[data-agent=\"faulty\"]').click();")
+        # until the selected agent's own state is on screen the bar names none, so the wait
+        # below cannot pass on the state shown before (a click on back would then do nothing)
+        named = driver.execute_script(
+            "document.querySelector('#agent-list li[data-agent=\"faulty\"]').click();"
+            "return document.getElementById('history-label').dataset.index;")
+        assert named == "", f"the history bar still names state {named} after the click"
         wait.until(lambda d: d.find_element(By.ID, "mind-title").text.startswith("faulty")
                    and _history(d)[0] == "live" and (_history(d)[1] or 0) >= 3)
 

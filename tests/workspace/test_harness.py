@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import os
+import signal
+import subprocess
 import sys
 import threading
 
 import pytest
+from polling import wait_until
 
-from rason.process.harness import HarnessError, Process, RosHarness
+from rason.process.harness import HarnessError, Process, RosHarness, processes_left_by
 
 pytestmark = pytest.mark.ros
 
@@ -76,6 +79,26 @@ def test_teardown_leaves_no_process_even_after_an_error():
     for pid in pids:
         with pytest.raises(ProcessLookupError):
             os.killpg(pid, 0)
+
+
+def test_a_harness_killed_before_its_teardown_leaves_no_process(tmp_path):
+    """SIGKILL of the process whose harness started roscore (an xdist worker its controller
+    kills after Ctrl-C while the worker's teardown still runs): its reaper stops roscore."""
+    starter = subprocess.Popen(
+        [sys.executable, "-c", "import sys, time; from rason.process.harness import RosHarness; "
+         "RosHarness(log_dir=sys.argv[1]).start(); print('up', flush=True); time.sleep(600)",
+         str(tmp_path)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert starter.stdout is not None and starter.stdout.readline() == "up\n"
+        assert len(processes_left_by(starter.pid)) >= 3, "roscore, rosmaster and rosout run"
+        starter.kill()
+        starter.wait(10)
+        wait_until(lambda: not processes_left_by(starter.pid),
+                   "end of the killed harness's roscore", timeout=30)
+    finally:
+        starter.kill()
+        for line in processes_left_by(starter.pid):    # what a failure left, for the suite's sake
+            os.kill(int(line.split(":")[0]), signal.SIGKILL)
 
 
 def test_rollback_clears_the_private_parameters_a_node_left(fresh_ros):

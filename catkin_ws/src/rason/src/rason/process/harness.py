@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import codecs
 import contextlib
+import itertools
 import os
 import re
 import shutil
@@ -39,9 +40,12 @@ from typing import Any
 import rospy  # local: the harness itself must work without rospy importable
 
 from rason.process.netns import Host
+from rason.process.reaper import HARNESS_ID, HARNESS_PARENT, STOP_SIGNALS, processes_carrying
 
 #: The master this process's rospy node was initialised against (rospy allows only one).
 _ROSPY_MASTER: str | None = None
+#: numbers this process's harnesses (their ids)
+_HARNESS_COUNT = itertools.count(1)
 
 
 @dataclass(frozen=True)
@@ -58,21 +62,8 @@ def processes_left_by(parent_pid: int) -> list[str]:
     Every harness process carries ``RASON_HARNESS_PARENT=<pid>`` in its environment (and so do
     their children), so this finds orphans even after the parent itself is gone.
     """
-    token = f"RASON_HARNESS_PARENT={parent_pid}\0".encode()
-    found = []
-    for pid in os.listdir("/proc"):
-        if not pid.isdigit() or int(pid) in (parent_pid, os.getpid()):
-            continue
-        try:
-            with open(f"/proc/{pid}/environ", "rb") as f:
-                env = f.read()
-            with open(f"/proc/{pid}/cmdline", "rb") as f:
-                cmd = f.read().replace(b"\0", b" ").decode(errors="replace")
-        except OSError:
-            continue
-        if token in env + b"\0":
-            found.append(f"{pid}: {cmd[:120]}")
-    return found
+    found = processes_carrying(HARNESS_PARENT, str(parent_pid), skip=(parent_pid, os.getpid()))
+    return [f"{pid}: {cmd[:120]}" for pid, cmd in found.items()]
 
 
 @contextlib.contextmanager
@@ -319,6 +310,9 @@ class RosHarness:
         self.roscore: Process | None = None
         self.processes: list[Process] = []
         self._names: dict[str, int] = {}
+        #: names this harness's processes (``RASON_HARNESS_ID``) for its reaper
+        self.id = f"{os.getpid()}-{next(_HARNESS_COUNT)}"
+        self._reaper: subprocess.Popen[bytes] | None = None
 
     # -- life cycle -------------------------------------------------------------------------
     def start(self, timeout: float = 20.0) -> RosHarness:
@@ -331,11 +325,12 @@ class RosHarness:
         self.env = dict(os.environ)
         self.env.update(ROS_MASTER_URI=self.master_uri, ROS_IP=address,
                         ROS_HOME=str(ros_home), ROS_LOG_DIR=str(ros_home / "log"),
-                        PYTHONUNBUFFERED="1", RASON_HARNESS_PARENT=str(os.getpid()))
+                        PYTHONUNBUFFERED="1", **self._tokens())
         self.env.pop("ROS_HOSTNAME", None)
         # `with RosHarness()` calls stop() only once start() has returned: whatever ends the
         # start (a timeout, Ctrl-C, SIGTERM turned into KeyboardInterrupt) stops roscore here
         try:
+            self._start_reaper()
             self._launch_roscore("roscore.log", "roscore", timeout)
         except BaseException:
             self.stop()
@@ -359,9 +354,40 @@ class RosHarness:
             self.env["ROS_IP"] = "127.0.0.1"
         self.env.update(ROS_MASTER_URI=master_uri, ROS_HOME=str(ros_home),
                         ROS_LOG_DIR=str(ros_home / "log"), PYTHONUNBUFFERED="1",
-                        RASON_HARNESS_PARENT=str(os.getpid()))
+                        **self._tokens())
         self._wait(f"the master at {master_uri}", self._master_up, timeout)
+        self._start_reaper()
         return self
+
+    def _tokens(self) -> dict[str, str]:
+        """The environment that marks this harness's processes (and their children): this
+        process's pid (:func:`processes_left_by`) and the harness's id (its reaper)."""
+        return {HARNESS_PARENT: str(os.getpid()), HARNESS_ID: self.id}
+
+    def _start_reaper(self) -> None:
+        """Start the watcher that stops this harness's processes if this process dies without
+        stopping them (:mod:`rason.process.reaper`): SIGKILL cannot be caught, and an xdist
+        worker is killed so when its teardown outlasts the controller's patience."""
+        if self._reaper is not None:
+            return
+        env = {k: v for k, v in os.environ.items() if k not in (HARNESS_PARENT, HARNESS_ID)}
+        with interrupts_deferred():
+            self._reaper = subprocess.Popen(
+                [sys.executable, "-m", "rason.process.reaper", self.id], stdin=subprocess.PIPE,
+                stdout=subprocess.DEVNULL, env=env, start_new_session=True)
+
+    def _stop_reaper(self) -> None:
+        """Close the reaper's pipe: it finds nothing left after a clean teardown and exits."""
+        if self._reaper is None:
+            return
+        assert self._reaper.stdin is not None
+        self._reaper.stdin.close()
+        try:
+            self._reaper.wait(sum(grace for _, grace in STOP_SIGNALS) + 5)
+        except subprocess.TimeoutExpired:
+            self._reaper.kill()
+            self._reaper.wait()
+        self._reaper = None
 
     def _launch_roscore(self, log_name: str, what: str, timeout: float) -> float:
         """Start roscore on ``self.port`` (on the master's host) and wait until the master
@@ -406,6 +432,7 @@ class RosHarness:
             proc.stop()
         if self.roscore is not None:
             self.roscore.stop()
+        self._stop_reaper()
         leftovers = [p.name for p in [*self.processes, *([self.roscore] if self.roscore else [])]
                      if p.group_alive()]
         if leftovers:

@@ -127,6 +127,7 @@ function select(name) {
   ui.shown = null;
   for (const li of $("agent-list").children) li.classList.toggle("selected", li.dataset.agent === name);
   $("mind-title").textContent = name;
+  updateHistoryBar();   // "no state" until this agent's arrives: the bar never names another's
   loadLive();
 }
 
@@ -194,7 +195,7 @@ function updateHistoryBar() {
   $("mind").classList.toggle("history", !ui.live);
   $("history-live").classList.toggle("on", ui.live);
   if (!latest || !shown) {
-    label.textContent = "no state"; label.dataset.index = "";
+    label.textContent = "no state"; label.dataset.index = ""; label.dataset.mode = "";
     $("history-back").disabled = $("history-forward").disabled = true;
     return;
   }
