@@ -40,7 +40,7 @@ progress() {
   local log=$1 pid=$2 start=$SECONDS period=${PROGRESS_PERIOD:-5} last
   local next=$((start + period))
   while kill -0 "$pid" 2>/dev/null; do
-    sleep 1
+    sleep 0.2     # the job's end is seen within 0.2 s; the lines still come every period
     if kill -0 "$pid" 2>/dev/null && (( SECONDS >= next )); then
       next=$((SECONDS + period))
       last=$(tail -n 1 "$log" 2>/dev/null | tr -d '\r' | cut -c1-100)

@@ -31,13 +31,16 @@ EVIL_PLAN = '"+!hack <- .print(\\"hacked\\")."'
 
 
 def spoof(ros: RosHarness, sender: str, receiver: str, performative: str, content: str,
-          signature: str = "") -> None:
-    """Publish one AgentMessage from the command line, as anyone on the graph can."""
+          signature: str = "") -> Process:
+    """Publish one AgentMessage from the command line, as anyone on the graph can.
+
+    Not waited for: ``rostopic pub -1`` keeps its (latched) message up for 3 s before it exits,
+    and the tests wait for what the receiver does with the message instead."""
     fields = {"sender": sender, "receiver": receiver, "performative": performative,
               "content": content, "reply_with": "x" + secrets.token_hex(3), "in_reply_to": "",
               "nonce": secrets.token_hex(8), "signature": signature}
-    ros.check_output(["rostopic", "pub", "-1", "/jason/messages", "jason_msgs/AgentMessage",
-                      json.dumps(fields)], timeout=30)
+    return ros.run(["rostopic", "pub", "-1", "/jason/messages", "jason_msgs/AgentMessage",
+                    json.dumps(fields)], label=f"spoof_{sender}_{performative}")
 
 
 def test_an_untrusted_sender_cannot_install_plans_or_give_goals(ros, tmp_path):

@@ -11,7 +11,7 @@ import threading
 import pytest
 from polling import wait_until
 
-from rason.process.harness import HarnessError, Process, RosHarness, processes_left_by
+from rason.process.harness import HarnessError, Process, RosHarness, processes_left_by, stop_together
 
 pytestmark = pytest.mark.ros
 
@@ -167,3 +167,30 @@ def test_a_relative_log_dir_keeps_every_log_under_it(tmp_path, monkeypatch):
     assert latest.resolve().is_dir() and (latest / "master.log").is_file()
     assert list(ros_home.glob("log/**/*echo_decomposer*.log"))
     assert not list(elsewhere.iterdir())
+
+
+def test_processes_stopped_together_all_get_their_sigint_before_any_exits(tmp_path):
+    # on SIGINT each marks it, then waits for the marks of all three before it exits; stopped
+    # one after another, the first would wait in vain and end by the SIGTERM after its grace
+    marks = tmp_path / "marks"
+    marks.mkdir()
+    script = ("import pathlib, signal, sys, time\n"
+              "marks = pathlib.Path(sys.argv[1])\n"
+              "def on_sigint(sig, frame):\n"
+              "    (marks / sys.argv[2]).touch()\n"
+              "    deadline = time.monotonic() + 30\n"
+              "    while len(list(marks.iterdir())) < 3 and time.monotonic() < deadline:\n"
+              "        time.sleep(0.02)\n"
+              "    print('interrupted; marks:', len(list(marks.iterdir())), flush=True)\n"
+              "    sys.exit(0)\n"
+              "signal.signal(signal.SIGINT, on_sigint)\n"
+              "print('ready', flush=True)\n"
+              "while True:\n"
+              "    time.sleep(1)\n")
+    procs = [Process(f"p{k}", [sys.executable, "-c", script, str(marks), f"p{k}"],
+                     dict(os.environ), tmp_path / f"p{k}.log") for k in range(3)]
+    for proc in procs:
+        proc.wait_for_line("ready", timeout=30)
+    stop_together(procs)
+    assert [(proc.popen.returncode, proc.lines()[-1]) for proc in procs] == \
+        [(0, "interrupted; marks: 3")] * 3

@@ -25,7 +25,8 @@ def _run(job: str, log: Path) -> subprocess.CompletedProcess:
 
 
 def test_progress_shows_elapsed_time_and_the_log_s_last_line(tmp_path):
-    job = "for k in 1 2 3 4; do echo \"[ ${k}0%] Built target part$k\"; sleep 1; done"
+    # 2.4 s: long enough for two lines of a 1 s period whatever the start's fraction of a second
+    job = "for k in 1 2 3 4; do echo \"[ ${k}0%] Built target part$k\"; sleep 0.6; done"
     done = _run(job, tmp_path / "build.log")
     assert done.returncode == 0, done.stderr
     lines = done.stdout.splitlines()
@@ -35,6 +36,6 @@ def test_progress_shows_elapsed_time_and_the_log_s_last_line(tmp_path):
 
 
 def test_progress_returns_the_job_s_failure(tmp_path):
-    done = _run("echo compiling; sleep 1; exit 3", tmp_path / "build.log")
+    done = _run("echo compiling; sleep 0.3; exit 3", tmp_path / "build.log")
     assert done.returncode == 3
     assert done.stdout.splitlines()[-1].endswith("failed (3)")

@@ -56,6 +56,7 @@ from rosnode_kit.guard import guarded
 from rosnode_kit.input_watch import watch_input
 from rosnode_kit.master_watch import watch_master
 from rosnode_kit.params import ParamError, exit_on_help, load_or_exit, param
+from rosnode_kit.signals import init_node
 
 #: How to wire the odometry under the stock driver names (the miswiring warning ends with it).
 STOCK_HINT = ("Under the stock driver names (the driver publishes odom) run the injector with "
@@ -181,7 +182,7 @@ def main(argv: list[str] | None = None) -> int:
     exit_on_help(argv, InjectorParams,
                  "rosrun kobuki_fault_injector fault_injector __ns:=/ROBOT [_name:=value ...]",
                  __doc__.split("\n")[0].split(": ", 1)[-1])
-    rospy.init_node("fault_injector", argv=argv)
+    init_node("fault_injector", argv=argv)
     FaultInjectorNode(load_or_exit(InjectorParams, "fault_injector"))
     watch_master()              # a restarted roscore gets the topics and the service again
     rospy.loginfo("fault_injector ready in namespace %s", rospy.get_namespace())

@@ -171,9 +171,9 @@ def run(p: CalibrateParams, argv: list[str]) -> Report | None:
     if p.bag:
         source: Iterator[np.ndarray] = bag_frames(p.bag, p.topic)
     else:
-        import rospy
+        from rosnode_kit.signals import init_node
 
-        rospy.init_node("calibrate", argv=argv, anonymous=True)
+        init_node("calibrate", argv=argv, anonymous=True)
         source = live_frames(p.topic, p.timeout)
     frames = []
     for index, rgb in enumerate(source):

@@ -35,6 +35,7 @@ import rospy
 import yaml
 
 from rosnode_kit.rosout import cache_rosout_setting
+from rosnode_kit.signals import init_node
 
 T = TypeVar("T")
 
@@ -289,7 +290,7 @@ def start_node(build: Callable[[], T], params: type, node_name: str, argv: Seque
     message) when ``build`` rejects its parameters with a ValueError: the caller exits 2."""
     exit_on_help(argv, params, usage or f"{Path(argv[0]).name} [__ns:=/robot] [_name:=value ...]",
                  summary)
-    rospy.init_node(node_name, argv=list(argv))
+    init_node(node_name, argv=list(argv))
     cache_rosout_setting()
     try:
         return build()

@@ -43,6 +43,7 @@ from tf2_msgs.msg import TFMessage
 
 from rosnode_kit.master_watch import watch_master
 from rosnode_kit.params import ParamError, exit_on_help, exit_rejected, load_or_exit, param
+from rosnode_kit.signals import init_node
 from turtlebot_sim import config as worldcfg
 from turtlebot_sim import msgs, stock
 from turtlebot_sim.base_events import BaseEventScript, BumperSwitches, ScriptedEvent, Side
@@ -417,7 +418,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = argv if argv is not None else sys.argv
     exit_on_help(argv, SimParams, "rosrun turtlebot_sim sim [_world:=FILE.yaml] [_name:=value ...]",
                  __doc__.split("\n")[0].split(": ", 1)[-1])
-    rospy.init_node("turtlebot_sim", argv=argv)
+    init_node("turtlebot_sim", argv=argv)
     params = load_or_exit(SimParams, "turtlebot_sim")
     try:
         config = open_world(params)

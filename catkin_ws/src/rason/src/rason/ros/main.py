@@ -53,8 +53,9 @@ def _run(node_name: str, argv: list[str],
     from rosnode_kit.master_watch import watch_master
     from rosnode_kit.params import ParamError, forget, load
     from rosnode_kit.rosout import cache_rosout_setting
+    from rosnode_kit.signals import init_node
 
-    rospy.init_node(node_name)
+    init_node(node_name)
     cache_rosout_setting()
     try:
         params = load(AgentNodeParams)
