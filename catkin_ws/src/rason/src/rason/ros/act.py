@@ -27,6 +27,7 @@ from jason_msgs.msg import Action, ActionCancel, Event
 
 from rason.ros.feedback import parse_accepted, parse_feedback, split_action
 from rason.ros.node import AgentNodeParams
+from rosnode_kit.signals import init_node
 
 #: wall-clock seconds a decomposer starting at the same time has to subscribe to jason/action
 GRAPH_WAIT = 2.0
@@ -83,7 +84,7 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as err:
         parser.error(str(err))
 
-    rospy.init_node("act", anonymous=True)
+    init_node("act", anonymous=True)   # Ctrl-C works during its start too
     action_id = args.id if args.id is not None else random.randrange(1, 2**31 - 1)
     done = threading.Event()
     accepted = threading.Event()
