@@ -89,6 +89,12 @@ def drive_then_end(ros: RosHarness, tmp_path: Path, ns: str, ending: str,
                "our jason/event subscriber to connect to the decomposer", timeout=20)
     agent = start_agent(ros, tmp_path, "mover", MOVER.format(ending=ending), ns=ns)
     wait_until(lambda: heard.accepted(), "move(60) to be accepted", timeout=20)
+    # the cancel and the goodbye come once, unlatched, from the agent's node: our subscribers
+    # must be connected to it before it ends (under load presence connected after it ended)
+    wait_until(lambda: heard.subs[0].get_num_connections() > 0
+               and heard.subs[2].get_num_connections() > 0,
+               "our jason/cancel and jason/presence subscribers to connect to the agent",
+               timeout=20)
     return agent, heard, heard.accepted()[0]
 
 
