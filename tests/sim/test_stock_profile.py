@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from polling import wait_until
 
 from rason_diagnosis.paths import world_file
 
@@ -96,13 +97,22 @@ def test_stock_profile_matches_the_table_and_has_no_clock(ros):
 
     # -- the topic set and types on the master ----------------------------------------------
     master = rosgraph.Master("/stock_test")
-    types = dict(master.getTopicTypes())
-    published, subscribed, _ = master.getSystemState()
     sim_node = f"{ns}/turtlebot_sim"
-    ours = {t for t, nodes in published if sim_node in nodes}
-    theirs = {t for t, nodes in subscribed if sim_node in nodes}
-    assert ours - {"/rosout"} == {t for t, r in expected.items() if r.published}
-    assert theirs == {t for t, r in expected.items() if not r.published}
+    want_ours = {t for t, r in expected.items() if r.published}
+    want_theirs = {t for t, r in expected.items() if not r.published}
+
+    def registered() -> tuple[set[str], set[str]] | None:
+        """The sim's published and subscribed topics once it has registered all it should
+        (the camera topic waited for above is not its last registration)."""
+        published, subscribed, _ = master.getSystemState()
+        ours = {t for t, nodes in published if sim_node in nodes}
+        theirs = {t for t, nodes in subscribed if sim_node in nodes}
+        return (ours, theirs) if ours >= want_ours and theirs >= want_theirs else None
+
+    ours, theirs = wait_until(registered, "the sim's registrations", timeout=30, watch=[sim])
+    types = dict(master.getTopicTypes())     # after: it holds every topic registered above
+    assert ours - {"/rosout"} == want_ours
+    assert theirs == want_theirs
     for topic, row in expected.items():
         assert types[topic] == row.msg_type, topic
     # (the suite's master may still list a /clock of an earlier test's killed simulator)
