@@ -97,7 +97,6 @@ class Outcome:
     start_up: StartUp = field(default_factory=lambda: StartUp([], []))
 
 
-
 def find_projects(tree: Path) -> list[Path]:
     """The ``.mas2j`` files of the tree's project folders that need no Java class of their own."""
     found = []
@@ -173,23 +172,24 @@ def keep_run(keep: Path | None, project: str, run: str, output: str) -> None:
     folder = keep / project.replace("/", "__").removesuffix(".mas2j") / run
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "all.txt").write_text(output)
+    for agent, said in agent_lines(output).items():
+        (folder / f"{agent}.txt").write_text("".join(line + "\n" for line in said))
+
+
+def agent_lines(output: str) -> dict[str, list[str]]:
+    """The lines each agent printed (``[agent] text``: the text), in order."""
     agents: dict[str, list[str]] = {}
     for line in output.splitlines():
         m = AGENT_LINE.match(line.rstrip())
         if m:
-            agents.setdefault(m.group(1), []).append(m.group(2) + "\n")
-    for agent, said in agents.items():
-        (folder / f"{agent}.txt").write_text("".join(said))
+            agents.setdefault(m.group(1), []).append(m.group(2))
+    return agents
 
 
 def per_agent(output: str) -> dict[str, Counter]:
     """The lines each agent printed, as multisets (variable numbers made alike)."""
-    agents: dict[str, Counter] = {}
-    for line in output.splitlines():
-        m = AGENT_LINE.match(line.rstrip())
-        if m:
-            agents.setdefault(m.group(1), Counter())[VAR_NUMBER.sub("_", m.group(2))] += 1
-    return agents
+    return {agent: Counter(VAR_NUMBER.sub("_", line) for line in said)
+            for agent, said in agent_lines(output).items()}
 
 
 def loosened(line: str) -> str:
