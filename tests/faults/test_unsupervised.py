@@ -263,10 +263,11 @@ def test_killed_agent_presence_lapses_and_the_robot_stops(rig: Rig, log: Log):
         !go.
         +!go <- .wait(1500); turn(700).
         """)
-    log.first_moving()
+    t_moving = log.first_moving()
     agent.signal_group(signal.SIGKILL)          # no cancel, no goodbye: only silence
     agent.wait(5)
-    t_stop = log.stop_after(0.0, timeout=PRESENCE_TIMEOUT + 5)
+    # after the turn began: a zero Twist that ended the previous test's move may come late
+    t_stop = log.stop_after(t_moving, timeout=PRESENCE_TIMEOUT + 5)
     last_heard = log.presence["victim"]
     after = t_stop - last_heard
     print(f"last presence -> zero cmd_vel: {after:.3f} s (presence timeout {PRESENCE_TIMEOUT})")
