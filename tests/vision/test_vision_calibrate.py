@@ -142,6 +142,15 @@ def test_calibrate_refuses_bad_parameters(recorded):
     assert done.returncode == 2 and "coloured pixels" in done.stderr
 
 
+def test_calibrate_names_a_misspelt_parameter(recorded):
+    _, bag, _, _ = recorded
+    done = subprocess.run(["rosrun", "rason_vision", "calibrate", f"_bag:={bag}",
+                           "_ouut:=colours.yaml"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2
+    assert "unknown private parameter ~ouut (ignored); did you mean ~out?" in done.stderr
+    assert "~out is required" in done.stderr
+
+
 @pytest.mark.ros
 def test_live_calibration_then_the_synthesizer_with_the_file(ros, recorded):
     """Calibrate on the live topic while ``rosbag play`` replays the bag, then run the
