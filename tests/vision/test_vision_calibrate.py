@@ -142,13 +142,12 @@ def test_calibrate_refuses_bad_parameters(recorded):
     assert done.returncode == 2 and "coloured pixels" in done.stderr
 
 
-def test_calibrate_names_a_misspelt_parameter(recorded):
-    _, bag, _, _ = recorded
-    done = subprocess.run(["rosrun", "rason_vision", "calibrate", f"_bag:={bag}",
+def test_calibrate_names_a_misspelt_parameter(tmp_path):
+    # a bag that does not exist: the run stops at once, after the warning
+    done = subprocess.run(["rosrun", "rason_vision", "calibrate", f"_bag:={tmp_path / 'no.bag'}",
                            "_ouut:=colours.yaml"], capture_output=True, text=True, timeout=120)
-    assert done.returncode == 2
+    assert done.returncode == 2, done.stderr
     assert "unknown private parameter ~ouut (ignored); did you mean ~out?" in done.stderr
-    assert "~out is required" in done.stderr
 
 
 @pytest.mark.ros
