@@ -16,6 +16,7 @@
 #                                   nodelets before the synthesizer (default), or none
 #       --real                      only the workstation side, against robots already up
 #                                   (docs/real-robot.md)
+#       --robots-timeout S          with --real: seconds to wait for the robots' nodes
 #       --out DIR                   the folder for the picture and logs
 #       --hosts                     the workstation and each robot on a host of its own (root)
 #       --cut HOST@Ts+Ds            cut HOST's link T s after the agents start, for D s (--hosts)

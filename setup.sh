@@ -84,8 +84,11 @@ CURRENT_STEP="PyPI packages (requirements.txt)"
 stamp="$VENV/.requirements.sha256"
 want=$(sha256sum "$ROOT/requirements.txt" | cut -d' ' -f1)
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ] || [ $FORCE = 1 ]; then
-  step "pip install -r requirements.txt"
-  "$VENV/bin/python3" -m pip install -q --disable-pip-version-check -r "$ROOT/requirements.txt"
+  step "pip install -r requirements.txt (log: $VENV/pip.log)"
+  # in the background under progress: with -q a first install printed nothing for its whole run
+  "$VENV/bin/python3" -m pip install --disable-pip-version-check --progress-bar off \
+    -r "$ROOT/requirements.txt" > "$VENV/pip.log" 2>&1 &
+  progress "$VENV/pip.log" $! || { tail -40 "$VENV/pip.log" >&2; false; }
   echo "$want" > "$stamp"
 else
   step "PyPI packages up to date"

@@ -142,6 +142,14 @@ def test_calibrate_refuses_bad_parameters(recorded):
     assert done.returncode == 2 and "coloured pixels" in done.stderr
 
 
+def test_calibrate_names_a_misspelt_parameter(tmp_path):
+    # a bag that does not exist: the run stops at once, after the warning
+    done = subprocess.run(["rosrun", "rason_vision", "calibrate", f"_bag:={tmp_path / 'no.bag'}",
+                           "_ouut:=colours.yaml"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert "unknown private parameter ~ouut (ignored); did you mean ~out?" in done.stderr
+
+
 @pytest.mark.ros
 def test_live_calibration_then_the_synthesizer_with_the_file(ros, recorded):
     """Calibrate on the live topic while ``rosbag play`` replays the bag, then run the

@@ -43,13 +43,22 @@ def test_help_lists_every_command_and_nothing_of_the_script(flag):
         assert f"./run.sh {command}" in done.stdout, command
 
 
-@pytest.mark.parametrize("module", ["rason_diagnosis", "rason_diagnosis.campaign",
-                                    "rason_diagnosis.mission"])
-def test_help_lists_every_option_of_the_demo_the_campaign_and_the_mission(module):
-    options = _options(module)
-    assert {"--out", "--seed" if module.endswith("mission") else "--hosts"} <= options
+@pytest.mark.parametrize(("module", "args", "own"), [
+    ("rason_diagnosis", (), "--hosts"),
+    ("rason_diagnosis", ("--real",), "--robots-timeout"),
+    ("rason_diagnosis.campaign", (), "--hosts"),
+    ("rason_diagnosis.mission", (), "--seed"),
+])
+def test_help_lists_every_option_of_the_demo_the_campaign_and_the_mission(module, args, own):
+    options = _options(module, *args)
+    assert {"--out", own} <= options
     shown = set(re.findall(r"(?<![\w-])--[a-z][a-z-]*", _run("--help").stdout))
-    assert not options - shown, f"./run.sh --help misses {sorted(options - shown)} of {module}"
+    assert not options - shown, (f"./run.sh --help misses {sorted(options - shown)} of "
+                                 f"{module} {' '.join(args)}")
+
+
+def test_the_demo_s_help_names_the_real_robots_mode():
+    assert "--real" in _options("rason_diagnosis")
 
 
 def test_the_workstation_mode_watches_as_the_demo_does():

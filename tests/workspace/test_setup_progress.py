@@ -39,3 +39,27 @@ def test_progress_returns_the_job_s_failure(tmp_path):
     done = _run("echo compiling; sleep 0.3; exit 3", tmp_path / "build.log")
     assert done.returncode == 3
     assert done.stdout.splitlines()[-1].endswith("failed (3)")
+
+
+def _background_commands() -> list[tuple[str, str]]:
+    """Each command setup.sh runs in the background (its lines joined), with the line after it."""
+    lines = SETUP.read_text(encoding="utf-8").splitlines()
+    found, command = [], ""
+    for index, line in enumerate(lines):
+        if line.lstrip().startswith("#"):
+            continue
+        command += line.rstrip("\\").strip() + " "
+        if line.endswith("\\"):
+            continue
+        if command.rstrip().endswith("&"):
+            found.append((command, lines[index + 1].strip() if index + 1 < len(lines) else ""))
+        command = ""
+    return found
+
+
+def test_every_long_step_runs_under_progress():
+    background = _background_commands()
+    for step in ("pip install", "catkin_make", "rason.asl native build", "compileall"):
+        assert any(step in command for command, _ in background), f"{step} is not under progress"
+    for command, after in background:
+        assert after.startswith("progress "), f"nothing waits for: {command}"

@@ -112,6 +112,10 @@ def main(argv: list[str] | None = None) -> int:
                         metavar="HOST@Ts+Ds", help="take HOST's link down T simulated "
                         "seconds after the agents start, for D seconds, e.g. faulty@8s+5s "
                         "(implies --hosts; repeatable)")
+    parser.add_argument("--real", action="store_true",
+                        help="only the workstation side (agents, inspector) against two real "
+                             "robots already up, docs/real-robot.md; its own options: "
+                             "./run.sh demo --real --help")
     args = parser.parse_args(argv)
     if (args.hosts or args.cut) and os.geteuid() != 0:
         parser.error("--hosts and --cut make network namespaces: run as root")

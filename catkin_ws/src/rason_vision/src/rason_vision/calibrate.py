@@ -40,7 +40,7 @@ from rason_vision.colours import (
 from rason_vision.compressed import compressed_to_rgb
 from rason_vision.convert import image_to_rgb
 from rason_vision.detector import HsvRange
-from rosnode_kit.params import ParamError, exit_on_help, param, parse
+from rosnode_kit.params import ParamError, exit_on_help, param, parse, unknown_names
 
 USAGE = ("rosrun rason_vision calibrate [_snapshot:=frame.png] _out:=colours.yaml "
          "(_green:=x,y,w,h _orange:=x,y,w,h | _labels:=labels.png) [_bag:=file.bag] "
@@ -215,8 +215,11 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(argv if argv is not None else sys.argv)
     summary = __doc__.strip().split("\n")[0] if __doc__ else ""
     exit_on_help(argv, CalibrateParams, USAGE, summary)
+    given = private_args(argv)
+    for warning in unknown_names(CalibrateParams, given):     # a typo is not silently ignored
+        print(f"calibrate: {warning}", file=sys.stderr)
     try:
-        params = parse(CalibrateParams, private_args(argv))
+        params = parse(CalibrateParams, given)
         report = run(params, argv)
     except (ParamError, ValueError, OSError) as err:
         print(f"calibrate: {err}", file=sys.stderr)
