@@ -6,11 +6,13 @@ import os
 import secrets
 import textwrap
 import xmlrpc.client
+from collections.abc import Iterable
 from pathlib import Path
 
 import rosgraph
 import rospy
 import yaml
+from polling import wait_until
 from std_srvs.srv import SetBool
 
 from rason.process.harness import Process, RosHarness
@@ -63,6 +65,26 @@ def outgoing_connections(ros: RosHarness, node: str) -> set[tuple[str, str]] | N
 def connected_from(ros: RosHarness, node: str, topic: str, subscriber: str) -> bool:
     """True once node ``node`` publishes ``topic`` to the subscriber node ``subscriber``."""
     return (topic, subscriber) in (outgoing_connections(ros, node) or set())
+
+
+def wait_heard(ros: RosHarness, node: str, topics: Iterable[str], timeout: float = 20.0,
+               watch: Iterable[Process] = ()) -> None:
+    """Wait until node ``node`` (full name, another process) publishes each of ``topics`` to
+    this process's rospy node (its bus info): what it then publishes once, unlatched, reaches
+    our subscribers (a subscriber registered with the master may connect seconds later)."""
+    wanted = {(topic, rospy.get_name()) for topic in topics}
+    wait_until(lambda: wanted <= (outgoing_connections(ros, node) or set()),
+               f"our subscribers of {sorted(t for t, _ in wanted)} connected to {node}",
+               timeout=timeout, watch=watch)
+
+
+def subscribed_by(ros: RosHarness, topic: str, node: str) -> bool:
+    """True once node ``node`` (full name) is a subscriber of ``topic`` on the master (on a
+    global topic such as /jason/messages, any subscriber may be another test's node: a node
+    killed by SIGKILL stays registered)."""
+    return any(name == topic and node in nodes for name, nodes in
+               rosgraph.Master("/rason_test_subscribed", master_uri=ros.master_uri
+                               ).getSystemState()[1])
 
 
 def player_connected(ros: RosHarness, topic: str) -> str:

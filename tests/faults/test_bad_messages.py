@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 import rospy
-from agent_nodes import start_agent
+from agent_nodes import connected_to, start_agent
 from geometry_msgs.msg import Twist
 from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from nav_msgs.msg import Odometry
@@ -41,7 +41,10 @@ def test_agent_node_survives_bad_events_perceptions_and_messages(ros: RosHarness
     events = rospy.Publisher(f"{ns}/jason/event", Event, queue_size=100)
     percepts = rospy.Publisher(f"{ns}/jason/perception", Perception, queue_size=100)
     messages = rospy.Publisher("/jason/messages", AgentMessage, queue_size=100)
-    connected(events, percepts, messages)
+    connected(events, percepts)
+    # /jason/messages is global: any other node's subscriber would count; sturdy's own
+    wait_until(lambda: connected_to(messages, f"{ns}/jason/sturdy"),
+               "the connection to sturdy's node", timeout=10)
     for params in ([], ["OK"], ["", ""], ["OK", "nan"], ["OK", "99999999999999999999"],
                    [HUGE, "1"], ["1"] * 10_000, ["\x00\xff", "-1"]):
         for kind in ("action_feedback", "action_accepted", "", HUGE):

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 import rospy
-from agent_nodes import start_agent
+from agent_nodes import start_agent, wait_heard
 from jason_msgs.msg import ActionCancel, Event
 from polling import wait_until
 
@@ -51,7 +51,12 @@ def test_a_killed_decomposer_fails_the_action_with_decomposer_lost(ros: RosHarne
     try:
         decomposer = ros.rosrun("rason", "echo_decomposer", ns=NS, params={"delay": 60.0})
         ros.wait_for_subscriber(f"{NS}/jason/cancel", watch=[decomposer])
+        # the decomposer says "accepted" once, unlatched: heard only if our jason/event
+        # subscriber is connected to it before the agent asks
+        wait_heard(ros, f"{NS}/echo_decomposer", [f"{NS}/jason/event"], watch=[decomposer])
         agent = start_agent(ros, tmp_path, "mover", MOVER, ns=NS)
+        # the agent's cancel comes once too: our jason/cancel subscriber hears its node first
+        wait_heard(ros, f"{NS}/jason/mover", [f"{NS}/jason/cancel"], watch=[agent])
 
         def accepted() -> list[Event]:
             with lock:
@@ -67,9 +72,13 @@ def test_a_killed_decomposer_fails_the_action_with_decomposer_lost(ros: RosHarne
         agent.wait_for_line(r"\[mover\] move failed: decomposer_lost", timeout=30)
         failed_at = rospy.get_time()
         assert failed_at - killed_at < BOUND, failed_at - killed_at
-        with lock:
-            reasons = [(c.agent, c.reason) for _, c in cancels]
-        assert ("mover", CancelReason.DECOMPOSER_LOST) in reasons, reasons
+
+        def reasons() -> list[tuple[str, str]]:
+            with lock:
+                return [(c.agent, c.reason) for _, c in cancels]
+        # the cancel comes over ROS, the line through the agent's output: either may be first
+        wait_until(lambda: ("mover", CancelReason.DECOMPOSER_LOST) in reasons(),
+                   "the cancel with decomposer_lost", timeout=10, watch=[agent])
         assert "moved" not in agent.output()
         assert agent.alive()
         # a node without a key says once that it is open

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 import rospy
-from agent_nodes import connected_to, key_file, mind, start_agent
+from agent_nodes import connected_to, key_file, mind, start_agent, wait_heard
 from jason_msgs.msg import Action, Event
 from polling import wait_until
 
@@ -49,6 +49,9 @@ def test_forged_feedback_and_forged_actions_are_ignored(ros: RosHarness, tmp_pat
         decomposer = ros.rosrun("rason", "echo_decomposer", ns=NS,
                                 params={"delay": 60.0, "auth_key_file": key})
         ros.wait_for_subscriber(f"{NS}/jason/cancel", watch=[decomposer])
+        # the decomposer says "accepted" once, unlatched: heard only if our jason/event
+        # subscriber is connected to it before the agent asks
+        wait_heard(ros, decomposer_node(ros), [f"{NS}/jason/event"], watch=[decomposer])
         agent = start_agent(ros, tmp_path, "mover", MOVER, ns=NS, auth_key_file=key)
 
         def accepted() -> list[Event]:

@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 
 import pytest
-from agent_nodes import connected_from, mind, start_agent
+from agent_nodes import connected_from, mind, start_agent, wait_heard
 from polling import wait_until
 
 pytestmark = pytest.mark.ros
@@ -89,6 +89,9 @@ def test_the_robot_synthesizer_declares_a_ttl_and_a_dead_camera_clears_the_robot
         wait_until(lambda: connected_from(ros, "/stale2/robot_synthesizer",
                                           "/stale2/jason/perception", "/stale2/jason/helper"),
                    "the agent's connection to the synthesizer", timeout=30, watch=[synth, agent])
+        # and ours: the last perception before the camera goes is the one the TTL counts from
+        wait_heard(ros, "/stale2/robot_synthesizer", ["/stale2/jason/perception"],
+                   timeout=30, watch=[synth])
         # Frames 0 and 1 of the bag (Faulty in view), then nothing: the camera is gone.
         play = ros.run(["rosbag", "play", "--quiet", "--keep-alive", "-u", "0.3", str(CASES_BAG),
                         "/helper/camera/rgb/image_raw:=/stale2/camera/rgb/image_raw",

@@ -8,7 +8,7 @@ import json
 import secrets
 
 import pytest
-from agent_nodes import connected_to, key_file, start_agent
+from agent_nodes import connected_to, key_file, start_agent, subscribed_by, wait_heard
 from polling import wait_until
 
 from rason.process.harness import Process, RosHarness
@@ -18,11 +18,12 @@ pytestmark = pytest.mark.ros
 ROBOT = """
     +!hello <- .print("hello ran").
     """
+#: An agent that installs a plan in {target} and runs it; it starts by {start}.
 BOSS = """
-    !go.
+    {start}
     +!go : .all_names(L) & .member({target}, L)
        <- .send({target}, tellHow, "+!legit <- .print(legit_plan_ran).");
-          .wait(2000);    // the test's own subscriber connects to this new node meanwhile
+          .wait(2000);    // the target adds the plan (an intention of its own) before the goal
           .send({target}, achieve, legit).
     +!go <- .wait(200); !go.
     """
@@ -47,12 +48,16 @@ def test_an_untrusted_sender_cannot_install_plans_or_give_goals(ros, tmp_path):
     """No key: `~trusted_senders:=[boss1]`; a spoofed tellHow/achieve from `mallory1` (rostopic
     pub) is dropped with a warning, the real boss1 agent's tellHow and achieve get in."""
     robot = start_agent(ros, tmp_path, "robot1", ROBOT, ns="/trust1", trusted_senders=["boss1"])
-    ros.wait_for_subscriber("/jason/messages")
+    # robot1's own subscription: on this global topic the master may still list the node of
+    # an earlier test that was killed
+    wait_until(lambda: subscribed_by(ros, "/jason/messages", "/trust1/jason/robot1"),
+               "robot1 subscribed to /jason/messages", timeout=20, watch=[robot])
     spoof(ros, "mallory1", "robot1", "tellHow", EVIL_PLAN)
     spoof(ros, "mallory1", "robot1", "achieve", "hello")
     robot.wait_for_line(r"dropped tellHow from 'mallory1': not a trusted sender", timeout=15)
     spoof(ros, "mallory1", "robot1", "tell", "rumour(1)")          # not restricted: gets in
-    start_agent(ros, tmp_path, "boss1", BOSS.format(target="robot1"), ns="/trust1_boss")
+    start_agent(ros, tmp_path, "boss1", BOSS.format(target="robot1", start="!go."),
+                ns="/trust1_boss")
     robot.wait_for_line(r"\[robot1\] legit_plan_ran", timeout=30)
     spoof(ros, "boss1", "robot1", "achieve", "hack")               # the plan was never added
     # the sentinels: the hack goal handled (had the plan got in, "hacked" would match first)
@@ -68,7 +73,7 @@ def test_with_a_key_only_signed_messages_get_in(ros, tmp_path):
     """Keyed agents: a boss with the key (another process) gets its tellHow and achieve in;
     unsigned, forged, wrongly keyed and replayed messages are dropped with a warning."""
     import rospy
-    from jason_msgs.msg import AgentMessage
+    from jason_msgs.msg import AgentMessage, Perception
 
     key = key_file(tmp_path, "fleet.key")
     ros.init_rospy()
@@ -93,14 +98,24 @@ def test_with_a_key_only_signed_messages_get_in(ros, tmp_path):
         robot.wait_for_line(r"dropped a forged achieve message claiming to be from 'boss2'",
                             timeout=15)
         # An agent with another key: its messages are forgeries too.
-        eve = start_agent(ros, tmp_path, "eve2", BOSS.format(target="robot2"), ns="/trust2_eve",
+        eve = start_agent(ros, tmp_path, "eve2", BOSS.format(target="robot2", start="!go."),
+                          ns="/trust2_eve",
                           auth_key_file=key_file(tmp_path, "other.key"))
         robot.wait_for_line(r"dropped a forged presence message claiming to be from 'eve2'",
                             timeout=15)
         eve.stop()
-        # The real boss, keyed: signed tellHow and achieve get in.
-        start_agent(ros, tmp_path, "boss2", BOSS.format(target="robot2"), ns="/trust2_boss",
-                    auth_key_file=key)
+        # The real boss, keyed: signed tellHow and achieve get in. It goes ahead once our
+        # subscriber hears its node: the achieve (replayed below) is sent once.
+        boss = start_agent(ros, tmp_path, "boss2",
+                           BOSS.format(target="robot2",
+                                       start="+go_ahead[source(percept)] <- !go."),
+                           ns="/trust2_boss", auth_key_file=key)
+        boss_node = "/trust2_boss/jason/boss2"
+        wait_heard(ros, boss_node, ["/jason/messages"], watch=[boss])
+        gate = rospy.Publisher("/trust2_boss/jason/perception", Perception, queue_size=1)
+        wait_until(lambda: connected_to(gate, boss_node), "the go-ahead's connection to boss2",
+                   watch=[boss])
+        gate.publish(Perception(source="test", perception=["go_ahead"]))
         robot.wait_for_line(r"\[robot2\] legit_plan_ran", timeout=30)
         wait_until(lambda: any(m.sender == "boss2" and m.content == "legit" for m in seen),
                    "the test to hear the boss's achieve", timeout=15)
@@ -111,6 +126,7 @@ def test_with_a_key_only_signed_messages_get_in(ros, tmp_path):
         robot.wait_for_line(r"dropped a replayed achieve message claiming to be from 'boss2'",
                             timeout=15)
         pub.unregister()
+        gate.unregister()
     finally:
         sub.unregister()
     out = robot.output()
@@ -139,8 +155,8 @@ def test_an_unreadable_or_short_key_is_a_clear_error(ros, tmp_path):
 def test_agents_hosted_together_pass_the_same_acceptance_hook(ros, tmp_path):
     """A mas node with `~trusted_senders:=[boss4]`: in-process messages are checked too."""
     (tmp_path / "robot4.asl").write_text(ROBOT)
-    (tmp_path / "boss4.asl").write_text(BOSS.format(target="robot4"))
-    (tmp_path / "mallory4.asl").write_text(BOSS.format(target="robot4").replace(
+    (tmp_path / "boss4.asl").write_text(BOSS.format(target="robot4", start="!go."))
+    (tmp_path / "mallory4.asl").write_text(BOSS.format(target="robot4", start="!go.").replace(
         "legit", "rogue"))
     (tmp_path / "crew.mas2j").write_text("MAS crew {\n  agents: robot4; mallory4; boss4;\n}\n")
     mas = ros.rosrun("rason", "mas", str(tmp_path / "crew.mas2j"), ns="/trust4",

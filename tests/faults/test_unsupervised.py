@@ -21,9 +21,9 @@ from pathlib import Path
 
 import pytest
 import rospy
-from agent_nodes import start_agent
+from agent_nodes import connected_to, start_agent, wait_heard
 from geometry_msgs.msg import Twist
-from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event
+from jason_msgs.msg import Action, ActionCancel, AgentMessage, Event, Perception
 from nav_msgs.msg import Odometry
 from polling import wait_until
 
@@ -126,6 +126,8 @@ class Rig:
         self.log = Log()
         self.ids = itertools.count(1)
         self.actions = rospy.Publisher(f"{NS}/jason/action", Action, queue_size=10)
+        #: tells each agent to go ahead (``+go_ahead``) once we hear what it publishes
+        self.gate = rospy.Publisher(f"{NS}/jason/perception", Perception, queue_size=1)
         self.subs = [
             rospy.Subscriber(f"{NS}/mobile_base/commands/velocity", Twist, self._on_cmd,
                              queue_size=100, tcp_nodelay=True),
@@ -140,6 +142,7 @@ class Rig:
         for sub in self.subs:
             sub.unregister()
         self.actions.unregister()
+        self.gate.unregister()
 
     def _on_cmd(self, msg: Twist) -> None:
         with self.log.lock:
@@ -162,7 +165,16 @@ class Rig:
         self.log.odom_at = rospy.get_time()
 
     def agent(self, name: str, source: str, **params: object) -> Process:
-        return start_agent(self.ros, self.tmp, name, source, ns=NS, **params)
+        """Start agent `name`, whose `source` begins on ``+go_ahead``: the percept is sent once
+        our subscribers hear the agent's node, as its cancel and its presence come once,
+        unlatched (under load a subscriber connected seconds after the node was up)."""
+        proc = start_agent(self.ros, self.tmp, name, source, ns=NS, **params)
+        node = f"{NS}/jason/{name}"
+        wait_heard(self.ros, node, (f"{NS}/jason/cancel", f"{NS}/jason/presence"), watch=[proc])
+        wait_until(lambda: connected_to(self.gate, node), f"the go-ahead's connection to {node}",
+                   watch=[proc])
+        self.gate.publish(Perception(source="test", perception=["go_ahead"]))
+        return proc
 
     def send(self, agent: str, action: str, *params: str) -> int:
         action_id = next(self.ids)
@@ -221,7 +233,7 @@ def assert_stopped_by_cancel(rig: Rig, log: Log, agent: str, reason: str) -> Non
 
 def test_action_timeout_cancels_and_the_robot_stops(rig: Rig, log: Log):
     agent = rig.agent("timer", """
-        !go.
+        +go_ahead[source(percept)] <- !go.
         +!go <- .wait(300); turn(700).
         -!go[error(R)] <- .print("failed: ", R).
         """, action_timeout=1.5)
@@ -237,8 +249,7 @@ def test_action_timeout_cancels_and_the_robot_stops(rig: Rig, log: Log):
                                      ".succeed_goal(go)", ".drop_all_intentions"])
 def test_an_abandoned_intention_cancels_its_action(rig: Rig, log: Log, abandon: str):
     rig.agent("quitter", f"""
-        !go.
-        !quit.
+        +go_ahead[source(percept)] <- !!go; !!quit.
         +!go <- turn(700); .print("turned").
         -!go <- .print("go failed").
         +!quit <- .wait(1200); {abandon}; .print("abandoned").
@@ -249,7 +260,7 @@ def test_an_abandoned_intention_cancels_its_action(rig: Rig, log: Log, abandon: 
 
 def test_agent_shutdown_cancels_and_the_robot_stops(rig: Rig, log: Log):
     agent = rig.agent("leaver", """
-        !go.
+        +go_ahead[source(percept)] <- !go.
         +!go <- turn(700).
         """)
     log.first_moving()
@@ -260,7 +271,7 @@ def test_agent_shutdown_cancels_and_the_robot_stops(rig: Rig, log: Log):
 
 def test_killed_agent_presence_lapses_and_the_robot_stops(rig: Rig, log: Log):
     agent = rig.agent("victim", """
-        !go.
+        +go_ahead[source(percept)] <- !go.
         +!go <- .wait(1500); turn(700).
         """)
     t_moving = log.first_moving()
@@ -313,7 +324,7 @@ def test_bad_parameters_never_move(rig: Rig, log: Log, action: str, value: str):
 
 def test_an_agent_sending_move_1e9_gets_bad_parameters(rig: Rig, log: Log):
     agent = rig.agent("bold", """
-        !go.
+        +go_ahead[source(percept)] <- !go.
         +!go <- move(1000000000).      // at once: held until the decomposer can answer
         -!go[error(R)] <- .print("failed: ", R).
         """)

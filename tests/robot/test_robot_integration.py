@@ -19,6 +19,7 @@ from pathlib import Path
 
 import pytest
 import rospy
+from agent_nodes import wait_heard
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from jason_msgs.msg import Action, Event
 from nav_msgs.msg import Odometry
@@ -172,6 +173,8 @@ def robot(ros_session: RosHarness, tmp_path_factory: pytest.TempPathFactory) -> 
         # The publisher's connection to the decomposer must exist before the first action.
         wait_until(lambda: handle.actions.get_num_connections() > 0,
                    "the action publisher's connection to the decomposer", timeout=10)
+        # and its answers, each sent once, must reach the test's subscriber
+        wait_heard(ros, f"{NS}/motion_decomposer", [f"{NS}/jason/event"], watch=watch)
         yield handle
         handle.close()
     finally:

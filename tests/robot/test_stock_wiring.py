@@ -13,6 +13,7 @@ import threading
 from pathlib import Path
 
 import pytest
+from agent_nodes import wait_heard
 from polling import wait_until
 
 from kobuki_fault_injector.node import InjectorParams
@@ -77,10 +78,13 @@ def test_odometry_fault_under_stock_names_freezes_what_the_decomposer_sees(ros, 
 
     driver, seen = Poses(f"{ns}/odom"), Poses(f"{ns}/{INJECTED_ODOM}")
     events: list = []
-    rospy.Subscriber(f"{ns}/jason/event", Event, events.append, queue_size=100)
+    events_sub = rospy.Subscriber(f"{ns}/jason/event", Event, events.append, queue_size=100)
     actions = rospy.Publisher(f"{ns}/jason/action", Action, queue_size=10)
     wait_until(lambda: actions.get_num_connections() > 0, "the action publisher's connection",
                timeout=10, period=0.05)
+    # the move's feedback comes once; the driver's odometry must be heard from the start
+    wait_heard(ros, f"{ns}/motion_decomposer", [f"{ns}/jason/event"], watch=watch)
+    wait_heard(ros, "/turtlebot_sim", [f"{ns}/odom"], watch=watch)
     assert rospy.ServiceProxy(f"{ns}/fault_injector", FaultInjector)("odometry").return_message
     # the fault is in force once the service answered: count from odometry published after it
     # (the robot stands still until the move, so a pose still in flight is the frozen one)
@@ -97,6 +101,8 @@ def test_odometry_fault_under_stock_names_freezes_what_the_decomposer_sees(ros, 
     assert frozen and len(set(frozen)) == 1, "the decomposer's odometry kept changing"
     assert max(moved) - min(moved) > 0.1, "the driver's odometry shows the robot drove"
     assert injector.alive() and decomposer.alive()
+    for sub in (events_sub, driver.sub, seen.sub):
+        sub.unregister()
 
 
 def test_injector_left_on_its_default_names_warns_by_name(ros, tmp_path):

@@ -64,6 +64,9 @@ def test_sim_node_drives_publishes_odometry_clock_and_kinect(ros):
     cmd = rospy.Publisher(f"{NS}/faulty/mobile_base/commands/velocity", Twist, queue_size=1)
     try:
         ros.wait_for_subscriber(f"{NS}/faulty/mobile_base/commands/velocity", watch=[sim])
+        # connected before driving: else the first commands of the 1.5 s are lost
+        wait_until(lambda: cmd.get_num_connections() > 0, "the command's connection to the sim",
+                   timeout=20, watch=[sim])
         start = odom.wait()[-1]
         assert start.header.frame_id == "odom" and start.child_frame_id == "base_footprint"
         t0 = clock.wait()[-1].clock.to_sec()

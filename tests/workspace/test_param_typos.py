@@ -51,6 +51,10 @@ def test_a_rejected_value_is_cleared_so_the_corrected_command_starts(
     with pytest.raises(KeyError):
         ros.get_param(full)
     again = ros.rosrun(package, node, *args, ns=ns)      # the command without the parameter
-    node_name = f"{ns}/jason/a" if node == "agent" else f"{ns}/{node}"
-    ros.wait_for_node(node_name, timeout=60, watch=[again])
+    # the sentinel: a service or subscription it makes after reading its parameters (it is a
+    # node of the master before: it reads them after rospy.init_node)
+    if node == "agent":
+        ros.wait_for_service(f"{ns}/jason/a/mind", timeout=60, watch=[again])
+    else:
+        ros.wait_for_subscriber(f"{ns}/jason/action", timeout=60, watch=[again])
     assert "bad parameter" not in again.output() and f"~{key}:" not in again.output()
