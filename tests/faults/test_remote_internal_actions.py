@@ -26,21 +26,29 @@ ROBOT = """
     +ping[source(S)] <- .print("pong ", S).
     +pwn <- .print("pwned").
     """
+#: ms the attacker waits for the answer to each forbidden ask. Its timeout is what the attacker
+#: sees, so it stays, but short: the connections are proven first (an allowed ask answered), an
+#: answer would come within milliseconds, and what shows that none was sent is the receiver's
+#: own "dropped" line for each, asserted below, with the allowed ask after them answered.
+FORBIDDEN_ASK_MS = 500
 ATTACKER = """
     !go.
     +!go : .all_names(L) & .member({target}, L)
-       <- .wait(1500);
-          .send({target}, askOne, .add_plan({{+pwn <- .print(pwned)}}), A1, 3000);
+       <- .send({target}, askOne, secret(X), A0, 500);
+          !attack(A0).
+    +!go <- .wait(200); !go.
+    +!attack(timeout) <- !go.         // the ask went before the connections were up: again
+    +!attack(_)
+       <- .send({target}, askOne, .add_plan({{+pwn <- .print(pwned)}}), A1, {ask_ms});
           .print("answer1 ", A1);
           .send({target}, tell, pwn);
-          .send({target}, askOne, .list_files("{folder}", "secret.*", F), A2, 3000);
+          .send({target}, askOne, .list_files("{folder}", "secret.*", F), A2, {ask_ms});
           .print("answer2 ", A2);
-          .send({target}, askOne, .stopMAS, A3, 3000);
+          .send({target}, askOne, .stopMAS, A3, {ask_ms});
           .print("answer3 ", A3);
           .send({target}, askOne, secret(X), A4, 3000);
           .print("answer4 ", A4);
           .send({target}, tell, ping).
-    +!go <- .wait(200); !go.
     """
 
 
@@ -51,7 +59,8 @@ def test_a_keyed_untrusted_agent_cannot_run_internal_actions_by_asking(ros: RosH
     robot = start_agent(ros, tmp_path, "robot7", ROBOT.replace("+pwn", "+other"),
                         ns="/ria7", auth_key_file=key, trusted_senders=["boss7"])
     mallory = start_agent(ros, tmp_path, "mallory7",
-                          ATTACKER.format(target="robot7", folder=tmp_path),
+                          ATTACKER.format(target="robot7", folder=tmp_path,
+                                          ask_ms=FORBIDDEN_ASK_MS),
                           ns="/ria7_m", auth_key_file=key)
     mallory.wait_for_line(r"\[mallory7\] answer4 ", timeout=60)
     robot.wait_for_line(r"\[robot7\] pong mallory7", timeout=30)

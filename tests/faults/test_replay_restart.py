@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import os
 import secrets
-import time
 from pathlib import Path
 
 import pytest
@@ -22,6 +21,7 @@ from polling import wait_until
 
 from rason.process.harness import Process, RosHarness
 from rason.ros.auth import START_GRACE, MessageAuth, SignedFields, load_key, new_nonce
+from rason.ros.presence import DIRECTORY_TOPIC
 
 pytestmark = pytest.mark.ros
 
@@ -92,10 +92,23 @@ def test_a_newcomer_long_after_a_keyed_registration_still_finds_it(ros: RosHarne
                                                                    tmp_path: Path):
     key = key_file(tmp_path)
     window = 4.0
+    ros.init_rospy()
+    stamps: list[rospy.Time] = []                 # of the seller's copies of its registration
+
+    def heard(msg: AgentMessage) -> None:
+        if msg.sender.startswith("/kdf1/") and "sell(book)" in msg.content:
+            stamps.append(msg.stamp)
+    directory = rospy.Subscriber(DIRECTORY_TOPIC, AgentMessage, heard)
     seller = start_agent(ros, tmp_path, "seller", SELLER, ns="/kdf1", auth_key_file=key,
                          auth_window=window, presence_period=0.5)
     seller.wait_for_line(r"\[seller\] registered", timeout=30)
-    time.sleep(3 * window)                          # the first latched copy is stale by now
+    # the sentinel: a copy the seller signed more than a window after the first one this test
+    # heard (its registration or a later copy): by then that first copy is stale
+    wait_until(lambda: stamps, "the seller's registration", timeout=30)
+    first = stamps[0]
+    wait_until(lambda: stamps[-1] > first + rospy.Duration(window),
+               "a copy of the registration signed a window later", timeout=3 * window + 30)
+    directory.unregister()
     buyer = start_agent(ros, tmp_path, "buyer", BUYER, ns="/kdf2", auth_key_file=key,
                         auth_window=window, presence_period=0.5)
     buyer.wait_for_line(r"\[buyer\] sellers \[seller\]", timeout=30)

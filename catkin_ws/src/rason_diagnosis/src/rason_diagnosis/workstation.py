@@ -42,6 +42,7 @@ from rason_diagnosis.scenario import (
     seconds_between,
     start_inspector,
 )
+from rosnode_kit.polling import Deadline
 
 #: What each robot must already run, as (kind, name, what it is), before the agents start.
 ROBOT_SIDE = {
@@ -91,13 +92,13 @@ class RealResult:
 
 def check_robot_side(ros: RosHarness, timeout: float) -> None:
     """Wait up to `timeout` s for every robot-side node; HarnessError naming what is missing."""
-    deadline = time.monotonic() + timeout
+    deadline = Deadline(timeout)
     waits = {"subscriber": ros.wait_for_subscriber, "topic": ros.wait_for_topic,
              "service": ros.wait_for_service}
     for robot, needs in ROBOT_SIDE.items():
         for kind, name, what in needs:
             try:
-                waits[kind](name, timeout=max(0.1, deadline - time.monotonic()))
+                waits[kind](name, timeout=max(0.1, deadline.remaining()))
             except HarnessError:
                 raise HarnessError(f"{what} is not up ({kind} {name} not seen on the master "
                                    f"{ros.master_uri}): start {robot}'s robot side first "

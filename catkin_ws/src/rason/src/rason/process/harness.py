@@ -41,6 +41,7 @@ import rospy  # local: the harness itself must work without rospy importable
 
 from rason.process.netns import Host
 from rason.process.reaper import HARNESS_ID, HARNESS_PARENT, STOP_SIGNALS, processes_carrying
+from rosnode_kit.polling import Deadline, poll, watching
 
 #: The master this process's rospy node was initialised against (rospy allows only one).
 _ROSPY_MASTER: str | None = None
@@ -212,7 +213,7 @@ class Process:
                       start: int = 0) -> re.Match[str]:
         """Wait until a line from index `start` on matches `pattern` (re.search); return the match."""
         regex = re.compile(pattern) if isinstance(pattern, str) else pattern
-        deadline = time.monotonic() + timeout
+        deadline = Deadline(timeout)
         index = start
         with self._cond:
             while True:
@@ -224,7 +225,7 @@ class Process:
                 if not self.alive() and not self._reader.is_alive():
                     raise HarnessError(f"{self.name} exited ({self.popen.returncode}) before "
                                        f"printing /{regex.pattern}/; output:\n{self._tail()}")
-                remaining = deadline - time.monotonic()
+                remaining = deadline.remaining()
                 if remaining <= 0:
                     raise HarnessError(f"{self.name} did not print /{regex.pattern}/ within "
                                        f"{timeout} s; output:\n{self._tail()}")
@@ -265,11 +266,7 @@ class Process:
                 break
             if not (interrupted and sig == signal.SIGINT):
                 self.signal_group(sig)
-            deadline = time.monotonic() + wait
-            while time.monotonic() < deadline:
-                if self.popen.poll() is not None and not self.group_alive():
-                    break
-                time.sleep(0.02)
+            poll(lambda: self.popen.poll() is not None and not self.group_alive(), wait, 0.02)
         try:
             self.popen.wait(2)
         except subprocess.TimeoutExpired:
@@ -412,13 +409,13 @@ class RosHarness:
         with interrupts_deferred():
             self.roscore = Process("roscore", argv, self.env, self.log_dir / log_name,
                                    echo=False)
-        deadline = time.monotonic() + timeout
-        while not self._master_up():
-            if not self.roscore.alive():
-                raise HarnessError(f"{what} exited:\n{self.roscore.output()}")
-            if time.monotonic() > deadline:
-                raise HarnessError(f"{what} did not answer within {timeout} s")
-            time.sleep(0.05)
+        roscore = self.roscore
+
+        def running() -> None:
+            if not roscore.alive():
+                raise HarnessError(f"{what} exited:\n{roscore.output()}")
+        if not poll(self._master_up, timeout, 0.05, check=running):
+            raise HarnessError(f"{what} did not answer within {timeout} s")
         answered = time.monotonic()
         # rosout must be up too, or the first node's log calls race it.
         self.wait_for_node("/rosout", timeout)
@@ -573,6 +570,10 @@ class RosHarness:
                 names.update(providers)
         return names
 
+    def registrations(self, node: str) -> set[str]:
+        """The topics ``node`` publishes or subscribes and the services it provides."""
+        return {name for group in self._system_state() for name, nodes in group if node in nodes}
+
     def param_names(self) -> list[str]:
         """Every parameter set on the master (leaf names)."""
         return list(self._master().getParamNames("/rason_harness")[2])
@@ -588,15 +589,8 @@ class RosHarness:
 
     def _wait(self, what: str, ready: Callable[[], bool], timeout: float,
               watch: Iterable[Process] = ()) -> None:
-        deadline = time.monotonic() + timeout
-        while not ready():
-            for proc in watch:
-                if not proc.alive():
-                    raise HarnessError(f"{proc.name} exited ({proc.popen.returncode}) while "
-                                       f"waiting for {what}:\n{proc.output()[-3000:]}")
-            if time.monotonic() > deadline:
-                raise HarnessError(f"{what} did not appear within {timeout} s")
-            time.sleep(0.05)
+        if not poll(ready, timeout, 0.05, check=watching(watch, what, HarnessError)):
+            raise HarnessError(f"{what} did not appear within {timeout} s")
 
     def wait_for_topic(self, topic: str, timeout: float = 20.0,
                        watch: Iterable[Process] = ()) -> None:

@@ -23,9 +23,10 @@ import os
 import re
 import signal
 import subprocess
-import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+
+from rosnode_kit.polling import poll
 
 #: Prefix of every namespace this module makes.
 PREFIX = "rason"
@@ -102,9 +103,7 @@ def kill_inside(netns: str, grace: float = 3.0) -> list[int]:
                 os.kill(pid, sig)
             except ProcessLookupError:
                 pass
-        deadline = time.monotonic() + grace
-        while time.monotonic() < deadline and any(_pid_alive(p) for p in pids):
-            time.sleep(0.05)
+        poll(lambda: not any(_pid_alive(p) for p in pids), grace, 0.05)
     return pids
 
 

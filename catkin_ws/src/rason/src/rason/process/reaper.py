@@ -6,7 +6,8 @@ harness's process. The pipe ends when that process ends, however it ends: SIGKIL
 (an xdist worker its controller kills after a Ctrl-C, in the middle of its teardown), or the
 harness closing it after its own teardown. The watcher then stops every process still carrying
 ``RASON_HARNESS_ID=ID`` in its environment (SIGINT, SIGTERM, then SIGKILL to each one's process
-group) and exits; after a clean teardown it finds none. Standard library only, so it starts fast.
+group) and exits; after a clean teardown it finds none. Standard library only (and
+``rosnode_kit.polling``, which is too), so it starts fast.
 """
 
 from __future__ import annotations
@@ -14,8 +15,9 @@ from __future__ import annotations
 import os
 import signal
 import sys
-import time
 from collections.abc import Iterable, Sequence
+
+from rosnode_kit.polling import poll
 
 #: the environment variable naming the harness that started a process (children inherit it)
 HARNESS_ID = "RASON_HARNESS_ID"
@@ -58,10 +60,8 @@ def stop_harness_processes(harness_id: str) -> list[str]:
                 os.killpg(os.getpgid(pid), sig)
             except (ProcessLookupError, PermissionError):
                 pass
-        deadline = time.monotonic() + grace
-        while time.monotonic() < deadline and processes_carrying(HARNESS_ID, harness_id,
-                                                                 skip=[os.getpid()]):
-            time.sleep(0.1)
+        poll(lambda: not processes_carrying(HARNESS_ID, harness_id, skip=[os.getpid()]), grace,
+             0.1)
     return [f"{pid}: {cmd[:120]}" for pid, cmd in found.items()]
 
 

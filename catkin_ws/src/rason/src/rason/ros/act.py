@@ -18,8 +18,6 @@ import random
 import sys
 import threading
 import time
-from collections.abc import Callable
-from typing import TypeVar
 
 import rosgraph
 import rospy
@@ -27,6 +25,7 @@ from jason_msgs.msg import Action, ActionCancel, Event
 
 from rason.ros.feedback import parse_accepted, parse_feedback, split_action
 from rason.ros.node import AgentNodeParams
+from rosnode_kit.polling import poll
 from rosnode_kit.signals import init_node
 
 #: wall-clock seconds a decomposer starting at the same time has to subscribe to jason/action
@@ -35,8 +34,6 @@ GRAPH_WAIT = 2.0
 #: events to us) before the action is sent anyway
 CONNECT_WAIT = 10.0
 
-T = TypeVar("T")
-
 
 def subscribers(topic: str) -> list[str]:
     """The nodes subscribed to ``topic`` (a resolved name), as the master knows them."""
@@ -44,26 +41,15 @@ def subscribers(topic: str) -> list[str]:
     return next((nodes for name, nodes in subscribed if name == topic), [])
 
 
-def poll(ready: Callable[[], T], wait: float, period: float) -> T:
-    """``ready()`` once truthy, or its last value after ``wait`` wall-clock seconds (or at
-    shutdown), asking every ``period`` s."""
-    deadline = time.monotonic() + wait
-    while True:
-        value = ready()
-        if value or time.monotonic() >= deadline or rospy.is_shutdown():
-            return value
-        time.sleep(period)
-
-
 def wait_for_subscribers(topic: str, wait: float) -> list[str]:
     """The subscribers of ``topic``, waiting up to ``wait`` wall-clock seconds for the first."""
-    return poll(lambda: subscribers(topic), wait, 0.1)
+    return poll(lambda: subscribers(topic), wait, 0.1, stop=rospy.is_shutdown)
 
 
 def wait_connected(publisher: rospy.Publisher, subscriber: rospy.Subscriber, wait: float) -> bool:
     """Whether both have a connection, waiting up to ``wait`` wall-clock seconds."""
     return poll(lambda: bool(publisher.get_num_connections() and subscriber.get_num_connections()),
-                wait, 0.02)
+                wait, 0.02, stop=rospy.is_shutdown)
 
 
 def main(argv: list[str] | None = None) -> int:
