@@ -20,10 +20,9 @@ from .intentions import (
     Suspension,
     Timer,
     TimerKind,
-    java_map_order,
 )
 from .plans import ACHIEVE, ADD, GOAL_STATE, Trigger
-from .terms import Literal, term_str
+from .terms import Literal, java_map_order, term_str
 from .unify import unify
 
 if TYPE_CHECKING:  # pragma: no cover

@@ -709,3 +709,43 @@ def list_to_python(t: Any) -> list | None:
 
 def make_list(items: list | tuple) -> ListTerm:
     return ListTerm(tuple(items))
+
+
+def java_string_hash(s: str) -> int:
+    """Java's ``String.hashCode`` of ``s`` (as an unsigned 32-bit number)."""
+    h = 0
+    data = s.encode("utf-16-be")
+    for k in range(0, len(data), 2):
+        h = (31 * h + (data[k] << 8 | data[k + 1])) & 0xFFFFFFFF
+    return h
+
+
+def java_map_order(items: list, key: Any, capacity: int = 0) -> list:
+    """The iteration order of a Java ``HashMap``/``ConcurrentHashMap<String, ...>`` holding
+    ``items`` (inserted in list order): by bucket of the spread string hash, then insertion
+    order. The table has 16 buckets, doubled while more than 3/4 full, unless ``capacity``
+    gives its size. Jason keeps pending intentions/events (PI, PE) and unifiers in such maps."""
+    n = capacity or 16
+    while not capacity and len(items) > n * 3 // 4:
+        n *= 2
+
+    def bucket(it: Any) -> int:
+        h = java_string_hash(key(it))
+        return ((h ^ (h >> 16)) & 0x7FFFFFFF) & (n - 1)
+    return sorted(items, key=bucket)
+
+
+def java_unifier_text(u: dict) -> str:
+    """A copy of the unifier ``u`` as Jason prints it (``Unifier.toString`` of a clone, the
+    hidden argument of a running ``.loop``/``.foreach``): ``{X=0, Y=f(Z)}``, each binding as
+    stored, in the order of the ``HashMap`` that ``HashMap.clone`` makes (a table sized for the
+    entries it copies, filled in the order of the original)."""
+    names = java_map_order([k for k in u if type(k) is str], str)
+    if not names:
+        return "{}"
+    wanted = int(len(names) / 0.75 + 1.0)
+    capacity = 1
+    while capacity < wanted:
+        capacity *= 2
+    return "{" + ", ".join(f"{name}={term_str(u[name])}"
+                           for name in java_map_order(names, str, capacity)) + "}"

@@ -7,7 +7,6 @@ import re
 from typing import Any
 
 from ..ia import SUSPEND, FailGoal, IAContext, IAError, internal_action, wrong_arg
-from ..intentions import java_map_order
 from ..parser import AslSyntaxError, parse_source, parse_term
 from ..plans import ANON_LABEL, Plan, PlanTerm, Trigger, plan_term_trigger
 from ..terms import (
@@ -19,6 +18,7 @@ from ..terms import (
     fresh_name,
     is_ground,
     java_double_str,
+    java_map_order,
     list_to_python,
     make_list,
     merge_annots,
