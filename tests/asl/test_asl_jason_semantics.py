@@ -321,6 +321,23 @@ def test_intend_answers_each_goal_means_of_an_intention_once() -> None:
     assert lines(run_source(src)) == ["[2,1,0]", "[2,1,0]", "1", "back", "back"]
 
 
+def test_wait_counts_whole_milliseconds_and_a_negative_time_waits_for_ever() -> None:
+    # jason.stdlib.wait: the time is a long (the fraction cut off); WaitEvent schedules its
+    # timer only when the time is >= 0. Jason 3.3 printed the same states for this program
+    # (its clock is the wall's: the ten waits of 1.9 ms took 10 ms and more there)
+    src = """!a.
+!b.
+!c.
+!show.
++!a <- .wait(-5); .print(a_done).
++!b <- T0 = system.time; for (.range(_, 1, 10)) { .wait(1.9) }; .print(system.time - T0).
++!c <- .wait({+never}, -1); .print(c_done).
++!show <- .wait(3000); .intention(1, S1, _); .print(S1); .intention(3, S3, _); .print(S3).
+"""
+    assert lines(run_source(src, timeout=5.0)) == [
+        "10", "waiting[reason(wait(1)[time(-5)])]", "waiting[reason(wait(3)[never])]"]
+
+
 def test_wait_for_a_logical_condition_binds_its_variables() -> None:
     # jason.stdlib.wait: the formula is tested at each new event; its bindings are kept
     src = ("!main.\n"
