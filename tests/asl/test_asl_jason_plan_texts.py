@@ -157,3 +157,11 @@ def test_the_statements_called_as_actions_run_in_the_step_that_calls_them() -> N
            ".print(b7); .print(b8).\n")
     assert lines(run_source(src)) == [
         "a1", "b1", "b2", "a2", "b3", "b4", "b5", "a3", "b6", "b7", "b8", "a4"]
+
+
+def test_a_plan_terms_jason_text_is_made_once() -> None:
+    # like its source text, the text Jason prints is kept on the term once made
+    term = parse_source(STATEMENTS, "main.asl").plans[0].as_term()
+    assert term.jason is None
+    shown = term_str(term)
+    assert term.jason is not None and term.jason in shown and term_str(term) == shown

@@ -303,7 +303,7 @@ class PlanTerm:
     what every one of them offers: ``map_terms(fn)`` and ``str()``.
     """
 
-    __slots__ = ("body", "braces", "known_ground", "plan", "rule", "text")
+    __slots__ = ("body", "braces", "jason", "known_ground", "plan", "rule", "text")
 
     def __init__(self, body: tuple, text: str, plan: Any = None, rule: Any = None,
                  braces: bool = True) -> None:
@@ -315,6 +315,7 @@ class PlanTerm:
         self.plan = plan
         self.rule = rule
         self.known_ground: bool | None = None   # ground (no variable inside), computed on first use
+        self.jason: str | None = None   # the text Jason prints (:meth:`jason_text`), made on first use
 
     def __reduce__(self) -> tuple:
         return (PlanTerm, (self.body, self.text, self.plan, self.rule, self.braces))
@@ -337,15 +338,17 @@ class PlanTerm:
         return term_str(self)
 
     def jason_text(self) -> str:
-        """The text Jason prints inside the braces (:func:`term_str`); :attr:`text` is rason's
-        source text of the same term, read back by rason's parser (messages between nodes)."""
-        if self.rule is not None:
-            return self.text
-        if self.plan is not None:
-            return self.plan.as_text(jason=True)
-        if not self.body:
-            return self.text
-        return "; ".join(d.jason_str() for d in self.body)
+        """The text Jason prints inside the braces (:func:`term_str`), made once, as
+        :attr:`text` is; :attr:`text` is rason's source text of the same term, read back by
+        rason's parser (messages between nodes)."""
+        if self.jason is None:
+            if self.rule is not None or (self.plan is None and not self.body):
+                self.jason = self.text
+            elif self.plan is not None:
+                self.jason = self.plan.as_text(jason=True)
+            else:
+                self.jason = "; ".join(d.jason_str() for d in self.body)
+        return self.jason
 
     @classmethod
     def of_body(cls, deeds: tuple) -> PlanTerm:
