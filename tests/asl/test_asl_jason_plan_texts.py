@@ -101,7 +101,8 @@ n(0).
 !w.
 !f.
 !e.
-+!w <- X = 0; while (n(N) & N < 2) { .intention(_, _, [im(_, _, B, _)|_], current); .print(w, B); -+n(N + 1) }.
++!w <- X = 0;
+    while (n(N) & N < 2) { .intention(_, _, [im(_, _, B, _)|_], current); .print(w, B); -+n(N + 1) }.
 +!f <- for (c(Y)) { Z = Y * 2; .intention(_, _, [im(_, _, B, _)|_], current); .print(f, B) }.
 +!e <- .foreach(c(Y), { .intention(_, _, [im(_, _, B, _)|_], current); .print(e, B) }); .print(done).
 """

@@ -530,6 +530,31 @@ def test_tellhow_askhow_untellhow() -> None:
     assert lines(out, "a") == ["greetings"]
 
 
+
+TOLD_THEN_ASKED = """!go.
++!go <- BUSY .send(r, tellHow, "+!extra(N) <- .print(extra, N)."); .send(r, askOne, QUESTION, _);
+    .send(r, achieve, extra(1)); .send(r, askOne, settled, _); .print(done).
+"""
+RECEIVER = "v(1).\n+!busy <- for (.range(I, 1, 30)) { -+count(I) }.\n+?settled <- .wait(50).\n"
+
+
+def test_an_ask_after_a_tellhow_is_answered_when_its_intention_runs() -> None:
+    # TransitionSystem.applyProcMsg takes one message a cycle, in the order sent, and ExecInt
+    # one deed of one intention: the tellHow's plan (@kqmlReceivedTellHow) adds the plan at its
+    # second deed, the askOne's (@kqmlReceivedAskOne1d) answers at its first. With two
+    # intentions ahead of the tellHow's, the answer goes first and the goal achieved right
+    # after it finds no plan yet. Jason 3.3 runs each agent on a thread of its own, so there
+    # it depends on the timing (with one busy intention, one run in five failed so there); a
+    # question answered once the receiver settles (a plan that waits) comes after the plan
+    def run(busy: str, question: str) -> list[str]:
+        asker = TOLD_THEN_ASKED.replace("BUSY", busy).replace("QUESTION", question)
+        return [ln.split(":")[0] for ln in lines(run_agents({"a": asker, "r": RECEIVER}), "r")]
+    assert run("", "v(_)") == ["extra1"]
+    twice = ".send(r, achieve, busy); .send(r, achieve, busy);"
+    assert run(twice, "v(_)") == ["No fail event was generated for +!extra(1)[source(a)]",
+                                  "Found a goal for which there is no relevant plan"]
+    assert run(twice, "settled") == ["extra1"]
+
 # ------------------------------------------------------------------ annotated variables
 def test_annotated_variable_is_parsed_and_printed_with_sorted_annotations() -> None:
     # as2j ``var``: a variable may carry a list of annotations (Pred.setAnnots sorts them)
