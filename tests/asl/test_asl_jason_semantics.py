@@ -321,6 +321,18 @@ def test_intend_answers_each_goal_means_of_an_intention_once() -> None:
     assert lines(run_source(src)) == ["[2,1,0]", "[2,1,0]", "1", "back", "back"]
 
 
+def test_replacing_a_belief_leaves_its_old_arguments_bound_in_the_means() -> None:
+    # TransitionSystem (delAddBel): -+c(3,4) looks c(_,_) up in the means' unifier
+    # (makeTermsAnnon, then Agent.brf's believes), so the old belief's arguments stay bound
+    # to fresh variables there; Jason 3.3 printed this first line, fresh numbers aside
+    src = ("c(1, f(2)).\n!g.\n!h.\n+!g <- -+c(3, 4); .intention(_, _, [im(_, _, _, U)|_], current); "
+           ".print(U).\n+!h <- -+d(5); .intention(_, _, [im(_, _, _, U)|_], current); .print(U).\n")
+    # nothing for a belief that was not there (d(_) removed nothing). The pairs come in the
+    # order of the fresh variables' names (a Java HashMap's), and those names are not Jason's
+    replaced, none = [re.sub(r"\b_\d+\w*", "_", ln) for ln in lines(run_source(src))]
+    assert replaced in ("[map(_,1),map(_,f(2))]", "[map(_,f(2)),map(_,1)]") and none == "[]"
+
+
 def test_wait_counts_whole_milliseconds_and_a_negative_time_waits_for_ever() -> None:
     # jason.stdlib.wait: the time is a long (the fraction cut off); WaitEvent schedules its
     # timer only when the time is >= 0. Jason 3.3 printed the same states for this program

@@ -52,6 +52,7 @@ from .terms import (
     RelExpr,
     Rule,
     Var,
+    fresh_name,
     is_ground,
     is_internal_action,
     term_str,
@@ -852,7 +853,15 @@ def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) ->
     if type(lit) is not Literal:
         lit = _self_sourced(ag, d, im.u, "cannot add {} as a belief")
     # remove the first belief matching b(_,...)[source(self)] (external event), then add
-    if ag.replace_belief(lit, i):   # (_await_own_event inlined)
+    posted, removed = ag.replace_belief(lit, i)
+    if removed is not None and removed.args:
+        # as Jason, which looks the old belief up with a fresh variable for each argument in
+        # the means' unifier: those bindings stay there (.intention lists them)
+        u = dict(im.u)
+        for arg in removed.args:
+            u[fresh_name()] = arg
+        im.u = u
+    if posted:   # (_await_own_event inlined)
         im.stack.append(d)
         i.suspended = Suspension.EVENT
         return False
