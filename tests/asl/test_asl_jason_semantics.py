@@ -333,6 +333,17 @@ def test_replacing_a_belief_leaves_its_old_arguments_bound_in_the_means() -> Non
     assert replaced in ("[map(_,1),map(_,f(2))]", "[map(_,f(2)),map(_,1)]") and none == "[]"
 
 
+def test_a_goal_dropped_for_want_of_a_plan_is_seen_until_the_next_deliberation() -> None:
+    # TransitionSystem.generateGoalDeletionFromEvent: without a failure plan the intention is
+    # given up, but the event stays selected (C.SE) with its intention until the next cycle's
+    # deliberation, so .intend in that cycle's act still sees its goal (Jason 3.3 printed these)
+    src = ("!a.\n!b.\n+!a <- !nothere.\n"
+           "+!b <- .print(x); .findall(G, .intend(G), L); .print(L); .findall(H, .intend(H), M); "
+           ".print(M).\n")
+    assert [ln for ln in lines(run_source(src)) if ln.startswith(("x", "["))] == [
+        "x", "[a[source(self)],b[source(self)]]", "[b[source(self)]]"]
+
+
 def test_wait_counts_whole_milliseconds_and_a_negative_time_waits_for_ever() -> None:
     # jason.stdlib.wait: the time is a long (the fraction cut off); WaitEvent schedules its
     # timer only when the time is >= 0. Jason 3.3 printed the same states for this program

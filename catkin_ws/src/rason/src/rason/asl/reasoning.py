@@ -1199,11 +1199,19 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
                         if isinstance(trig.literal, Literal) else trig.literal)
     else:
         shown = None
+    c = ag.circ
     if from_event is not None:
         ag.warn_drop(i, f"No fail event was generated for {from_event}", shown, relevant_msg=msg)
+        se = c.selected_event
+        if se is not None and se.intention is i:
+            # Jason leaves the event selected, its intention whole, until the next
+            # deliberation: .intend, .desire and .intention of this cycle's act still see it
+            kept = Intention(i.id)
+            kept.ims = list(i.ims)
+            c.selected_event = Event(se.trigger, kept)
     else:
         ag.warn_drop(i, f"No failure event was generated for {shown}", shown)
-    ag.circ.remove_intention(i)
+    c.remove_intention(i)
 
 
 _HAS_FAILURE_PLAN = Literal("has_failure_plan")
