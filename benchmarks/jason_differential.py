@@ -114,19 +114,28 @@ add3(X, Y, Z) :- Z = X + Y.
 # ``.intention(_, _, [im(...)|_], current)`` and a ``while``), which then throws
 # IndexOutOfBoundsException and clears the agent's circumstance; not explained yet.
 
-#: Deeds of an asker talking to its answerer ``R``. The asker has one intention and waits for
-#: an answer after every deed (a tell and the next one arriving together would let the
-#: answerer's reactions interleave as the timing falls), so both agents' lines have one order.
+#: The question an asker waits on after each deed: the answerer's plan for it waits long enough
+#: for its reactions to end (on Jason, 100 ms of the wall's clock; on rason's virtual clock,
+#: time moves only when no agent has anything to do)
+SETTLED = "settled"
+
+#: Deeds of an asker talking to its answerer ``R``. The asker has one intention and, after
+#: every deed, asks :data:`SETTLED` and waits for the answer, which comes once the answerer's
+#: reactions are over, so both agents' lines have one order. (A question answered at once,
+#: such as ``v(_)``, is no such barrier: the answerer takes one message a cycle and runs one
+#: deed of one intention a cycle, so a question can be answered before the reactions to the
+#: message before it, on Jason as on rason, as the agents' turns fall: a told plan not added
+#: yet, a told list half added, a branch of a session not run yet.)
 KQML_DEEDS = (
     ".send(R, tell, hello(V))", ".send(R, tell, [a(V), b(V)])", ".send(R, achieve, do(V))",
     ".send(R, askOne, v(XV), AV); .print(ans, AV)", ".send(R, askOne, v(XV)[k(KV)], AV); .print(ans, AV)",
     ".send(R, askAll, v(XV), LV); .print(all, LV)", ".send(R, askOne, nothing(XV), AV); .print(none, AV)",
     ".send(R, askOne, rv(XV), AV); .print(rule, AV)", ".send(R, untell, hello(1))",
     ".send(R, askOne, hello(XV), AV); .print(told, AV)", ".send(R, askAll, hello(XV), LV); .print(LV)",
-    ".send(R, tellHow, \"+!extra(N) <- .print(extra, N).\"); .send(R, askOne, v(_), _); "
+    ".send(R, tellHow, \"+!extra(N) <- .print(extra, N).\"); .send(R, askOne, " + SETTLED + ", _); "
     ".send(R, achieve, extra(V))",
     ".send(R, tellHow, \"@nest +!nest(N) <- !in(N). { +!in(M) <- .print(nest, M, N). }\"); "
-    ".send(R, askOne, v(_), _); .send(R, achieve, nest(V))",
+    ".send(R, askOne, " + SETTLED + ", _); .send(R, achieve, nest(V))",
     ".send(R, askOne, b(XV)[source(SV)], AV); .print(src, AV)",
     ".send(R, askHow, {+!ctl(_)}, LV); .print(how, LV)",
     # a session of the answerer (a plan with inner plans for told beliefs, waiting <: false):
@@ -152,7 +161,7 @@ rv(X) :- v(X) & X > 1.
     +!jot(Y) <- .print(note, N, Y).
     +X : X = flag(K)[source(_)] <- .print(flag, N, K).
     }
-"""
+""" + f"+?{SETTLED} <- .wait(100).\n"
 
 FRESH = re.compile(r"\b_\d+\w*")
 
@@ -184,7 +193,7 @@ def random_asker(rng: random.Random, answerer: str) -> str:
     """One intention of 1-8 KQML deeds to ``answerer``, each printing its place."""
     body = [rng.choice(KQML_DEEDS) for _ in range(rng.randint(1, 8))]
     deeds = "; ".join(f'{d.replace("V", str(n)).replace("R", answerer)}; '
-                      f'.send({answerer}, askOne, v(_), _); .print("q.{n}")'
+                      f'.send({answerer}, askOne, {SETTLED}, _); .print("q.{n}")'
                       for n, d in enumerate(body))
     return f"!go.\n+!go <- {deeds}.\n"
 

@@ -93,3 +93,76 @@ def test_a_plan_body_term_as_a_deed_runs_its_deeds_in_place() -> None:
         '[{ @p__N[source(self),url("file:main.asl")] +!h <- .print(x); .print(y); (_N = 1); '
         ".print(_N); .print(end); .fork(and,.print(p),.print(q); .print(r)); "
         ".relevant_plans({ +!h },_N); .print(_N) }]")
+
+
+LOOPS = """\
+c(1). c(2).
+n(0).
+!w.
+!f.
+!e.
++!w <- X = 0;
+    while (n(N) & N < 2) { .intention(_, _, [im(_, _, B, _)|_], current); .print(w, B); -+n(N + 1) }.
++!f <- for (c(Y)) { Z = Y * 2; .intention(_, _, [im(_, _, B, _)|_], current); .print(f, B) }.
++!e <- .foreach(c(Y), { .intention(_, _, [im(_, _, B, _)|_], current); .print(e, B) }); .print(done).
+"""
+
+
+def _hidden(text: str) -> str:
+    """Fresh variables and Java's identity hash of an iterator made alike."""
+    return re.sub(r"@[0-9a-f]+,", "@H,", _fresh(text))
+
+
+def test_a_running_loop_shows_the_hidden_arguments_jason_gives_it() -> None:
+    # a while's next round is Jason's .loop(C,B,{U}), a for's .foreach(C,B,Iterator,{U}): U
+    # the unifier before the loop as Java prints it (names as written), the iterator the
+    # Java object of the condition's solutions; the loop's variables renamed as the body's,
+    # the block of .foreach called as an action in braces. The three intentions take turns as
+    # on Jason: .foreach as an action puts its block in place in the step that calls it
+    body_w = ("{ .intention(_N,_N,[im(_N,_N,_N,_N)|_N],current); .print(w,_N); -+n((_N+1)); "
+              ".loop((n(_N) & (_N < 2)),.intention(_N,_N,[im(_N,_N,_N,_N)|_N],current); "
+              ".print(w,_N); -+n((_N+1)),{X=0}) }")
+    body_e = ("{ .intention(_N,_N,[im(_N,_N,_N,_N)|_N],current); .print(e,_N); "
+              ".foreach(c(_N),{ .intention(_N,_N,[im(_N,_N,_N,_N)|_N],current); .print(e,_N) },"
+              "jason.asSyntax.Literal$1@H,{}); .print(done) }")
+    body_f = ("{ .intention(_N,_N,[im(_N,_N,_N,_N)|_N],current); .print(f,_N); "
+              ".foreach(c(_N),(_N = (_N*2)); .intention(_N,_N,[im(_N,_N,_N,_N)|_N],current); "
+              ".print(f,_N),jason.asSyntax.Literal$1@H,{}) }")
+    assert [_hidden(ln) for ln in lines(run_source(LOOPS))] == [
+        "w" + body_w, "e" + body_e, "f" + body_f, "w" + body_w, "e" + body_e, "f" + body_f, "done"]
+
+
+def test_the_hidden_unifier_and_iterator_print_as_javas() -> None:
+    # HashMap.clone's order (a table sized for the entries copied); the iterator's class
+    # follows the condition: a conjunction, a disjunction, one solution, an action's own
+    src = ("!g.\n+!g <- K = 1; L = 1; Z = f(Q); A = 2; Bb = 3; Cc = 4; Dd = 5;\n"
+           "    while (L < 2) { .intention(_, _, [im(_, _, B, _)|_], current); .print(B); L = 7 }.\n"
+           "-!g <- !h.\n"
+           "+!h <- for (.member(M, [a]) & true) { !show }; for (.member(M, [a]) | false) { !show };\n"
+           "    for (not false) { !show }; for (.range(I, 1, 1)) { !show }.\n"
+           "+!show <- .intention(_, _, [_, im(_, _, B, _)|_], current); .print(B).\n")
+    shown = [_hidden(ln) for ln in lines(run_source(src))]
+    assert shown[0].endswith(",{Bb=3, Cc=4, Dd=5, A=2, Z=f(Q), K=1, L=1}) }")
+    assert [re.search(r"jason\.[A-Za-z.]+\$\d", ln).group(0) for ln in shown[1:]] == [
+        "jason.asSyntax.LogExpr$1", "jason.asSyntax.LogExpr$2", "jason.asSyntax.LogExpr$3",
+        "jason.stdlib.range$1"]
+
+
+def test_the_statements_called_as_actions_run_in_the_step_that_calls_them() -> None:
+    # as on Jason 3.3: each of .if_then_else, .foreach and .loop tests its condition and puts
+    # its block in place in one step, so the other intention's prints interleave so
+    src = ("c(1).\n!a.\n!b.\n"
+           "+!a <- .if_then_else(true, {.print(a1)}); .foreach(c(X), {.print(a2)});\n"
+           "    .loop(c(Y) & Y < 2, {.print(a3); -+c(2)}); .print(a4).\n"
+           "+!b <- .print(b1); .print(b2); .print(b3); .print(b4); .print(b5); .print(b6); "
+           ".print(b7); .print(b8).\n")
+    assert lines(run_source(src)) == [
+        "a1", "b1", "b2", "a2", "b3", "b4", "b5", "a3", "b6", "b7", "b8", "a4"]
+
+
+def test_a_plan_terms_jason_text_is_made_once() -> None:
+    # like its source text, the text Jason prints is kept on the term once made
+    term = parse_source(STATEMENTS, "main.asl").plans[0].as_term()
+    assert term.jason is None
+    shown = term_str(term)
+    assert term.jason is not None and term.jason in shown and term_str(term) == shown

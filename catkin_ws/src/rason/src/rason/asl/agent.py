@@ -311,11 +311,11 @@ class Agent:
         removed = self.bb.remove(lit)
         return removed is not None and self._belief_changed(DEL, removed, focus)
 
-    def replace_belief(self, lit: Literal, focus: Intention) -> bool:
+    def replace_belief(self, lit: Literal, focus: Intention) -> tuple[bool, Literal | None]:
         """``-+b`` in ``focus``'s plan body: remove the first belief ``b(...)`` holding all of
         ``lit``'s annotations (its ``-b`` event is external), then add ``lit`` (its ``+b``
-        event belongs to ``focus``, as for :meth:`add_belief`). Returns True when that ``+b``
-        event was posted (the intention must wait for it)."""
+        event belongs to ``focus``, as for :meth:`add_belief`). Returns whether that ``+b``
+        event was posted (the intention must wait for it), and the belief removed."""
         c = self.circ
         bb = self.bb
         if c.event_waits:   # a .wait condition is checked after the removal and after the addition
@@ -323,15 +323,15 @@ class Agent:
             if removed is not None:
                 self._belief_changed(DEL, removed, None)
             added = bb.add(lit, front=True)
-            return added is not None and self._belief_changed(ADD, added, focus)
+            return added is not None and self._belief_changed(ADD, added, focus), removed
         removed, added = bb.replace_first_holding(lit)
         if removed is not None and ((DEL, BELIEF, removed.functor, len(removed.args), removed.neg)
                                     in self.pl.by_key or self.pl.var_plans):
             self._belief_changed(DEL, removed, None)   # (not called when no plan would see it)
         if added is None or self._own_event_unseen(ADD, added, focus):
-            return False
+            return False, removed
         c.events.append(Event(Trigger(ADD, BELIEF, added), focus))   # (_belief_changed inlined)
-        return True
+        return True, removed
 
     def _own_event_unseen(self, op: str, lit: Literal, focus: Intention) -> bool:
         """True when the ``+b``/``-b`` event of a belief change in ``focus``'s plan body need

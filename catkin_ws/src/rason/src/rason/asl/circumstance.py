@@ -20,10 +20,9 @@ from .intentions import (
     Suspension,
     Timer,
     TimerKind,
-    java_map_order,
 )
 from .plans import ACHIEVE, ADD, GOAL_STATE, Trigger
-from .terms import Literal, term_str
+from .terms import Literal, java_map_order, term_str
 from .unify import unify
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -279,13 +278,14 @@ class Circumstance:
         """``.at``: post the event ``delay`` clock seconds from now."""
         self.push_timer(self.ag.arch.clock.now() + delay, TimerKind.AT, None, data=trigger)
 
-    def suspend_timer(self, i: Intention, deadline: float, ms: float = 0.0) -> None:
-        """``.wait(ms)``: ``i`` waits until ``deadline``."""
+    def suspend_timer(self, i: Intention, deadline: float | None, ms: float = 0.0) -> None:
+        """``.wait(ms)``: ``i`` waits until ``deadline`` (None: for ever)."""
         self.suspend(i, Suspension.WAIT)
         i.pi_key = f"{i.id}/time{int(ms)}"
         # whole milliseconds in the reason, as Jason (its wait time is a long)
         i.wait_reason = Literal("wait", (float(i.id),), (Literal("time", (float(int(ms)),)),))
-        self.push_timer(deadline, TimerKind.WAIT, i, data=i.wait_reason)
+        if deadline is not None:
+            self.push_timer(deadline, TimerKind.WAIT, i, data=i.wait_reason)
         self._goal_waiting(i, i.wait_reason)
 
     def suspend_event_wait(self, i: Intention, trig: Trigger | None, cond: Any,

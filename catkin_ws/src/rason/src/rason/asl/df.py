@@ -17,8 +17,7 @@ import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from .intentions import java_map_order
-from .terms import Literal
+from .terms import Literal, java_map_order
 
 #: The sender of the directory's ``provider(Agent, Service)`` notices.
 DF_NAME = "df"

@@ -16,10 +16,9 @@ from .intentions import (
     TimerKind,
     event_has_goal,
     has_goal,
-    java_map_order,
 )
 from .plans import ACHIEVE, ADD, DEL, Trigger
-from .terms import Literal
+from .terms import Literal, java_map_order
 from .unify import resolve, unify
 
 if TYPE_CHECKING:  # pragma: no cover

@@ -219,7 +219,7 @@ def _body_steps(im: IntendedMeans) -> list[BodyStep]:
     body = im.plan.body
     deed = im.current
     if deed is not None and deed.kind == K_LOOP:
-        deed = deed.extra[1]          # the next round of a while/for: the loop itself
+        deed = deed.extra.loop        # the next round of a while/for: the loop itself
     current = _top_level_index(body, deed) if deed is not None else None
     if current is None:               # nothing run yet: what left the stack is done
         remaining = {id(d) for d in im.stack}

@@ -9,7 +9,7 @@ from enum import Enum
 from typing import Any, NamedTuple
 
 from .plans import ACHIEVE, ADD, DEL, Deed, Plan, Trigger, deed_str
-from .terms import ListTerm, Literal, Var, fresh_name, make_list, term_str
+from .terms import ListTerm, Literal, Var, fresh_name, java_map_order, make_list, term_str
 from .unify import rename_vars, resolve, unify
 
 _ids = itertools.count(1)
@@ -288,28 +288,6 @@ def event_has_goal(ev: Event, pattern: Any, s: dict) -> dict | None:
         if unify(pattern, t.literal, s2):
             return s2
     return None if ev.intention is None else has_goal(ev.intention, pattern, s)
-
-
-def _java_string_hash(s: str) -> int:
-    h = 0
-    data = s.encode("utf-16-be")
-    for k in range(0, len(data), 2):
-        h = (31 * h + (data[k] << 8 | data[k + 1])) & 0xFFFFFFFF
-    return h
-
-
-def java_map_order(items: list, key: Any) -> list:
-    """The iteration order of a Java ``ConcurrentHashMap<String, ...>`` holding ``items``
-    (inserted in list order): by bucket of the spread string hash, then insertion order.
-    Jason keeps pending intentions/events (PI, PE) in such maps."""
-    n = 16
-    while len(items) > n * 3 // 4:
-        n *= 2
-
-    def bucket(it: Any) -> int:
-        h = _java_string_hash(key(it))
-        return ((h ^ (h >> 16)) & 0x7FFFFFFF) & (n - 1)
-    return sorted(items, key=bucket)
 
 
 def unifier_term(u: dict, ag: Any = None, through: dict | None = None) -> ListTerm:

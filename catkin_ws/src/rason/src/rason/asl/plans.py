@@ -8,7 +8,20 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from .terms import SOURCE_SELF, AnnotVar, Literal, NsLit, PlanTerm, Var, calls_code, is_constant, term_str
+from .terms import (
+    SOURCE_SELF,
+    AnnotVar,
+    Literal,
+    LogExpr,
+    NsLit,
+    PlanTerm,
+    Var,
+    calls_code,
+    is_constant,
+    is_internal_action,
+    java_unifier_text,
+    term_str,
+)
 from .unify import compile_resolve
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -122,7 +135,9 @@ class Deed:
         return (Deed, (self.kind, self.term, self.line, self.extra))
 
     def map_terms(self, fn: Any) -> Deed:
-        """This deed with ``fn`` applied to every term in it (blocks included)."""
+        """This deed with ``fn`` applied to every term in it (blocks included), the deed's
+        own term first (a statement's condition before its block, as Jason renames them)."""
+        term = fn(self.term)
         extra: Any
         if self.kind == K_IF:
             branches, els = self.extra
@@ -130,9 +145,69 @@ class Deed:
                      None if els is None else map_deeds(els, fn))
         elif self.kind in (K_WHILE, K_FOR):
             extra = map_deeds(self.extra, fn)
+        elif self.kind == K_LOOP:
+            r: LoopRound = self.extra
+            extra = LoopRound(r.kind, r.loop.map_terms(fn), r.base, r.solutions, r.braced)
         else:
             extra = self.extra
-        return Deed(self.kind, fn(self.term), self.line, extra)
+        return Deed(self.kind, term, self.line, extra)
+
+
+class LoopRound:
+    """What the deed of a running ``while``/``for``'s next round (:data:`K_LOOP`, put back
+    after the block at each pass) holds: the loop's deed, the unifier before the loop
+    (restored after it), for a ``for`` the solutions not taken yet; ``braced`` when the loop
+    was started by ``.loop``/``.foreach`` called as actions (their block is a term in braces).
+    Jason's ``.loop``/``.foreach`` deed at that place carries these as hidden arguments."""
+
+    __slots__ = ("base", "braced", "kind", "loop", "solutions")
+
+    def __init__(self, kind: str, loop: Deed, base: dict, solutions: Any = None,
+                 braced: bool = False) -> None:
+        self.kind = kind            # K_WHILE or K_FOR
+        self.loop = loop
+        self.base = base
+        self.solutions = solutions
+        self.braced = braced
+
+    def jason_str(self) -> str:
+        """Jason's deed of the next round: ``.loop(C,B,{U})``, ``.foreach(C,B,It,{U})``, with
+        the unifier before the loop as ``Unifier.toString`` of its copy prints it and, for a
+        ``for``, Jason's iterator of the condition's solutions as Java prints an object
+        (its class, ``@``, a number that stands for Java's identity hash)."""
+        loop = self.loop
+        block = body_str(loop.extra, True)
+        if self.braced:
+            block = "{ " + block + " }"
+        if self.kind == K_WHILE:
+            return ".loop(" + term_str(loop.term) + "," + block + "," + java_unifier_text(self.base) + ")"
+        number = (id(self.solutions) >> 4) & 0x7FFFFFFF
+        return (".foreach(" + term_str(loop.term) + "," + block + "," + _java_iterator_class(loop.term)
+                + "@" + format(number, "x") + "," + java_unifier_text(self.base) + ")")
+
+
+#: the internal actions of Jason 3.3 that answer with an iterator of their own (an anonymous
+#: class ``jason.stdlib.NAME$1``); the others answer true or false
+_ITERATOR_ACTIONS = frozenset({
+    ".belief", ".desire", ".intend", ".intention", ".member", ".namespace", ".namespace_get_prop",
+    ".nth", ".plan_label", ".prefix", ".random", ".range", ".relevant_plan", ".sublist",
+    ".substring", ".suffix", ".type"})
+
+
+def _java_iterator_class(cond: Any) -> str:
+    """The class of the iterator Jason's ``logicalConsequence`` gives for the condition
+    ``cond`` (checked against Jason 3.3): a belief or rule query ``Literal$1``, a conjunction
+    ``LogExpr$1``, a disjunction ``LogExpr$2``, an internal action with solutions of its own
+    its class, anything else (``not``, a relation, ``true``, an action answering true) the one
+    of a single solution, ``LogExpr$3``."""
+    if type(cond) is LogExpr and cond.op in ("&", "|"):
+        return "jason.asSyntax.LogExpr$" + ("1" if cond.op == "&" else "2")
+    if type(cond) is Literal and cond.functor != "true":
+        if cond.functor in _ITERATOR_ACTIONS:
+            return "jason.stdlib." + cond.functor[1:] + "$1"
+        if not is_internal_action(cond.functor):
+            return "jason.asSyntax.Literal$1"
+    return "jason.asSyntax.LogExpr$3"
 
 
 def _with_self_source(term: Any) -> Literal | None:
@@ -191,9 +266,8 @@ def deed_str(d: Deed, jason: bool = False) -> str:
         return _loop_str("for", t, d.extra, jason)
     if k == K_LOOP:
         # the next round of a while/for: Jason's ``.loop``/``.foreach`` deed put back after
-        # the block (Jason adds hidden arguments: the unifier, the solutions left)
-        loop = d.extra[1]
-        return _loop_str(d.extra[0], loop.term, loop.extra, jason) if jason else "{ loop }"
+        # the block, with its hidden arguments
+        return d.extra.jason_str() if jason else "{ loop }"
     if not jason and k == K_INTERNAL and type(t) is Literal and t.functor == ".fork":
         return _fork_source(t)
     return term_str(t, jason)

@@ -35,6 +35,7 @@ from .plans import (
     K_WHILE,
     TEST,
     Deed,
+    LoopRound,
     Plan,
     PlanLibrary,
     Trigger,
@@ -51,6 +52,7 @@ from .terms import (
     RelExpr,
     Rule,
     Var,
+    fresh_name,
     is_ground,
     is_internal_action,
     term_str,
@@ -851,7 +853,15 @@ def _exec_replace_belief(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) ->
     if type(lit) is not Literal:
         lit = _self_sourced(ag, d, im.u, "cannot add {} as a belief")
     # remove the first belief matching b(_,...)[source(self)] (external event), then add
-    if ag.replace_belief(lit, i):   # (_await_own_event inlined)
+    posted, removed = ag.replace_belief(lit, i)
+    if removed is not None and removed.args:
+        # as Jason, which looks the old belief up with a fresh variable for each argument in
+        # the means' unifier: those bindings stay there (.intention lists them)
+        u = dict(im.u)
+        for arg in removed.args:
+            u[fresh_name()] = arg
+        im.u = u
+    if posted:   # (_await_own_event inlined)
         im.stack.append(d)
         i.suspended = Suspension.EVENT
         return False
@@ -981,17 +991,24 @@ def _exec_if(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
 def _exec_while(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``while (c) {...}``."""
     im.stack.pop()
-    _while_pass(ag, i, im, d, im.u, im.u)
+    _start_while(ag, i, im, d, False)
     return True
 
 
-def _while_pass(ag: Agent, i: Intention, im: IntendedMeans, loop: Deed, base: dict,
-                s: dict) -> bool:
-    """Start the next pass of the ``while`` deed ``loop`` if its condition holds under ``s``
-    (``base``: the unifier before the loop, restored after it)."""
+def _start_while(ag: Agent, i: Intention, im: IntendedMeans, d: Deed, braced: bool) -> None:
+    """The first pass of the ``while`` deed ``d`` (``braced``: started by ``.loop``)."""
+    base = im.u
+    _while_pass(ag, i, im, Deed(K_LOOP, d.term, d.line, LoopRound(K_WHILE, d, base, None, braced)),
+                base)
+
+
+def _while_pass(ag: Agent, i: Intention, im: IntendedMeans, next_round: Deed, s: dict) -> bool:
+    """Start the next pass of a ``while`` (``next_round``: its :class:`LoopRound` deed, put
+    back after the block) if its condition holds under ``s``."""
+    loop = next_round.extra.loop
     for sol in solve(ag, loop.term, s, i):
         im.u = sol
-        im.stack.append(Deed(K_LOOP, loop.term, loop.line, ("while", loop, base)))
+        im.stack.append(next_round)
         im.stack.extend(reversed(loop.extra))
         return True
     return False
@@ -999,25 +1016,54 @@ def _while_pass(ag: Agent, i: Intention, im: IntendedMeans, loop: Deed, base: di
 
 def _exec_for(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """``for (c) {...}``: one iteration per solution of ``c``."""
-    u = im.u
-    stack = im.stack
-    stack.pop()
-    base = u
+    im.stack.pop()
+    _start_for(ag, i, im, d, False)
+    return True
+
+
+def _start_for(ag: Agent, i: Intention, im: IntendedMeans, d: Deed, braced: bool) -> None:
+    """The first pass of the ``for`` deed ``d`` (``braced``: started by ``.foreach``)."""
+    base = im.u
     sols = solve(ag, d.term, base, i)   # lazy, as Jason: each solution after the last pass
-    return _for_next(stack, im, d, base, sols)
+    _for_next(im, Deed(K_LOOP, d.term, d.line, LoopRound(K_FOR, d, base, sols, braced)))
 
 
 def _exec_loop_next(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> bool:
     """The next iteration of a ``while`` or ``for``."""
-    stack = im.stack
-    stack.pop()
-    kind, orig, base = d.extra[0], d.extra[1], d.extra[2]
-    if kind == "while":
-        s = _merge_base(base, im.u)
-        if not _while_pass(ag, i, im, orig, base, s):
+    im.stack.pop()
+    r: LoopRound = d.extra
+    if r.kind == K_WHILE:
+        s = dict(r.base)   # the loop's variables unbound again
+        if not _while_pass(ag, i, im, d, s):
             im.u = s
         return True
-    return _for_next(stack, im, orig, base, d.extra[3])
+    _for_next(im, d)
+    return True
+
+
+def _for_next(im: IntendedMeans, next_round: Deed) -> None:
+    """The next pass of a ``for`` (``next_round``: its :class:`LoopRound` deed, put back
+    after the block), or its end: the unifier as before the loop."""
+    r: LoopRound = next_round.extra
+    for sol in r.solutions:
+        im.u = sol
+        im.stack.append(next_round)
+        im.stack.extend(reversed(r.loop.extra))
+        return
+    im.u = dict(r.base)
+
+
+def run_statement(ag: Agent, i: Intention, im: IntendedMeans, d: Deed) -> None:
+    """Run the ``if``/``while``/``for`` deed ``d`` at once, as the top of ``im``'s stack, for
+    the internal actions ``.if_then_else``/``.loop``/``.foreach``: as in Jason, the action
+    tests the condition and puts the block in place in the step that calls it."""
+    if d.kind == K_IF:
+        im.stack.append(d)          # (taken off by _exec_if)
+        _exec_if(ag, i, im, d)
+    elif d.kind == K_WHILE:
+        _start_while(ag, i, im, d, True)
+    else:
+        _start_for(ag, i, im, d, True)
 
 
 #: ExecInt's handler for each kind of deed.
@@ -1038,21 +1084,6 @@ _EXEC_DEED = {
     K_FOR: _exec_for,
     K_LOOP: _exec_loop_next,
 }
-
-
-def _merge_base(base: dict, cur: dict) -> dict:
-    """Unifier for the next loop iteration: the one before the loop (loop variables unbound)."""
-    return dict(base)
-
-
-def _for_next(stack: list, im: IntendedMeans, d: Deed, base: dict, sols: Any) -> bool:
-    for sol in sols:
-        im.u = sol
-        stack.append(Deed(K_LOOP, d.term, d.line, ("for", d, base, sols)))
-        stack.extend(reversed(d.extra))
-        return True
-    im.u = dict(base)
-    return True
 
 
 def means_answer(ag: Agent, im: IntendedMeans) -> Any:
@@ -1168,11 +1199,19 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
                         if isinstance(trig.literal, Literal) else trig.literal)
     else:
         shown = None
+    c = ag.circ
     if from_event is not None:
         ag.warn_drop(i, f"No fail event was generated for {from_event}", shown, relevant_msg=msg)
+        se = c.selected_event
+        if se is not None and se.intention is i:
+            # Jason leaves the event selected, its intention whole, until the next
+            # deliberation: .intend, .desire and .intention of this cycle's act still see it
+            kept = Intention(i.id)
+            kept.ims = list(i.ims)
+            c.selected_event = Event(se.trigger, kept)
     else:
         ag.warn_drop(i, f"No failure event was generated for {shown}", shown)
-    ag.circ.remove_intention(i)
+    c.remove_intention(i)
 
 
 _HAS_FAILURE_PLAN = Literal("has_failure_plan")

@@ -303,7 +303,7 @@ class PlanTerm:
     what every one of them offers: ``map_terms(fn)`` and ``str()``.
     """
 
-    __slots__ = ("body", "braces", "known_ground", "plan", "rule", "text")
+    __slots__ = ("body", "braces", "jason", "known_ground", "plan", "rule", "text")
 
     def __init__(self, body: tuple, text: str, plan: Any = None, rule: Any = None,
                  braces: bool = True) -> None:
@@ -315,6 +315,7 @@ class PlanTerm:
         self.plan = plan
         self.rule = rule
         self.known_ground: bool | None = None   # ground (no variable inside), computed on first use
+        self.jason: str | None = None   # the text Jason prints (:meth:`jason_text`), made on first use
 
     def __reduce__(self) -> tuple:
         return (PlanTerm, (self.body, self.text, self.plan, self.rule, self.braces))
@@ -337,15 +338,17 @@ class PlanTerm:
         return term_str(self)
 
     def jason_text(self) -> str:
-        """The text Jason prints inside the braces (:func:`term_str`); :attr:`text` is rason's
-        source text of the same term, read back by rason's parser (messages between nodes)."""
-        if self.rule is not None:
-            return self.text
-        if self.plan is not None:
-            return self.plan.as_text(jason=True)
-        if not self.body:
-            return self.text
-        return "; ".join(d.jason_str() for d in self.body)
+        """The text Jason prints inside the braces (:func:`term_str`), made once, as
+        :attr:`text` is; :attr:`text` is rason's source text of the same term, read back by
+        rason's parser (messages between nodes)."""
+        if self.jason is None:
+            if self.rule is not None or (self.plan is None and not self.body):
+                self.jason = self.text
+            elif self.plan is not None:
+                self.jason = self.plan.as_text(jason=True)
+            else:
+                self.jason = "; ".join(d.jason_str() for d in self.body)
+        return self.jason
 
     @classmethod
     def of_body(cls, deeds: tuple) -> PlanTerm:
@@ -709,3 +712,43 @@ def list_to_python(t: Any) -> list | None:
 
 def make_list(items: list | tuple) -> ListTerm:
     return ListTerm(tuple(items))
+
+
+def java_string_hash(s: str) -> int:
+    """Java's ``String.hashCode`` of ``s`` (as an unsigned 32-bit number)."""
+    h = 0
+    data = s.encode("utf-16-be")
+    for k in range(0, len(data), 2):
+        h = (31 * h + (data[k] << 8 | data[k + 1])) & 0xFFFFFFFF
+    return h
+
+
+def java_map_order(items: list, key: Any, capacity: int = 0) -> list:
+    """The iteration order of a Java ``HashMap``/``ConcurrentHashMap<String, ...>`` holding
+    ``items`` (inserted in list order): by bucket of the spread string hash, then insertion
+    order. The table has 16 buckets, doubled while more than 3/4 full, unless ``capacity``
+    gives its size. Jason keeps pending intentions/events (PI, PE) and unifiers in such maps."""
+    n = capacity or 16
+    while not capacity and len(items) > n * 3 // 4:
+        n *= 2
+
+    def bucket(it: Any) -> int:
+        h = java_string_hash(key(it))
+        return ((h ^ (h >> 16)) & 0x7FFFFFFF) & (n - 1)
+    return sorted(items, key=bucket)
+
+
+def java_unifier_text(u: dict) -> str:
+    """A copy of the unifier ``u`` as Jason prints it (``Unifier.toString`` of a clone, the
+    hidden argument of a running ``.loop``/``.foreach``): ``{X=0, Y=f(Z)}``, each binding as
+    stored, in the order of the ``HashMap`` that ``HashMap.clone`` makes (a table sized for the
+    entries it copies, filled in the order of the original)."""
+    names = java_map_order([k for k in u if type(k) is str], str)
+    if not names:
+        return "{}"
+    wanted = int(len(names) / 0.75 + 1.0)
+    capacity = 1
+    while capacity < wanted:
+        capacity *= 2
+    return "{" + ", ".join(f"{name}={term_str(u[name])}"
+                           for name in java_map_order(names, str, capacity)) + "}"

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .. import reasoning
 from ..ia import IAContext, IAError, internal_action, wrong_arg
 from ..parser import AslSyntaxError, include_namespace, parse_include, path_include_resolver
 from ..plans import K_ACHIEVE, K_ACHIEVE_NEW, K_FOR, K_IF, K_WHILE, Deed
@@ -23,12 +24,15 @@ def _body(t: Any, which: str) -> tuple:
     return t.body
 
 
-def _insert_next(ctx: IAContext, deed: Deed) -> bool:
-    """Run ``deed`` as the next step of the current intention."""
-    if ctx.im is None:
+def _run_now(ctx: IAContext, deed: Deed) -> dict:
+    """Run the statement ``deed`` now, in this step, as Jason's actions do (the condition
+    tested, the block put in place); the unifier it leaves."""
+    im, i = ctx.im, ctx.intention
+    if im is None or i is None:
         raise IAError(f"'{term_str(deed.term)}' runs only in a plan body")
-    ctx.im.stack.append(deed)
-    return True
+    im.u = ctx.s
+    reasoning.run_statement(ctx.ag, i, im, deed)
+    return im.u
 
 
 def _line(ctx: IAContext) -> int:
@@ -36,30 +40,30 @@ def _line(ctx: IAContext) -> int:
 
 
 @internal_action(".if_then_else", arity=(2, 3))
-def if_then_else(ctx: IAContext, args: list) -> bool:
+def if_then_else(ctx: IAContext, args: list) -> dict:
     """``.if_then_else(Cond, {Then}[, {Else}])``: the ``if`` statement as an action."""
     if not isinstance(args[0], _FORMULAS):
         raise wrong_arg("first argument (test) must be a logical formula.")
     then = _body(args[1], "second")
     els = _body(args[2], "third") if len(args) == 3 else None
-    return _insert_next(ctx, Deed(K_IF, args[0], _line(ctx), ([(args[0], then)], els)))
+    return _run_now(ctx, Deed(K_IF, args[0], _line(ctx), ([(args[0], then)], els)))
 
 
 @internal_action(".foreach", arity=2)
-def foreach(ctx: IAContext, args: list) -> bool:
+def foreach(ctx: IAContext, args: list) -> dict:
     """``.foreach(Cond, {Body})``: the ``for`` statement as an action (the body once per
     solution of Cond, taken lazily; bindings as before the loop afterwards)."""
     if not isinstance(args[0], _FORMULAS):
         raise wrong_arg("first argument must be a logical formula.")
-    return _insert_next(ctx, Deed(K_FOR, args[0], _line(ctx), _body(args[1], "second")))
+    return _run_now(ctx, Deed(K_FOR, args[0], _line(ctx), _body(args[1], "second")))
 
 
 @internal_action(".loop", arity=2)
-def loop(ctx: IAContext, args: list) -> bool:
+def loop(ctx: IAContext, args: list) -> dict:
     """``.loop(Cond, {Body})``: the ``while`` statement as an action."""
     if not isinstance(args[0], _FORMULAS):
         raise wrong_arg("first argument (test) must be a logical formula.")
-    return _insert_next(ctx, Deed(K_WHILE, args[0], _line(ctx), _body(args[1], "second")))
+    return _run_now(ctx, Deed(K_WHILE, args[0], _line(ctx), _body(args[1], "second")))
 
 
 @internal_action(".internal_action", arity=1)

@@ -7,7 +7,6 @@ import re
 from typing import Any
 
 from ..ia import SUSPEND, FailGoal, IAContext, IAError, internal_action, wrong_arg
-from ..intentions import java_map_order
 from ..parser import AslSyntaxError, parse_source, parse_term
 from ..plans import ANON_LABEL, Plan, PlanTerm, Trigger, plan_term_trigger
 from ..terms import (
@@ -19,6 +18,7 @@ from ..terms import (
     fresh_name,
     is_ground,
     java_double_str,
+    java_map_order,
     list_to_python,
     make_list,
     merge_annots,
@@ -173,12 +173,15 @@ def wait(ctx: IAContext, args: list) -> Any:
         raise IAError(".wait outside an intention")
     first = args[0]
     clock = ag.arch.clock
+    # as Jason, a time is whole milliseconds (a fraction cut off) and a negative one sets no
+    # timer (.wait(-1) waits for ever)
     if isinstance(first, float):
-        ag.circ.suspend_timer(ctx.intention, clock.now() + max(first, 0.0) / 1000.0, first)
+        ms = int(first)
+        ag.circ.suspend_timer(ctx.intention, clock.now() + ms / 1000.0 if ms >= 0 else None, ms)
         return SUSPEND
     timeout = None
-    if len(args) >= 2 and isinstance(args[1], float):
-        timeout = clock.now() + max(args[1], 0.0) / 1000.0
+    if len(args) >= 2 and isinstance(args[1], float) and int(args[1]) >= 0:
+        timeout = clock.now() + int(args[1]) / 1000.0
     # a third argument gets the time waited; then a timeout does not fail the intention
     ctx.intention.wait_elapsed = (args[2], clock.now()) if len(args) == 3 else None
     if isinstance(first, PlanTerm):

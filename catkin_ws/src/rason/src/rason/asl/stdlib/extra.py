@@ -9,7 +9,6 @@ from typing import Any
 
 from ..containers import MapTerm, QueueTerm, SetTerm
 from ..ia import IAContext, IAError, internal_action, wrong_arg
-from ..intentions import java_map_order
 from ..kqml import KQML_SRC
 from ..plans import ACHIEVE, ADD, BELIEF, PlanTerm, Trigger, plan_term_trigger
 from ..terms import (
@@ -21,6 +20,7 @@ from ..terms import (
     Rule,
     Var,
     is_ground,
+    java_map_order,
     make_list,
     split_ns,
     term_str,

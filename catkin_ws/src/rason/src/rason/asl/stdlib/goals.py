@@ -12,11 +12,10 @@ from ..intentions import (
     Intention,
     Suspension,
     has_goal,
-    java_map_order,
     unifier_term,
 )
 from ..plans import ACHIEVE, ADD, BRANCH_JOIN, K_INTERNAL, Deed, Plan, Trigger, deed_str, map_deeds
-from ..terms import Literal, PlanTerm, Var, make_list, term_str
+from ..terms import Literal, PlanTerm, Var, java_map_order, make_list, term_str
 from ..unify import rename_vars, resolve, unify
 
 
