@@ -37,7 +37,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import rospy  # local: the harness itself must work without rospy importable
+import rospy  # for init_rospy: the observing process's own node
 
 from rason.process.netns import Host
 from rason.process.reaper import HARNESS_ID, HARNESS_PARENT, STOP_SIGNALS, processes_carrying
