@@ -248,6 +248,37 @@ def test_an_action_waits_until_its_decomposer_can_answer(ros, tmp_path):
     assert len(actions) == 1
 
 
+def test_an_action_held_for_its_connections_gets_its_full_ack_timeout(ros, tmp_path):
+    """#39: an action held back while its decomposer's connections are made one after the
+    other (a loaded machine) fails only when no connection came for ``~ack_timeout``, and once
+    sent it gets ``~ack_timeout`` from its publication (before, the time it was held counted
+    against the decomposer: here its answer came 5 s after the action was issued, 2.5 s after
+    it was sent, and it failed no_decomposer)."""
+    import rospy
+    from jason_msgs.msg import Action, Event
+
+    ros.init_rospy()
+    agent = start_agent(ros, tmp_path, "eager", """
+        !go.
+        +!go <- move(1); .print("moved").
+        -!go[error(R)] <- .print("failed: ", R).
+        """, ns="/b39", ack_timeout=4.0)
+    # the decomposer's two connections 2.5 s apart, its answer 2.5 s after the action
+    actions: list[Action] = []
+    rospy.Subscriber("/b39/jason/action", Action, actions.append)
+    rospy.sleep(2.5)
+    assert actions == [], "sent before its decomposer could answer"
+    events = rospy.Publisher("/b39/jason/event", Event, queue_size=10)
+    wait_until(lambda: actions, "the move action", watch=[agent])
+    rospy.sleep(2.5)
+    action_id = str(actions[0].action_id)
+    events.publish(Event(agent="eager", event_type="action_accepted", parameters=[action_id]))
+    events.publish(Event(agent="eager", event_type="action_feedback",
+                         parameters=["OK", action_id, "done"]))
+    agent.wait_for_line(r"\[eager\] (moved|failed: \w+)", timeout=20)
+    assert "[eager] moved" in agent.output(), agent.output()[-2000:]
+
+
 def test_an_agent_with_verbose_zero_prints_bare_text_and_its_warnings(ros, tmp_path):
     write_agent(tmp_path, "quiet", """
         !start.

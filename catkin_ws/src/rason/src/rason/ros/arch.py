@@ -9,6 +9,7 @@ percepts come from the node's perception table; messages to other agents travel 
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from collections.abc import Callable
@@ -81,8 +82,12 @@ class PendingAction:
 
     action_id: int
     text: str
+    #: when the agent issued it (ROS time)
     sent_at: float
     accepted_at: float | None = None
+    #: when it was published on jason/action (None while held back): ``~ack_timeout`` runs from
+    #: here, so time spent waiting for the connections is not counted against the decomposer
+    published_at: float | None = None
     #: the action term while it is held back, not yet published: no decomposer could answer it
     #: yet (an agent acting as soon as it starts acts before the connections are made)
     unheard: Any = None
@@ -90,6 +95,18 @@ class PendingAction:
     beat_period: float | None = None
     #: when its decomposer last said anything about it (accepted, a beat)
     heard_at: float | None = None
+
+
+def ack_overdue(pending: PendingAction, now: float, ack_timeout: float,
+                links_since: float) -> bool:
+    """Has `pending` (not yet accepted) waited too long for a decomposer's acknowledgement?
+
+    Published: `ack_timeout` after its publication. Held back: `ack_timeout` after both its
+    issue and `links_since`, the last change in the decomposers' connections to its node.
+    """
+    if pending.published_at is not None:
+        return now - pending.published_at > ack_timeout
+    return now - max(pending.sent_at, links_since) > ack_timeout
 
 
 class RosAgArch(AgentArch):
@@ -112,6 +129,10 @@ class RosAgArch(AgentArch):
             ttl=node.perception_ttl, now=rospy.get_time)
         self.pending: dict[int, PendingAction] = {}
         self._lock = threading.Lock()
+        # the decomposers' connections to this node last seen, and since when (ROS time): a
+        # held-back action waits ~ack_timeout after the last change, a connection under way
+        self._links: frozenset[str] = frozenset()
+        self._links_since = -math.inf
 
     def run_at_next_cycle(self, hook: Callable[[], None]) -> None:
         """Have the agent's thread call `hook` once, at the start of its next reasoning cycle."""
@@ -129,7 +150,9 @@ class RosAgArch(AgentArch):
             pending = PendingAction(action_id, str(action), self.clock.now())
             self.pending[action_id] = pending
         self.node.kick_checks()      # its timeouts are watched
-        if not self.node.publish_action(self.name, action_id, action):
+        if self.node.publish_action(self.name, action_id, action):
+            pending.published_at = pending.sent_at
+        else:
             pending.unheard = action
 
     def action_abandoned(self, agent: Agent, action_id: int) -> None:
@@ -248,20 +271,33 @@ class RosAgArch(AgentArch):
     def check_timeouts(self, now: float, ack_timeout: float, action_timeout: float,
                        decomposer_timeout: float = 0.0) -> None:
         """Fail actions no decomposer acknowledged, accepted ones that never finished, and
-        those whose decomposer's beats stopped for `decomposer_timeout` (and three beats)."""
+        those whose decomposer's beats stopped for `decomposer_timeout` (and three beats).
+
+        A held-back action (no decomposer connected both ways yet) is sent as soon as one is;
+        it fails ``no_decomposer`` only once `ack_timeout` passed both since it was issued and
+        since the decomposers' connections to this node last changed (a connection under way
+        on a loaded machine is waited for, a graph with no decomposer is not). A sent action's
+        `ack_timeout` runs from its publication."""
         failed: list[tuple[PendingAction, str, str]] = []
         with self._lock:
             unheard = [p for p in self.pending.values() if p.unheard is not None]
+        if unheard:
+            links = self.node.decomposer_links()
+            if links != self._links:
+                self._links, self._links_since = links, now
         for pending in unheard:      # held back: sent once a decomposer can answer them
             if self.node.publish_action(self.name, pending.action_id, pending.unheard):
                 pending.unheard = None
+                pending.published_at = now
         with self._lock:
             for pending in list(self.pending.values()):
                 if pending.accepted_at is None and ack_timeout > 0 \
-                        and now - pending.sent_at > ack_timeout:
+                        and ack_overdue(pending, now, ack_timeout, self._links_since):
                     failed.append((pending, CancelReason.NO_DECOMPOSER,
                                    f"no decomposer acknowledged {pending.text} within "
-                                   f"{ack_timeout:g} s"))
+                                   f"{ack_timeout:g} s" + ("" if pending.published_at is not None
+                                                          else " (none could hear it yet: "
+                                                          "not published)")))
                 elif action_timeout > 0 and now - (pending.accepted_at or pending.sent_at) \
                         > action_timeout:
                     failed.append((pending, CancelReason.ACTION_TIMEOUT,

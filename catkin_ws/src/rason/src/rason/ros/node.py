@@ -104,8 +104,10 @@ class AgentNodeParams:
     """The agent node's private parameters (``rosrun rason agent|mas ... _name:=value``)."""
 
     ack_timeout: float = param(
-        2.0, "s (ROS time) a decomposer has to acknowledge an action with action_accepted, else "
-        "the action fails with no_decomposer; 0 disables the check (thesis-only decomposers)",
+        2.0, "s (ROS time) a decomposer has to acknowledge an action with action_accepted once "
+        "it is sent, else the action fails with no_decomposer (an action held until a "
+        "decomposer is connected both ways fails when no connection came for as long); 0 "
+        "disables the check (thesis-only decomposers)",
         minimum=0.0)
     action_timeout: float = param(
         120.0, "s an accepted action may run before it fails with action_timeout (and is "
@@ -456,12 +458,26 @@ class RasonNode:
         jason/action whose jason/event publications this node is connected to as well (an
         action sent before the way back is up would have its acknowledgement lost). With
         ``~ack_timeout`` 0 (decomposers that never answer) every subscriber counts."""
-        listeners = {c.endpoint_id for c in self.action_pub.impl.connections}
+        listeners, talkers = self._decomposer_ends()
         if self.ack_timeout <= 0 or self.event_sub is None or self.event_sub.impl is None:
             return len(listeners)
-        talkers = {getattr(c, "header", None) and c.header.get("callerid")
-                   for c in self.event_sub.impl.connections}
         return len(listeners & talkers)
+
+    def decomposer_links(self) -> frozenset[str]:
+        """The connections a decomposer makes to this node, as ``action:NODE`` (it subscribed
+        to jason/action) and ``event:NODE`` (this node hears its jason/event); a change means
+        a connection is under way or gone (see :meth:`RosAgArch.check_timeouts`)."""
+        listeners, talkers = self._decomposer_ends()
+        return frozenset({f"action:{n}" for n in listeners} | {f"event:{n}" for n in talkers})
+
+    def _decomposer_ends(self) -> tuple[set[str], set[str]]:
+        """The nodes subscribed to jason/action, and those whose jason/event this node hears."""
+        listeners = {c.endpoint_id for c in self.action_pub.impl.connections}
+        if self.event_sub is None or self.event_sub.impl is None:
+            return listeners, set()
+        talkers = {c.header.get("callerid") for c in self.event_sub.impl.connections
+                   if getattr(c, "header", None)}
+        return listeners, talkers
 
     def publish_cancel(self, agent: str, action_id: int, reason: str) -> None:
         """Tell the decomposers that `agent` gave action `action_id` up."""
