@@ -66,6 +66,15 @@ occlusionMargin(20).
 // FIX(F1): the heads matched the reason as the first annotation ([R1 | Rest]); in Jason the
 // failure annotations are sorted (code, code_line, error, error_msg, ...), so the reason is
 // now matched explicitly as error(R).
+// FIX(F13): a reason the diagnosis does not read (no_decomposer, action_timeout,
+// decomposer_lost... : no motion was judged) ends the run unknown, saying why, once. As printed,
+// the last plan below passed it to !diagnoseAlone, which has no plan for it; that failure ran
+// this failure plan again, each time with no_applicable, for ever.
+-!goToDestination[error(R)]
+   : R \== no_progress & R \== bad_move                       // FIX(F13): !diagnoseAlone's reasons
+   <- .print("something went wrong...", R, ": not a fault the diagnosis reads");
+      !giveUp(R).
+
 -!goToDestination[error(R)]
    : triedAlone
    <- .print("Cannot solve problem alone, asking for help.");
