@@ -17,8 +17,8 @@ STOCK = {fastpath.STOCK_ENV: "1"}
 def test_the_installed_rospy_is_the_one_the_fast_paths_were_written_for():
     installed = rospkg.RosPack().get_manifest("rospy").version
     assert installed == fastpath.ROSPY_VERSION, (
-        f"rospy is {installed}, but rason.ros.fastpath (frames, fanout) replaces internals of "
-        f"rospy {fastpath.ROSPY_VERSION}: compare rospy's impl/tcpros_base.py and "
+        f"rospy is {installed}, but rason.ros.fastpath (frames, fanout, accept) replaces "
+        f"internals of rospy {fastpath.ROSPY_VERSION}: compare rospy's impl/tcpros_base.py and "
         f"impl/topics.py of both versions, run tests/bridge/test_frames.py and "
         f"test_fanout.py, then set fastpath.ROSPY_VERSION (or run with "
         f"{fastpath.STOCK_ENV}=1 meanwhile)")

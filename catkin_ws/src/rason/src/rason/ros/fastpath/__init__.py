@@ -1,9 +1,11 @@
 """rospy's internals replaced for speed, behind one switch back to stock rospy.
 
-Two fast paths reach into rospy 1.15's internals (``rospy.impl``): :mod:`.frames` reads a
+Three changes reach into rospy 1.15's internals (``rospy.impl``): :mod:`.frames` reads a
 subscriber's connections with one buffer per connection instead of rospy's per-message
 ``BytesIO`` work (and decodes flat messages without genpy's defaults), :mod:`.fanout` writes a
-publisher's messages to each subscriber from the publishing thread without ever blocking it.
+publisher's messages to each subscriber from the publishing thread without ever blocking it,
+:mod:`.accept` handles each inbound connection in a thread of its own (installed with the first
+publisher), so one that never sends its header cannot stop the node accepting others.
 Nodes ask this module, never those two, for their publishers and subscribers:
 :func:`publisher` and :func:`subscriber` give the fast ones, or plain ``rospy.Publisher`` /
 ``rospy.Subscriber`` when the environment variable ``RASON_STOCK_ROSPY`` is set to ``1``
@@ -20,6 +22,7 @@ from typing import Any
 
 import rospy
 
+from rason.ros.fastpath.accept import threaded_accept
 from rason.ros.fastpath.fanout import direct_publisher
 from rason.ros.fastpath.frames import MAX_NICE, MAX_SLICE_S, framed_subscriber
 
@@ -51,11 +54,14 @@ def _stock_announced() -> bool:
 
 
 def publisher(topic: str, data_class: type, queue_size: int, **kwargs: Any) -> rospy.Publisher:
-    """A publisher that never blocks its caller (:func:`.fanout.direct_publisher`), or rospy's
+    """A publisher that never blocks its caller (:func:`.fanout.direct_publisher`; the node's
+    inbound connections then handled in threads, :func:`.accept.threaded_accept`), or rospy's
     with the same ``queue_size`` under stock rospy; other keyword arguments as rospy's."""
     if _stock_announced():
         return rospy.Publisher(topic, data_class, queue_size=queue_size, **kwargs)
-    return direct_publisher(topic, data_class, queue_size, **kwargs)
+    publisher = direct_publisher(topic, data_class, queue_size, **kwargs)
+    threaded_accept()
+    return publisher
 
 
 def subscriber(topic: str, data_class: type, callback: Any, queue_size: int | None = None,
