@@ -33,17 +33,18 @@ APT_PACKAGES=(
 )
 
 step() { printf '\n==> setup: %s\n' "$*"; }
-# progress LOG PID: wait for the background job PID, printing every PROGRESS_PERIOD (5) seconds
-# the time so far and LOG's last line (catkin_make's "[ 40%] Built target ...", mypyc's module
-# lines), so a long build is never silent; returns the job's exit status.
+# progress LOG PID [SKIP]: wait for the background job PID, printing every PROGRESS_PERIOD (5)
+# seconds the time so far and LOG's last line (catkin_make's "[ 40%] Built target ...", mypyc's
+# module lines) but none matching the extended regex SKIP, so a long build is never silent;
+# returns the job's exit status.
 progress() {
-  local log=$1 pid=$2 start=$SECONDS period=${PROGRESS_PERIOD:-5} last
+  local log=$1 pid=$2 skip=${3:-} start=$SECONDS period=${PROGRESS_PERIOD:-5} last
   local next=$((start + period))
   while kill -0 "$pid" 2>/dev/null; do
     sleep 0.2     # the job's end is seen within 0.2 s; the lines still come every period
     if kill -0 "$pid" 2>/dev/null && (( SECONDS >= next )); then
       next=$((SECONDS + period))
-      last=$(tail -n 1 "$log" 2>/dev/null | tr -d '\r' | cut -c1-100)
+      last=$(shown "$log" "$skip" | tail -n 1 | tr -d '\r' | cut -c1-100)
       printf '    %4d s  %s\n' $((SECONDS - start)) "$last"
     fi
   done
@@ -52,6 +53,13 @@ progress() {
   printf '    %4d s  %s\n' $((SECONDS - start)) "$([ $status = 0 ] && echo done || echo "failed ($status)")"
   return $status
 }
+# shown LOG [SKIP]: LOG's lines but those matching the extended regex SKIP (none if empty)
+shown() {
+  if [ -n "${2:-}" ]; then grep -avE -- "$2" "$1" 2>/dev/null || true; else cat "$1" 2>/dev/null || true; fi
+}
+# pip's notes about this machine's pip configuration (an extra index or find-links folder it
+# lists, a location of it that does not exist): not progress, and no error of the install
+PIP_NOTES="^Looking in (indexes|links): |^WARNING: Location '[^']*' is ignored: it is neither a file nor a directory\.$"
 fail() { printf '\n!!! setup failed at step: %s\n' "$CURRENT_STEP" >&2; exit 1; }
 trap fail ERR
 
@@ -88,7 +96,7 @@ if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ] || [ $FORCE = 1 ]; then
   # in the background under progress: with -q a first install printed nothing for its whole run
   "$VENV/bin/python3" -m pip install --disable-pip-version-check --progress-bar off \
     -r "$ROOT/requirements.txt" > "$VENV/pip.log" 2>&1 &
-  progress "$VENV/pip.log" $! || { tail -40 "$VENV/pip.log" >&2; false; }
+  progress "$VENV/pip.log" $! "$PIP_NOTES" || { shown "$VENV/pip.log" "$PIP_NOTES" | tail -40 >&2; false; }
   echo "$want" > "$stamp"
 else
   step "PyPI packages up to date"

@@ -82,9 +82,7 @@ def subscribed_by(ros: RosHarness, topic: str, node: str) -> bool:
     """True once node ``node`` (full name) is a subscriber of ``topic`` on the master (on a
     global topic such as /jason/messages, any subscriber may be another test's node: a node
     killed by SIGKILL stays registered)."""
-    return any(name == topic and node in nodes for name, nodes in
-               rosgraph.Master("/rason_test_subscribed", master_uri=ros.master_uri
-                               ).getSystemState()[1])
+    return node in ros.subscribers(topic)
 
 
 def player_connected(ros: RosHarness, topic: str) -> str:

@@ -335,8 +335,11 @@ def test_an_agent_sending_move_1e9_gets_bad_parameters(rig: Rig, log: Log):
 
 
 def test_act_giving_up_cancels_and_the_robot_stops(rig: Rig, log: Log):
+    # act sends its one cancel on connections it made before sending the action (to our log's
+    # subscriber too): once it says "sent", the cancel it will send reaches us
     act = rig.ros.rosrun("rason", "act", "hand", "turn(700)", "--timeout", "2", ns=NS)
+    act.wait_for_line(r"^sent turn\(700\) as hand", timeout=30)
     log.first_moving()
-    assert act.wait(30) == 2
+    assert act.wait(30) == 2, act.output()
     assert "action cancelled" in act.output()
     assert_stopped_by_cancel(rig, log, "hand", "act: no feedback within 2 s")

@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import pytest
+import rospy
+from jason_msgs.msg import ActionCancel
+from polling import wait_until
 
 from rason.process.harness import RosHarness
 
@@ -31,6 +34,22 @@ def test_an_action_no_decomposer_handles_is_named_with_the_listeners(ros: RosHar
     assert act.wait(60) == 2, act.output()
     assert "no decomposer acknowledged fly within 2 s" in act.output()
     assert "/act_unknown/echo_decomposer" in act.output()
+
+
+def test_the_cancel_of_an_action_given_up_reaches_each_subscriber(ros: RosHarness):
+    """act sends its cancel once: a node that subscribed to ``jason/cancel`` before act
+    started hears it (act sends its action once its cancel is connected to each)."""
+    ros.init_rospy()
+    heard: list[ActionCancel] = []
+    sub = rospy.Subscriber("/act_cancel/jason/cancel", ActionCancel, heard.append)
+    try:
+        ros.wait_for_subscriber("/act_cancel/jason/cancel")
+        act = _act_beside_echo(ros, "/act_cancel", "fly(1)")
+        assert act.wait(60) == 2, act.output()
+        wait_until(lambda: heard, "the cancel act sent", timeout=10)
+    finally:
+        sub.unregister()
+    assert [(c.agent, c.reason) for c in heard] == [("x", "act: not acknowledged within 2 s")]
 
 
 def test_a_failed_result_is_printed(ros: RosHarness):

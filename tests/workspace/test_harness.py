@@ -67,6 +67,23 @@ def test_rosrun_node_publishes_an_action_the_test_receives(ros):
         events.unregister()
 
 
+def test_subscribers_lists_the_nodes_the_master_has_for_a_topic(ros):
+    import rospy
+    from std_msgs.msg import Empty
+
+    ros.init_rospy()
+    topic = "/subs_probe/topic"
+    assert ros.subscribers(topic) == []
+    sub = rospy.Subscriber(topic, Empty, lambda _: None)
+    try:
+        ros.wait_for_subscriber(topic)
+        assert ros.subscribers(topic) == [rospy.get_name()]
+        assert ros.subscribers("/subs_probe/other") == []
+    finally:
+        sub.unregister()
+    wait_until(lambda: ros.subscribers(topic) == [], f"{topic} left without subscribers")
+
+
 def test_teardown_leaves_no_process_even_after_an_error():
     harness = RosHarness()
     pids: list[int] = []

@@ -36,12 +36,15 @@ from rason_diagnosis.scenario import (
     HELPER_VISION,
     NO_FAULT,
     ROBOTS,
+    RUN_POLL,
     WallClock,
     Watch,
     add_watch_options,
+    raise_if_dead,
     say,
     start_inspector,
 )
+from rosnode_kit.polling import poll
 from turtlebot_sim.config import resolve
 
 #: The mission's agents, a folder of ``agents/``.
@@ -297,40 +300,39 @@ def _run(ros: RosHarness, result: MissionResult, waypoints: list[Waypoint], worl
     ros.wait_for_service("/faulty/jason/faulty/mind", watch=agents.values())
     mind = rospy.ServiceProxy("/faulty/jason/faulty/mind", Mind)
 
-    deadline = rospy.get_time() + sim_timeout
     view = MindView()
+    watched = {**agents, "sim": sim}
+
+    def over() -> bool:
+        """One look at the mission: inject the fault when due, note the waypoints reached;
+        True once Faulty is done or gave up."""
+        nonlocal view
+        raise_if_dead(watched, "process")
+        now = rospy.get_time()
+        t0 = first_motion[0] if first_motion else None
+        if (t0 is not None and result.fault != NO_FAULT and result.injected_at_s is None
+                and now - t0 >= result.at_s):
+            reply = ros.check_output(["rosservice", "call", "/faulty/fault_injector",
+                                      f"fault: '{result.fault}'"])
+            result.injected_at_s = round(rospy.get_time() - t0, 2)
+            say(echo, f"[mission] injected {result.fault} at {result.injected_at_s} s: "
+                 f"{reply.strip()}")
+        try:
+            view = read_mind(list(mind().beliefs))
+        except (rospy.ServiceException, rospy.ROSException):
+            return False
+        for index, robot in view.reached.items():
+            arrival = result.waypoints[index - 1]
+            if arrival.reached_by is None and t0 is not None:
+                error = truth.error(robot, waypoints[index - 1])
+                arrival.reached_by, arrival.at_s = robot, round(now - t0, 2)
+                arrival.error_m = None if error is None else round(error, 3)
+                say(echo, f"[mission] waypoint {index} reached by {robot} at "
+                     f"{arrival.at_s} s, {arrival.error_m} m from it (ground truth)")
+        return view.done or view.gave_up is not None
+
     try:
-        while rospy.get_time() < deadline:
-            watched = {**agents, "sim": sim}
-            dead = [n for n, p in watched.items() if not p.alive()]
-            if dead:
-                raise HarnessError(f"process died: {dead}")
-            now = rospy.get_time()
-            t0 = first_motion[0] if first_motion else None
-            if (t0 is not None and result.fault != NO_FAULT and result.injected_at_s is None
-                    and now - t0 >= result.at_s):
-                reply = ros.check_output(["rosservice", "call", "/faulty/fault_injector",
-                                          f"fault: '{result.fault}'"])
-                result.injected_at_s = round(rospy.get_time() - t0, 2)
-                say(echo, f"[mission] injected {result.fault} at {result.injected_at_s} s: "
-                     f"{reply.strip()}")
-            try:
-                view = read_mind(list(mind().beliefs))
-            except (rospy.ServiceException, rospy.ROSException):
-                time.sleep(0.25)
-                continue
-            for index, robot in view.reached.items():
-                arrival = result.waypoints[index - 1]
-                if arrival.reached_by is None and t0 is not None:
-                    error = truth.error(robot, waypoints[index - 1])
-                    arrival.reached_by, arrival.at_s = robot, round(now - t0, 2)
-                    arrival.error_m = None if error is None else round(error, 3)
-                    say(echo, f"[mission] waypoint {index} reached by {robot} at "
-                         f"{arrival.at_s} s, {arrival.error_m} m from it (ground truth)")
-            if view.done or view.gave_up is not None:
-                break
-            time.sleep(0.25)
-        else:
+        if not poll(over, sim_timeout, RUN_POLL, clock=rospy.get_time):
             result.reason = f"timeout: not over within {sim_timeout:g} simulated seconds"
     finally:
         action_sub.unregister()

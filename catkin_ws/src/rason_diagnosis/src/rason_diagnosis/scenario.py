@@ -20,10 +20,11 @@ from pathlib import Path
 from typing import Generic, TypeVar
 
 from rason.inspector.main import InspectorParams
-from rason.process.harness import HarnessError, RosHarness, echo_line
+from rason.process.harness import HarnessError, Process, RosHarness, echo_line
 from rason_diagnosis.drivers import SIM, Wiring
 from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
 from rason_diagnosis.paths import agent_file, world_colours, world_file
+from rosnode_kit.polling import poll
 
 #: The injected run without a fault (Faulty should conclude ``no_fault``).
 NO_FAULT = "none"
@@ -242,19 +243,11 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
               if network and cuts else None)
     if cutter:
         cutter.start()
-    deadline = rospy.get_time() + sim_timeout
-    while rospy.get_time() < deadline:
-        watched = {**agents, "sim": sim}
-        if not all(p.alive() for p in watched.values()):
-            dead = [n for n, p in watched.items() if not p.alive()]
-            raise HarnessError(f"process died: {dead}")
-        diagnosis = read_diagnosis(mind)
-        if diagnosis is not None:
-            result.diagnosis = diagnosis
-            if monitor.times.diagnosis is None:
-                monitor.times.diagnosis = rospy.get_time()
-            break
-        time.sleep(0.25)
+    diagnosis = wait_for_diagnosis(mind, {**agents, "sim": sim}, sim_timeout, "process")
+    if diagnosis is not None:
+        result.diagnosis = diagnosis
+        if monitor.times.diagnosis is None:
+            monitor.times.diagnosis = rospy.get_time()
     else:
         result.error = f"no diagnosis within {sim_timeout:g} simulated seconds"
     if result.hosts:
@@ -411,6 +404,30 @@ def read_diagnosis(mind) -> str | None:
         if match:
             return match.group(1)
     return None
+
+
+#: wall-clock seconds between two looks at a run's progress (Faulty's mind, the processes)
+RUN_POLL = 0.25
+
+
+def raise_if_dead(processes: dict[str, Process], what: str) -> None:
+    """HarnessError ``WHAT died: [names]`` naming those of ``processes`` that have exited."""
+    dead = [name for name, proc in processes.items() if not proc.alive()]
+    if dead:
+        raise HarnessError(f"{what} died: {dead}")
+
+
+def wait_for_diagnosis(mind, processes: dict[str, Process], timeout: float,
+                       what: str) -> str | None:
+    """Faulty's diagnosis (:func:`read_diagnosis`) once it has one, else None after ``timeout``
+    seconds of ROS time; each look first checks that none of ``processes`` has died
+    (:func:`raise_if_dead`, ``what`` names them in the error)."""
+    import rospy
+
+    def diagnosed() -> str | None:
+        raise_if_dead(processes, what)
+        return read_diagnosis(mind)
+    return poll(diagnosed, timeout, RUN_POLL, clock=rospy.get_time)
 
 
 def say(echo: bool, text: str) -> None:

@@ -37,10 +37,10 @@ from rason_diagnosis.scenario import (
     add_watch_options,
     expected_diagnosis,
     outcome_of,
-    read_diagnosis,
     say,
     seconds_between,
     start_inspector,
+    wait_for_diagnosis,
 )
 from rosnode_kit.polling import Deadline
 
@@ -158,17 +158,10 @@ def _run(ros: RosHarness, result: RealResult, out_dir: Path, fault: str | None, 
                f"{', '.join(f'/{r}/jason/{r}' for r in agents)}; nothing robot-side")
     ros.wait_for_service("/faulty/jason/faulty/mind", watch=agents.values())
     mind = rospy.ServiceProxy("/faulty/jason/faulty/mind", Mind)
-    deadline = rospy.get_time() + timeout
-    while rospy.get_time() < deadline:
-        dead = [name for name, proc in agents.items() if not proc.alive()]
-        if dead:
-            raise HarnessError(f"agent died: {dead}")
-        diagnosis = read_diagnosis(mind)
-        if diagnosis is not None:
-            result.diagnosis = diagnosis
-            monitor.times.diagnosis = monitor.times.diagnosis or rospy.get_time()
-            break
-        time.sleep(0.25)
+    diagnosis = wait_for_diagnosis(mind, agents, timeout, "agent")
+    if diagnosis is not None:
+        result.diagnosis = diagnosis
+        monitor.times.diagnosis = monitor.times.diagnosis or rospy.get_time()
     else:
         result.error = f"no diagnosis within {timeout:g} s"
     if result.diagnosis == "unknown":

@@ -558,6 +558,11 @@ class RosHarness:
         """Published topics and their publisher node names."""
         return {topic: nodes for topic, nodes in self._system_state()[0]}
 
+    def subscribers(self, topic: str) -> list[str]:
+        """The names of the nodes the master lists as subscribers of `topic` (absolute name;
+        a node killed by SIGKILL stays listed until the master notices)."""
+        return next((nodes for name, nodes in self._system_state()[1] if name == topic), [])
+
     def services(self) -> dict[str, list[str]]:
         """Advertised services and their provider node names."""
         return {srv: nodes for srv, nodes in self._system_state()[2]}
@@ -600,9 +605,8 @@ class RosHarness:
     def wait_for_subscriber(self, topic: str, timeout: float = 20.0,
                             watch: Iterable[Process] = ()) -> None:
         """Wait until some node subscribes `topic` (absolute name)."""
-        def subscribed() -> bool:
-            return any(t == topic for t, _ in self._system_state()[1])
-        self._wait(f"subscriber of {topic}", subscribed, timeout, watch)
+        self._wait(f"subscriber of {topic}", lambda: bool(self.subscribers(topic)), timeout,
+                   watch)
 
     def wait_for_service(self, service: str, timeout: float = 20.0,
                          watch: Iterable[Process] = ()) -> None:

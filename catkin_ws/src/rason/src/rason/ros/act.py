@@ -7,7 +7,9 @@ As an agent does, it gives up early when no node subscribes to ``jason/action`` 
 :data:`GRAPH_WAIT` s of wall time: a question to the master, not to the simulation) and when no
 decomposer acknowledges the action within ``--ack-timeout`` (the agents' ``~ack_timeout``: no
 decomposer there handles the action); each case is named in the message. Giving up (those,
-the timeout, or Ctrl-C) cancels the action on ``jason/cancel``, as an agent does.
+the timeout, or Ctrl-C) cancels the action on ``jason/cancel``, as an agent does, once: the
+action is sent once the cancel's connections to the nodes subscribed to ``jason/cancel`` are
+up (at most :data:`CONNECT_WAIT` s), so each of them hears it.
 Handy to drive a decomposer by hand, and used by the tests of the harness.
 """
 
@@ -31,7 +33,7 @@ from rosnode_kit.signals import init_node
 #: wall-clock seconds a decomposer starting at the same time has to subscribe to jason/action
 GRAPH_WAIT = 2.0
 #: wall-clock seconds for the connections to a subscribed decomposer (the action to it, its
-#: events to us) before the action is sent anyway
+#: events to us) and of the cancel to its subscribers before the action is sent anyway
 CONNECT_WAIT = 10.0
 
 
@@ -46,10 +48,15 @@ def wait_for_subscribers(topic: str, wait: float) -> list[str]:
     return poll(lambda: subscribers(topic), wait, 0.1, stop=rospy.is_shutdown)
 
 
-def wait_connected(publisher: rospy.Publisher, subscriber: rospy.Subscriber, wait: float) -> bool:
-    """Whether both have a connection, waiting up to ``wait`` wall-clock seconds."""
-    return poll(lambda: bool(publisher.get_num_connections() and subscriber.get_num_connections()),
-                wait, 0.02, stop=rospy.is_shutdown)
+def wait_connected(publisher: rospy.Publisher, subscriber: rospy.Subscriber,
+                   cancel: rospy.Publisher, wait: float) -> bool:
+    """Whether ``publisher`` and ``subscriber`` have a connection and ``cancel`` one to each
+    node the master lists as a subscriber of its topic (a cancel is sent once: every node that
+    subscribed before now hears it), waiting up to ``wait`` wall-clock seconds."""
+    def ready() -> bool:
+        return bool(publisher.get_num_connections() and subscriber.get_num_connections()
+                    and cancel.get_num_connections() >= len(subscribers(cancel.resolved_name)))
+    return poll(ready, wait, 0.02, stop=rospy.is_shutdown)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -109,9 +116,9 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     topic = publisher.resolved_name
     if wait_for_subscribers(topic, GRAPH_WAIT):
-        # the decomposer answers once, unlatched, and its ack time starts at the sending: send
-        # once its connections to us are up (on a loaded machine they took seconds)
-        wait_connected(publisher, events, CONNECT_WAIT)
+        # the decomposer answers once, unlatched, and its ack time starts at the sending; our
+        # cancel goes once too: send once those connections are up (under load: seconds)
+        wait_connected(publisher, events, cancel, CONNECT_WAIT)
         send()
     else:
         give_up(f"act: nothing subscribes to {topic}")
