@@ -397,6 +397,20 @@ c(no).
         'code_src("file:main.asl"),error(ia_failed),error_msg(""),source(self)]']
 
 
+def test_warning_shows_a_running_loop_as_jason_does() -> None:
+    # Intention.toString prints the next round's deed Jason's parser made of the loop, with
+    # its hidden arguments (checked with Jason 3.3: the same lines, Java's hash aside)
+    out = run_source("""!s.
+c(no).
++!s <- X = 1; while (X < 3) { .fail }.
+-!s : c(yes) <- .print(handled).""")
+    assert out.splitlines()[2] == "    +!s[source(self)] <- ... .fail; .loop((X < 3),.fail,{X=1}) / {X=1}"
+    out = run_source("!s.\n+!s <- for (.member(X,[1,2])) { .fail }.")
+    assert re.fullmatch(r"    \+!s\[source\(self\)\] <- \.\.\. \.fail; \.foreach\(\.member\(X,\[1,2\]\),"
+                        r"\.fail,jason\.stdlib\.member\$1@[0-9a-f]+,\{\}\) / \{X=1\}",
+                        out.splitlines()[2])
+
+
 def test_nearest_failure_plan_decides_even_when_it_does_not_match() -> None:
     # Intention.findEventForFailure stops at the first goal with a candidate -!g plan (-!b here)
     out = lines(run_source("""!a.

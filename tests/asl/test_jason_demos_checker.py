@@ -92,3 +92,16 @@ def test_keep_writes_each_runs_output_and_each_agents_lines(tmp_path: Path) -> N
     assert (folder / "b.txt").read_text() == "two\n"
     demos.keep_run(None, "demos/x/x.mas2j", "rason", output)   # no --keep: nothing written
     assert not (tmp_path / "demos__x__x" / "rason").exists()
+
+
+def test_a_documented_jason_defect_is_named_only_when_it_explains_the_difference() -> None:
+    defect = demos.KNOWN_JASON_DEFECTS["demos/hard_deadline/hard_deadline.mas2j"]
+    jason = ("[bob] init\n[bob] end2\njava.lang.NullPointerException: " + defect.sign + "\n")
+    ours = "[bob] init\n[bob] end2\n[bob] failed, deadline_reached for g(9)\n"
+    assert demos.defect_explains(defect, [jason, jason], ours)
+    # a Jason run without the defect's sign: Jason printed so by itself, no excuse
+    assert not demos.defect_explains(defect, [jason, "[bob] init\n[bob] end2\n"], ours)
+    # any other difference is still a difference
+    assert not demos.defect_explains(defect, [jason], ours + "[bob] g9\n")
+    assert not demos.defect_explains(defect, [jason], "[bob] init\n[bob] end2\n")
+    assert not demos.defect_explains(None, [jason], ours)

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, NamedTuple
 
-from .plans import ACHIEVE, ADD, DEL, Deed, Plan, Trigger, deed_str
+from .plans import ACHIEVE, ADD, DEL, K_LOOP, Deed, Plan, Trigger, deed_str
 from .terms import ListTerm, Literal, Var, fresh_name, java_map_order, make_list, term_str
 from .unify import rename_vars, resolve, unify
 
@@ -76,7 +76,8 @@ class IntendedMeans:
         deeds = list(reversed(self.stack))
         if self.current is not None and (not deeds or deeds[0] is not self.current):
             deeds.insert(0, self.current)
-        rest = "; ".join(deed_str(d) for d in deeds)
+        # a running loop's next round as Jason's ``.loop``/``.foreach`` deed (as ``.intention``)
+        rest = "; ".join(deed_str(d, d.kind == K_LOOP) for d in deeds)
         unif = ", ".join(f"{k}={term_str(v)}" for k, v in self.u.items())
         return f"{self.trigger} <- ... {rest} / {{{unif}}}"
 
