@@ -15,7 +15,7 @@ import yaml
 from polling import wait_until
 from std_srvs.srv import SetBool
 
-from rason.process.harness import Process, RosHarness
+from rason.process.harness import HarnessError, Process, RosHarness
 
 
 def write_agent(folder: Path, name: str, source: str) -> Path:
@@ -85,23 +85,21 @@ def subscribed_by(ros: RosHarness, topic: str, node: str) -> bool:
     return node in ros.subscribers(topic)
 
 
-def player_connected(ros: RosHarness, topic: str) -> str:
-    """The name of the ``rosbag play`` node publishing ``topic`` once every subscriber of every
-    topic it publishes is connected to it (its bus info, read once), else "": a player started
-    with ``--pause`` may then be resumed (:func:`resume_player`) without a subscriber missing
-    the first messages, however long connecting took."""
+def player_connected(ros: RosHarness, player: str) -> bool:
+    """True once every subscriber of every topic the ``rosbag play`` node ``player`` (full name:
+    start it with ``__name:=``, so that an earlier player the master still lists is not taken
+    for it) publishes is connected to it (its bus info, read once): a player started with
+    ``--pause`` may then be resumed (:func:`resume_player`) without a subscriber missing the
+    first messages, however long connecting took."""
     try:
-        publishers, subscribers, _ = rosgraph.Master("/rason_test_player", master_uri=ros.master_uri
-                                                     ).getSystemState()
-    except (OSError, rosgraph.MasterException):
-        return ""
-    player = next((nodes[0] for name, nodes in publishers if name == topic and nodes), "")
-    if not player:
-        return ""
-    wanted = {(name, sub) for name, nodes in publishers if player in nodes
-              for sub_topic, subs in subscribers if sub_topic == name for sub in subs}
+        published = [topic for topic, nodes in ros.topics().items() if player in nodes]
+        wanted = {(topic, sub) for topic in published for sub in ros.subscribers(topic)}
+    except (OSError, HarnessError):
+        return False
+    if not published:
+        return False
     connected = outgoing_connections(ros, player)
-    return player if connected is not None and wanted <= connected else ""
+    return connected is not None and wanted <= connected
 
 
 def resume_player(player: str) -> None:

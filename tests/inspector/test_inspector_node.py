@@ -74,9 +74,10 @@ def _start_graph(ros, tmp_path: Path):
     bob = start_agent(ros, tmp_path, "bob", BOB, ns="/insp_b")
     alice = start_agent(ros, tmp_path, "alice", ALICE, ns="/insp_a", ack_timeout=0,
                         action_timeout=0)
-    wait_until(lambda: all(
-        a.get("topic") and a.get("last") is not None
-        for a in _agents(url).values()) and {"alice", "bob"} <= set(_agents(url)),
+    # one listing for both checks: bob may be ready while alice is not heard yet, and heard
+    # (without her topic) by a second listing a moment later
+    wait_until(lambda: (agents := _agents(url)) and {"alice", "bob"} <= set(agents) and all(
+        a.get("topic") and a.get("last") is not None for a in agents.values()),
         "both agents with their mind_state topics", timeout=150, period=0.3)
     return url, inspector, alice, bob
 

@@ -21,6 +21,8 @@ pytestmark = pytest.mark.ros
 # Published values are rounded (0.1 deg, 1 cm): allow for that on top of the tolerances.
 ROUNDING = (0.05, 0.005, 0.05)
 FRAMES = 7
+#: the test's rosbag play node, by name: the master may still list an earlier player
+PLAYER = "/synthesizer_bag_player"
 #: form -> (bag, the synthesizer's private parameters, the depth topic it subscribes); both
 #: parameters every time: a private parameter stays on the server after its node exits
 FORMS = {
@@ -65,12 +67,12 @@ def test_synthesizer_on_recorded_bag(ros, form):
         # --keep-alive: an exiting rosbag may drop the last big messages still in its queues.
         # --pause: played once the node and this test are connected to every topic they read
         # (a fixed --delay was too short once under a loaded machine: a frame missed)
-        play = ros.run(["rosbag", "play", "--pause", "--quiet", "--keep-alive", str(bag)],
-                       label="rosbag_play")
-        player = wait_until(lambda: player_connected(ros, "/ground_truth/faulty_relative"),
-                            "the subscribers' connections to rosbag play", timeout=30,
-                            watch=[play, node], period=0.1)
-        resume_player(player)
+        play = ros.run(["rosbag", "play", "--pause", "--quiet", "--keep-alive", str(bag),
+                        f"__name:={PLAYER.lstrip('/')}"], label="rosbag_play")
+        wait_until(lambda: player_connected(ros, PLAYER),
+                   "the subscribers' connections to rosbag play", timeout=30,
+                   watch=[play, node], period=0.1)
+        resume_player(PLAYER)
 
         def all_frames() -> bool:
             with lock:

@@ -132,6 +132,27 @@ def test_rollback_clears_the_private_parameters_a_node_left(fresh_ros):
     assert not any(name.endswith("/leaked") for name in names), names
 
 
+def test_rollback_forgets_the_registrations_of_a_killed_node_only(fresh_ros):
+    """The master keeps a SIGKILLed node's topics; a later test waiting for every subscriber
+    of such a topic to connect would wait for a dead one. The rollback unregisters nodes whose
+    slave API refuses connections, and keeps the live ones."""
+    live = fresh_ros.rosrun("rason", "act", "x", "noop", "--timeout", "60", ns="/alive")
+    fresh_ros.wait_for_topic("/alive/jason/action", watch=[live])
+    checkpoint = fresh_ros.checkpoint()
+    killed = fresh_ros.rosrun("rason", "act", "x", "noop", "--timeout", "60", ns="/killed")
+    fresh_ros.wait_for_topic("/killed/jason/action", watch=[killed])
+    name = next(n for n in fresh_ros.nodes() if n.startswith("/killed/"))
+    assert fresh_ros.registrations(name)
+    killed.signal_group(signal.SIGKILL)
+    killed.wait(20)
+    assert fresh_ros.registrations(name), "the master still lists the killed node"
+    fresh_ros.rollback(checkpoint)
+    assert not fresh_ros.registrations(name)
+    assert name not in fresh_ros.nodes()
+    assert "/alive/jason/action" in fresh_ros.topics() and live.alive()
+    assert "/rosout" in fresh_ros.nodes()
+
+
 def test_waiting_for_a_topic_that_never_comes_fails_clearly(fresh_ros):
     with pytest.raises(HarnessError, match="did not appear"):
         fresh_ros.wait_for_topic("/nobody/publishes/this", timeout=0.5)

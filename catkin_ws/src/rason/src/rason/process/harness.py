@@ -45,6 +45,8 @@ from rosnode_kit.polling import Deadline, poll, watching
 
 #: The master this process's rospy node was initialised against (rospy allows only one).
 _ROSPY_MASTER: str | None = None
+#: the caller id of the harness' own master calls
+HARNESS_CALLER = "/rason_harness"
 #: numbers this process's harnesses (their ids)
 _HARNESS_COUNT = itertools.count(1)
 
@@ -55,6 +57,21 @@ class Checkpoint:
 
     processes: int
     params: frozenset[str]
+
+
+def _refuses_connections(uri: str, timeout: float = 0.5) -> bool:
+    """Whether nothing listens at ``uri``'s host and port (connection refused): a node's slave
+    API that is gone for sure, unlike one that is slow or on a host out of reach."""
+    address = urllib.parse.urlsplit(uri)
+    if not address.hostname or not address.port:
+        return False
+    try:
+        with socket.create_connection((address.hostname, address.port), timeout=timeout):
+            return False
+    except ConnectionRefusedError:
+        return True
+    except OSError:
+        return False
 
 
 def processes_left_by(parent_pid: int) -> list[str]:
@@ -454,16 +471,19 @@ class RosHarness:
         return Checkpoint(processes=len(self.processes), params=frozenset(self.param_names()))
 
     def rollback(self, checkpoint: Checkpoint) -> None:
-        """Stop the processes started since `checkpoint`, then delete the parameters set since.
+        """Stop the processes started since `checkpoint`, delete the parameters set since, and
+        unregister the nodes that died without unregistering (:meth:`forget_dead_nodes`).
 
         On a master shared by many tests, a node's private parameters (``_name:=value``) stay
-        after it exits and would change the next node of that name; the rollback clears them.
+        after it exits and would change the next node of that name, and a killed node's topics
+        stay listed, with subscribers and publishers that never connect; the rollback clears both.
         """
         try:
             self.stop_started_since(checkpoint.processes)
         finally:
             for name in sorted(set(self.param_names()) - checkpoint.params):
-                self._master().deleteParam("/rason_harness", name)
+                self._master().deleteParam(HARNESS_CALLER, name)
+            self.forget_dead_nodes()
 
     def stop_started_since(self, mark: int) -> None:
         """Stop the processes started after ``mark = len(ros.processes)`` (together, see
@@ -543,13 +563,13 @@ class RosHarness:
 
     def _master_up(self) -> bool:
         try:
-            code, _, _ = self._master().getPid("/rason_harness")
+            code, _, _ = self._master().getPid(HARNESS_CALLER)
         except OSError:
             return False
         return code == 1
 
     def _system_state(self) -> tuple[list, list, list]:
-        code, msg, state = self._master().getSystemState("/rason_harness")
+        code, msg, state = self._master().getSystemState(HARNESS_CALLER)
         if code != 1:
             raise HarnessError(f"master: {msg}")
         return state
@@ -575,19 +595,51 @@ class RosHarness:
                 names.update(providers)
         return names
 
+    def forget_dead_nodes(self) -> list[str]:
+        """Unregister from the master every node whose slave API refuses connections: one that
+        was killed (SIGKILL) or died before it could unregister, which the master would
+        otherwise list for good (``rosnode cleanup``, without its question, and only for nodes
+        known to be gone: an unreachable or slow node is kept). The names forgotten."""
+        try:
+            return self._forget_dead_nodes()
+        except (OSError, HarnessError):
+            return []                     # no master (stopped, or restarted by a test)
+
+    def _forget_dead_nodes(self) -> list[str]:
+        publishers, subscribers, services = self._system_state()
+        master = self._master()
+        dead: dict[str, str] = {}
+        for name in sorted({n for group in (publishers, subscribers, services)
+                            for _, nodes in group for n in nodes}):
+            code, _, uri = master.lookupNode(HARNESS_CALLER, name)
+            if code == 1 and _refuses_connections(uri):
+                dead[name] = uri
+        for topic, nodes in publishers:
+            for name in set(nodes) & dead.keys():
+                master.unregisterPublisher(name, topic, dead[name])
+        for topic, nodes in subscribers:
+            for name in set(nodes) & dead.keys():
+                master.unregisterSubscriber(name, topic, dead[name])
+        for service, nodes in services:
+            for name in set(nodes) & dead.keys():
+                code, _, service_uri = master.lookupService(HARNESS_CALLER, service)
+                if code == 1:
+                    master.unregisterService(name, service, service_uri)
+        return sorted(dead)
+
     def registrations(self, node: str) -> set[str]:
         """The topics ``node`` publishes or subscribes and the services it provides."""
         return {name for group in self._system_state() for name, nodes in group if node in nodes}
 
     def param_names(self) -> list[str]:
         """Every parameter set on the master (leaf names)."""
-        return list(self._master().getParamNames("/rason_harness")[2])
+        return list(self._master().getParamNames(HARNESS_CALLER)[2])
 
     def set_param(self, key: str, value: object) -> None:
-        self._master().setParam("/rason_harness", key, value)
+        self._master().setParam(HARNESS_CALLER, key, value)
 
     def get_param(self, key: str) -> object:
-        code, msg, value = self._master().getParam("/rason_harness", key)
+        code, msg, value = self._master().getParam(HARNESS_CALLER, key)
         if code != 1:
             raise KeyError(f"{key}: {msg}")
         return value
