@@ -11,6 +11,7 @@ else (:data:`COVERED_ELSEWHERE`); every fault is checked by one demo run of the 
 from __future__ import annotations
 
 import json
+import os
 import re
 import signal
 import subprocess
@@ -27,6 +28,8 @@ from rason.ros.auth import AUTH_PARAMETER
 from rason_diagnosis.scenario import FAULTS, expected_diagnosis
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
+
+REPO = Path(__file__).resolve().parents[2]
 
 SEEDS = {"none": 15}
 #: What an agent node or a decomposer started without a key says (rason.ros.node, decomposer).
@@ -151,3 +154,31 @@ def test_an_interrupted_demo_leaves_no_process_behind(tmp_path, sig: int, starte
     assert demo.returncode == 130, f"{out[-3000:]}\nthe demo's signals when sent: {signals}"
     assert "interrupted: every node of the run was stopped" in out
     assert processes_left_by(demo.pid) == []
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason="./run.sh runs setup.sh before each command as "
+                                               "root only")
+def test_an_interrupt_during_setup_ends_the_run_before_it_starts(tmp_path):
+    """SIGINT sent to ``./run.sh demo`` alone (its pid, not its group) while setup runs: the
+    run ends 130 once setup is done, and no node starts. Before, bash let setup finish (it
+    never got the signal, so it ended well), took the interrupt as handled and started the
+    demo, which ran to its end and exited 0."""
+    demo = subprocess.Popen(["./run.sh", "demo", "--fault", "none", "--quiet", "--no-inspector",
+                             "--out", str(tmp_path / "run")], cwd=REPO, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True,
+                            preexec_fn=sigint_as_in_a_terminal)
+    try:
+        assert demo.stdout is not None
+        seen = [demo.stdout.readline()]
+        while "==> setup:" not in seen[-1]:     # setup runs (its steps take seconds)
+            assert seen[-1], "".join(seen)
+            seen.append(demo.stdout.readline())
+        demo.send_signal(signal.SIGINT)
+        out, _ = demo.communicate(timeout=300)
+    finally:
+        if demo.poll() is None:
+            demo.kill()
+    out = "".join(seen) + out
+    assert demo.returncode == 130, out[-3000:]
+    assert "./run.sh: interrupted during setup: nothing started" in out
+    assert "[demo] fault" not in out and not (tmp_path / "run").exists()
