@@ -13,7 +13,7 @@ import yaml
 from polling import wait_until
 from std_srvs.srv import SetBool
 
-from rason.process.harness import Process, RosHarness
+from rason.process.harness import HarnessError, Process, RosHarness
 from rason.ros.auth import write_new_key
 
 
@@ -90,15 +90,14 @@ def player_connected(ros: RosHarness, topic: str) -> str:
     with ``--pause`` may then be resumed (:func:`resume_player`) without a subscriber missing
     the first messages, however long connecting took."""
     try:
-        publishers, subscribers, _ = rosgraph.Master("/rason_test_player", master_uri=ros.master_uri
-                                                     ).getSystemState()
-    except (OSError, rosgraph.MasterException):
+        publishers = ros.topics()
+        player = next(iter(publishers.get(topic, [])), "")
+        wanted = {(name, sub) for name, nodes in publishers.items() if player in nodes
+                  for sub in ros.subscribers(name)}
+    except (OSError, HarnessError):       # the master is down or refused the query
         return ""
-    player = next((nodes[0] for name, nodes in publishers if name == topic and nodes), "")
     if not player:
         return ""
-    wanted = {(name, sub) for name, nodes in publishers if player in nodes
-              for sub_topic, subs in subscribers if sub_topic == name for sub in subs}
     connected = outgoing_connections(ros, player)
     return player if connected is not None and wanted <= connected else ""
 
