@@ -22,6 +22,8 @@ from enum import StrEnum
 from pathlib import Path
 from typing import Generic, TypeVar
 
+import rospy
+
 from rason.inspector.main import InspectorParams
 from rason.process.harness import HarnessError, Process, RosHarness, echo_line
 from rason.ros.auth import write_new_key
@@ -204,7 +206,6 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, key: Path, record: b
          world: Path | None = None, wiring: Wiring = SIM, colours: Path | None = None) -> None:
     """Start the run's nodes (the agents and the decomposers keyed with `key`), inject the
     fault, wait for Faulty's diagnosis and fill `result` in."""
-    import rospy  # the demo process joins the run as an observer
     from jason_msgs.msg import Perception
 
     from rason_diagnosis.monitor import RunMonitor
@@ -230,7 +231,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, key: Path, record: b
         ros.wait_for_service(f"/{robot}/fault_injector", timeout=30)
         ros.wait_for_subscriber(f"/{robot}/jason/action", timeout=30)
     ros.wait_for_topic("/helper/jason/perception", timeout=60, watch=[sim])
-    ros.init_rospy("rason_demo")
+    ros.init_rospy("rason_demo")          # the demo process joins the run as an observer
     # the camera's frames reach the synthesizer before Helper may look: under the stock drivers
     # the image nodelets subscribe lazily, and a sweep made before they deliver sees nothing
     rospy.wait_for_message("/helper/jason/perception", Perception, timeout=60)
@@ -402,8 +403,6 @@ def _network_outcome(ros: RosHarness, result: RunResult, agents: dict, mind,
 
 def _unknown_reason(mind) -> str:
     """Why Faulty concluded ``unknown`` (its ``unknownBecause`` belief), or ""."""
-    import rospy
-
     try:
         beliefs = mind().beliefs
     except (rospy.ServiceException, rospy.ROSException):
@@ -413,8 +412,6 @@ def _unknown_reason(mind) -> str:
 
 def read_diagnosis(mind) -> str | None:
     """Faulty's ``diagnosis(D)`` belief, read through its mind service, or None."""
-    import rospy
-
     try:
         beliefs = mind().beliefs
     except (rospy.ServiceException, rospy.ROSException):
@@ -442,8 +439,6 @@ def wait_for_diagnosis(mind, processes: dict[str, Process], timeout: float,
     """Faulty's diagnosis (:func:`read_diagnosis`) once it has one, else None after ``timeout``
     seconds of ROS time; each look first checks that none of ``processes`` has died
     (:func:`raise_if_dead`, ``what`` names them in the error)."""
-    import rospy
-
     def diagnosed() -> str | None:
         raise_if_dead(processes, what)
         return read_diagnosis(mind)
