@@ -17,6 +17,8 @@
 #       --real                      only the workstation side, against robots already up
 #                                   (docs/real-robot.md)
 #       --robots-timeout S          with --real: seconds to wait for the robots' nodes
+#       --key FILE                  with --real: the fleet's key, as the robots' decomposers
+#                                   have it (without --real every run makes its own key)
 #       --out DIR                   the folder for the picture and logs
 #       --hosts                     the workstation and each robot on a host of its own (root)
 #       --cut HOST@Ts+Ds            cut HOST's link T s after the agents start, for D s (--hosts)
@@ -96,7 +98,17 @@ test_workers() {
   [ "$TEST_WORKERS" = 0 ] || echo "-n $TEST_WORKERS --dist loadgroup"
 }
 
+#: set by the traps of ensure_setup: the exit status of an interrupt that came meanwhile
+INTERRUPTED=""
+
 ensure_setup() {
+  # Ctrl-C and SIGTERM during setup and env.sh are recorded and end the run right after them
+  # (exit 130, 143). Without the traps an interrupt sent to this script alone (kill -INT PID;
+  # a terminal's Ctrl-C reaches setup too) was lost: bash waits for a running command before
+  # it acts on a signal, setup never got it and ended well, so bash took it as handled and went
+  # on to start the demo (1 of 30 `./run.sh demo` runs as root, SIGINT 4.3 s in)
+  trap 'INTERRUPTED=130' INT
+  trap 'INTERRUPTED=143' TERM
   if [ "$(id -u)" = 0 ]; then
     "$ROOT/setup.sh" | sed -u 's/^/  /'
   elif [ ! -f "$ROOT/catkin_ws/devel/setup.bash" ]; then
@@ -104,6 +116,10 @@ ensure_setup() {
   fi
   # shellcheck disable=SC1091
   source "$ROOT/env.sh"
+  trap - INT TERM      # from here an interrupt ends this script at once, or the command
+  if [ -n "$INTERRUPTED" ]; then
+    echo "./run.sh: interrupted during setup: nothing started" >&2; exit "$INTERRUPTED"
+  fi
 }
 
 cmd="${1:-help}"; shift || true

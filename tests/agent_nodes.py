@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import os
-import secrets
 import textwrap
 import xmlrpc.client
 from collections.abc import Iterable
@@ -16,6 +14,7 @@ from polling import wait_until
 from std_srvs.srv import SetBool
 
 from rason.process.harness import HarnessError, Process, RosHarness
+from rason.ros.auth import write_new_key
 
 
 def write_agent(folder: Path, name: str, source: str) -> Path:
@@ -111,7 +110,4 @@ def resume_player(player: str) -> None:
 
 def key_file(folder: Path, name: str) -> Path:
     """A fresh shared key (``~auth_key_file``) in ``folder/NAME``, readable by its owner only."""
-    path = folder / name
-    path.write_text(secrets.token_urlsafe(32) + "\n")
-    os.chmod(path, 0o600)
-    return path
+    return write_new_key(folder / name)

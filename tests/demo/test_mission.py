@@ -34,6 +34,10 @@ def _mission(tmp_path, *args: str) -> tuple[dict, str]:
     result = json.loads((out / "result.json").read_text())
     # --json ends the output with the same object
     assert json.loads(done.stdout[done.stdout.rindex("\n{"):]) == result, done.stdout[-3000:]
+    # signed: every agent and decomposer of the mission got its key (none runs open)
+    logs = {p.name: p.read_text() for p in (out / "logs").glob("*.log")}
+    assert "faulty_motion_decomposer.log" in logs, sorted(logs)
+    assert [name for name, text in logs.items() if "no ~auth_key_file" in text] == []
     return result, done.stdout[-3000:] + done.stderr[-2000:]
 
 

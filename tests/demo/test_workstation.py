@@ -8,7 +8,9 @@ start only the agents, and its verdict must be the agents' own (Faulty's belief 
 mind service and its printed conclusion), with no simulator, ground truth or /clock of its own.
 The diagnosis is the injected fault, or ``unknown`` with the agents' reason when Helper's camera
 loses Faulty on a loaded machine (never a wrong component); the demo's tests judge the
-diagnosis itself.
+diagnosis itself. The robots' decomposers are keyed with a fleet key and the workstation is
+given the same file (``--key``): the whole run is signed (docs/real-robot.md, "Signed
+traffic").
 """
 
 from __future__ import annotations
@@ -18,10 +20,12 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from agent_nodes import key_file
 
 from rason.process.harness import Process, RosHarness
+from rason_diagnosis import workstation
 from rason_diagnosis.paths import world_file
-from rason_diagnosis.scenario import HELPER_MOTION, HELPER_VISION, ROBOTS
+from rason_diagnosis.scenario import HELPER_MOTION, HELPER_VISION, ROBOTS, keyed
 
 pytestmark = [pytest.mark.ros, pytest.mark.demo]
 
@@ -29,8 +33,9 @@ REPO = Path(__file__).resolve().parents[2]
 FAULT = "left_actuator"
 
 
-def robots_up(ros: RosHarness) -> list[Process]:
-    """What the two robots run before the workstation starts (docs/real-robot.md)."""
+def robots_up(ros: RosHarness, key: Path) -> list[Process]:
+    """What the two robots run before the workstation starts (docs/real-robot.md), their
+    decomposers keyed with the fleet's `key` ("Signed traffic")."""
     ros.set_param("/use_sim_time", True)           # the default profile's simulated time
     sim = ros.rosrun("turtlebot_sim", "sim", params={"world": str(world_file()), "seed": 7,
                                                      "drivers": "sim"})
@@ -39,7 +44,7 @@ def robots_up(ros: RosHarness) -> list[Process]:
     for robot in ROBOTS:
         nodes.append(ros.rosrun("kobuki_fault_injector", "fault_injector", ns=f"/{robot}"))
         nodes.append(ros.rosrun("rason", "motion_decomposer", ns=f"/{robot}",
-                                params=HELPER_MOTION if robot == "helper" else None))
+                                params=keyed(key, HELPER_MOTION if robot == "helper" else None)))
     nodes.append(ros.rosrun("rason_vision", "robot_synthesizer", ns="/helper",
                             params=HELPER_VISION))
     ros.wait_for_topic("/helper/jason/perception", timeout=60, watch=nodes)
@@ -48,18 +53,23 @@ def robots_up(ros: RosHarness) -> list[Process]:
 
 def test_the_workstation_mode_runs_the_agents_and_reports_their_verdict(ros: RosHarness,
                                                                        tmp_path: Path):
-    robot_side = robots_up(ros)
+    key = key_file(tmp_path, "fleet.key")
+    robot_side = robots_up(ros, key)
     nodes_before = set(ros.nodes())
     run = ros.run(["./run.sh", "demo", "--real", "--fault", FAULT, "--record", "--no-inspector",
-                   "--out", str(tmp_path)], label="workstation", cwd=REPO)
+                   "--key", str(key), "--out", str(tmp_path / "run")], label="workstation",
+                  cwd=REPO)
     status = run.wait(timeout=500)
     out = run.output()
     assert status in (0, 1), out[-4000:]
     # only the agents were started, nothing robot-side, no simulator of its own
     assert "started on this machine: the agents /helper/jason/helper, /faulty/jason/faulty; " \
            "nothing robot-side" in out
-    logs = sorted(p.name for p in (tmp_path / "logs").glob("*.log"))
+    logs = sorted(p.name for p in (tmp_path / "run" / "logs").glob("*.log"))
     assert logs == ["faulty_agent.log", "helper_agent.log", "rosbag_record.log"], logs
+    # signed: the agents got the key (none says it runs open), the robots' decomposers heard
+    # them (the run went on), and the workstation did not call the run unsigned
+    assert "no ~auth_key_file" not in out and "no --key" not in out, out[-4000:]
     assert all(p.alive() for p in robot_side), "the robots' nodes must run on"
     assert set(ros.nodes()) >= nodes_before
     # the verdict: Faulty's belief, matching what Faulty itself printed. The injected fault,
@@ -79,8 +89,8 @@ def test_the_workstation_mode_runs_the_agents_and_reports_their_verdict(ros: Ros
     else:
         assert line.group(2) == "UNKNOWN" and status == 1 and "[real] unknown because: " in out
         print("NOTE: the agents ended 'unknown' (Helper lost Faulty): the verdict is theirs")
-    info = subprocess.run(["rosbag", "info", str(tmp_path / "run.bag")], capture_output=True,
-                          text=True, timeout=60, env=ros.env)
+    info = subprocess.run(["rosbag", "info", str(tmp_path / "run" / "run.bag")],
+                          capture_output=True, text=True, timeout=60, env=ros.env)
     assert "/jason/messages" in info.stdout and "/faulty/jason/event" in info.stdout, info.stdout
     assert "/clock" not in info.stdout and "camera" not in info.stdout
 
@@ -95,3 +105,18 @@ def test_without_the_robots_it_names_the_missing_node_and_starts_nothing(ros: Ro
     assert "error         : Faulty's motion_decomposer is not up (subscriber " \
            "/faulty/jason/action not seen on the master" in out, out
     assert "started on this machine" not in out
+    assert "[real] no --key: the agents and the robots' decomposers talk unsigned" in out
+
+
+@pytest.mark.parametrize("content", ["", "short\n"])
+def test_a_missing_or_short_key_is_refused_before_anything_starts(tmp_path: Path, capsys,
+                                                                 content: str):
+    key = tmp_path / "fleet.key"
+    if content:
+        key.write_text(content)
+    with pytest.raises(SystemExit) as exit_:
+        workstation.main(["--real", "--key", str(key), "--out", str(tmp_path / "run")])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert "--key: " in err and str(key) in err, err
+    assert not (tmp_path / "run").exists()

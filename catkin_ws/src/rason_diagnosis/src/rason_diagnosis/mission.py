@@ -40,7 +40,9 @@ from rason_diagnosis.scenario import (
     WallClock,
     Watch,
     add_watch_options,
+    keyed,
     raise_if_dead,
+    run_key,
     say,
     start_inspector,
 )
@@ -240,10 +242,11 @@ def run_mission(fault: str, seed: int, out_dir: Path, at_s: float, world: Path,
                            waypoints=[Arrival(w.x, w.y) for w in waypoints])
     clock = WallClock()
     try:
-        with RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs") as ros:
+        with run_key() as key, \
+                RosHarness(sim_time=True, echo=False, log_dir=out_dir / "logs") as ros:
             if inspector_port is not None:
                 result.inspector = start_inspector(ros, inspector_port, "mission")
-            _run(ros, result, waypoints, world, recovery, echo, sim_timeout)
+            _run(ros, result, waypoints, world, key, recovery, echo, sim_timeout)
             if hold is not None:
                 result.wall_s = clock.stop()
                 hold(result)
@@ -261,7 +264,9 @@ def _start_poses(world: Path, seed: int) -> dict[str, dict[str, float]]:
 
 
 def _run(ros: RosHarness, result: MissionResult, waypoints: list[Waypoint], world: Path,
-         recovery: bool, echo: bool, sim_timeout: float) -> None:
+         key: Path, recovery: bool, echo: bool, sim_timeout: float) -> None:
+    """Start the mission's nodes (the agents and the decomposers keyed with `key`), inject the
+    fault when due, follow the waypoints and fill `result` in."""
     import rospy
     from jason_msgs.msg import Action
     from jason_msgs.srv import Mind
@@ -272,7 +277,7 @@ def _run(ros: RosHarness, result: MissionResult, waypoints: list[Waypoint], worl
     for robot in ROBOTS:
         ros.rosrun("kobuki_fault_injector", "fault_injector", ns=f"/{robot}")
         ros.rosrun("rason", "motion_decomposer", ns=f"/{robot}",
-                   params=HELPER_MOTION if robot == "helper" else None)
+                   params=keyed(key, HELPER_MOTION if robot == "helper" else None))
         start = starts[robot]
         task: dict[str, object] = ({"waypoints": [[w.x, w.y] for w in waypoints],
                                     "no_recovery": not recovery} if robot == "faulty" else {})
@@ -295,7 +300,7 @@ def _run(ros: RosHarness, result: MissionResult, waypoints: list[Waypoint], worl
     prefix = {robot: (f"{robot:>6} | " if echo else False) for robot in ROBOTS}
     agents = {robot: ros.rosrun("rason", "agent", robot,
                                 str(agents_dir() / MISSION_AGENTS / f"{robot}.asl"),
-                                ns=f"/{robot}", echo=prefix[robot])
+                                ns=f"/{robot}", params=keyed(key), echo=prefix[robot])
               for robot in ("helper", "faulty")}
     ros.wait_for_service("/faulty/jason/faulty/mind", watch=agents.values())
     mind = rospy.ServiceProxy("/faulty/jason/faulty/mind", Mind)

@@ -2,7 +2,9 @@
 
 Everything is started with ``rosrun`` through the shared harness: the simulator, a fault injector
 and a motion decomposer per robot, Helper's vision synthesizer, and the two agents. The fault is
-injected with the real service (``rosservice call``) before Faulty starts.
+injected with the real service (``rosservice call``) before Faulty starts. The agents and the
+decomposers share a key made for the run (:func:`run_key`): every action, feedback, message and
+presence beat between them is signed (:mod:`rason.ros.auth`).
 """
 
 from __future__ import annotations
@@ -12,15 +14,19 @@ import contextlib
 import json
 import random
 import re
+import tempfile
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 from pathlib import Path
 from typing import Generic, TypeVar
 
+import rospy
+
 from rason.inspector.main import InspectorParams
 from rason.process.harness import HarnessError, Process, RosHarness, echo_line
+from rason.ros.auth import write_new_key
 from rason_diagnosis.drivers import SIM, Wiring
 from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
 from rason_diagnosis.paths import agent_file, world_colours, world_file
@@ -123,6 +129,19 @@ HELPER_MOTION: dict[str, object] = {"angular_speed": 120.0, "angular_accel": 220
 HELPER_VISION: dict[str, object] = {"odom_bearings": True, "frame_stamps": True}
 
 
+@contextlib.contextmanager
+def run_key() -> Iterator[Path]:
+    """A fresh shared key for one run's agents and decomposers (their ``~auth_key_file``), in a
+    temporary folder of its own, readable by its owner only; removed when the run ends."""
+    with tempfile.TemporaryDirectory(prefix="rason-run-key-") as folder:
+        yield write_new_key(Path(folder) / "run.key")
+
+
+def keyed(key: Path, params: dict[str, object] | None = None) -> dict[str, object]:
+    """A node's private parameters `params` with the run's key as its ``~auth_key_file``."""
+    return {**(params or {}), "auth_key_file": str(key)}
+
+
 def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, echo: bool = True,
                  sim_timeout: float = 300.0, real_time_factor: float = 1.0,
                  inspector_port: int | None = None, hosts: bool = False,
@@ -151,6 +170,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
                        cuts=[str(c) for c in cuts])
     clock = WallClock()
     with contextlib.ExitStack() as stack:
+        key = stack.enter_context(run_key())      # removed last, after every node has stopped
         network = stack.enter_context(CaseStudyLan(relay_port=inspector_port)) \
             if result.hosts else None
         if network and inspector_port is not None:   # the inspector on the world host
@@ -162,7 +182,7 @@ def run_scenario(fault: str, seed: int, out_dir: Path, record: bool = False, ech
             with ros:
                 if inspector_port is not None:
                     result.inspector = start_inspector(ros, inspector_port)
-                _run(ros, result, out_dir, record, echo, sim_timeout, real_time_factor,
+                _run(ros, result, out_dir, key, record, echo, sim_timeout, real_time_factor,
                      network, cuts, world or world_file(), wiring, colours)
                 if hold is not None:
                     _conclude(result, clock.stop())
@@ -180,11 +200,12 @@ def _conclude(result: RunResult, wall_s: float) -> None:
     result.correct = result.diagnosis == result.expected and not result.error
 
 
-def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: bool,
-         sim_timeout: float, real_time_factor: float, network: CaseStudyLan | None = None,
-         cuts: Sequence[LinkCut] = (), world: Path | None = None,
-         wiring: Wiring = SIM, colours: Path | None = None) -> None:
-    import rospy  # the demo process joins the run as an observer
+def _run(ros: RosHarness, result: RunResult, out_dir: Path, key: Path, record: bool,
+         echo: bool, sim_timeout: float, real_time_factor: float,
+         network: CaseStudyLan | None = None, cuts: Sequence[LinkCut] = (),
+         world: Path | None = None, wiring: Wiring = SIM, colours: Path | None = None) -> None:
+    """Start the run's nodes (the agents and the decomposers keyed with `key`), inject the
+    fault, wait for Faulty's diagnosis and fill `result` in."""
     from jason_msgs.msg import Perception
 
     from rason_diagnosis.monitor import RunMonitor
@@ -198,7 +219,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         ros.rosrun("kobuki_fault_injector", "fault_injector", ns=f"/{robot}",
                    params=wiring.injector_params)
         ros.rosrun("rason", "motion_decomposer", *wiring.odom_reader_args, ns=f"/{robot}",
-                   params=HELPER_MOTION if robot == "helper" else None)
+                   params=keyed(key, HELPER_MOTION if robot == "helper" else None))
     colours = colours or world_colours(world or world_file())
     vision_colours = {"colours": str(colours.resolve())} if colours else {}
     for line in wiring.vision_nodes:
@@ -210,7 +231,7 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
         ros.wait_for_service(f"/{robot}/fault_injector", timeout=30)
         ros.wait_for_subscriber(f"/{robot}/jason/action", timeout=30)
     ros.wait_for_topic("/helper/jason/perception", timeout=60, watch=[sim])
-    ros.init_rospy("rason_demo")
+    ros.init_rospy("rason_demo")          # the demo process joins the run as an observer
     # the camera's frames reach the synthesizer before Helper may look: under the stock drivers
     # the image nodelets subscribe lazily, and a sweep made before they deliver sees nothing
     rospy.wait_for_message("/helper/jason/perception", Perception, timeout=60)
@@ -229,8 +250,8 @@ def _run(ros: RosHarness, result: RunResult, out_dir: Path, record: bool, echo: 
 
     prefix = {robot: (f"{robot:>6} | " if echo else False) for robot in ROBOTS}
     agents = {robot: ros.rosrun("rason", "agent", robot,
-                                str(agent_file(robot)),
-                                ns=f"/{robot}", echo=prefix[robot])
+                                str(agent_file(robot)), ns=f"/{robot}",
+                                params=keyed(key), echo=prefix[robot])
               for robot in ("helper", "faulty")}
     ros.wait_for_node("/helper/jason/helper", watch=agents.values())
     ros.wait_for_node("/faulty/jason/faulty", watch=agents.values())
@@ -382,8 +403,6 @@ def _network_outcome(ros: RosHarness, result: RunResult, agents: dict, mind,
 
 def _unknown_reason(mind) -> str:
     """Why Faulty concluded ``unknown`` (its ``unknownBecause`` belief), or ""."""
-    import rospy
-
     try:
         beliefs = mind().beliefs
     except (rospy.ServiceException, rospy.ROSException):
@@ -393,8 +412,6 @@ def _unknown_reason(mind) -> str:
 
 def read_diagnosis(mind) -> str | None:
     """Faulty's ``diagnosis(D)`` belief, read through its mind service, or None."""
-    import rospy
-
     try:
         beliefs = mind().beliefs
     except (rospy.ServiceException, rospy.ROSException):
@@ -422,8 +439,6 @@ def wait_for_diagnosis(mind, processes: dict[str, Process], timeout: float,
     """Faulty's diagnosis (:func:`read_diagnosis`) once it has one, else None after ``timeout``
     seconds of ROS time; each look first checks that none of ``processes`` has died
     (:func:`raise_if_dead`, ``what`` names them in the error)."""
-    import rospy
-
     def diagnosed() -> str | None:
         raise_if_dead(processes, what)
         return read_diagnosis(mind)

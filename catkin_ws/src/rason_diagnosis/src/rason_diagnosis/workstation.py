@@ -11,6 +11,9 @@ its mind service, beside the lines the agents print. There is no ground truth to
 ``--fault`` the diagnosis is compared with what was injected, without it it is reported as is.
 Times are ROS time (wall time on robots). ``--record`` records a bag of what the agents
 exchanged and the robots' light topics (no camera: see docs/real-robot.md, bandwidth).
+``--key FILE`` gives the agents the fleet's shared key, the file the robots' decomposers were
+started with (``_auth_key_file:=``): the robots already run, so this side cannot make one for
+the run as the simulated demo does (docs/real-robot.md, "Signed traffic").
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from rason.process.harness import HarnessError, Process, RosHarness
+from rason.ros.auth import AuthKeyError, load_key
 from rason_diagnosis.hosts import interrupt
 from rason_diagnosis.paths import agent_file
 from rason_diagnosis.scenario import (
@@ -36,6 +40,7 @@ from rason_diagnosis.scenario import (
     Watch,
     add_watch_options,
     expected_diagnosis,
+    keyed,
     outcome_of,
     say,
     seconds_between,
@@ -109,8 +114,10 @@ def run_workstation(out_dir: Path, fault: str | None = None, record: bool = Fals
                     echo: bool = True, timeout: float = 300.0, robots_timeout: float = 30.0,
                     inspector_port: int | None = None,
                     master_uri: str | None = None,
-                    hold: Callable[[RealResult], None] | None = None) -> RealResult:
-    """Run the agents against the robots at `master_uri` (default ``ROS_MASTER_URI``).
+                    hold: Callable[[RealResult], None] | None = None,
+                    key: Path | None = None) -> RealResult:
+    """Run the agents against the robots at `master_uri` (default ``ROS_MASTER_URI``), keyed
+    with the fleet's `key` file when given (else unsigned, as the robots' decomposers must be).
     ``hold``: called with the result once the run is over, while the agents (and the
     inspector) still run (``--hold``)."""
     if fault is not None and fault not in FAULTS:
@@ -122,7 +129,7 @@ def run_workstation(out_dir: Path, fault: str | None = None, record: bool = Fals
         ros.attach(master_uri or os.environ.get("ROS_MASTER_URI", "http://localhost:11311"))
         say(echo, f"{PREFIX} master {ros.master_uri}; checking the robots' nodes")
         check_robot_side(ros, robots_timeout)
-        _run(ros, result, out_dir, fault, record, echo, timeout, inspector_port)
+        _run(ros, result, out_dir, fault, record, echo, timeout, inspector_port, key)
         if hold is not None:
             hold(result)
     except HarnessError as err:
@@ -133,7 +140,7 @@ def run_workstation(out_dir: Path, fault: str | None = None, record: bool = Fals
 
 
 def _run(ros: RosHarness, result: RealResult, out_dir: Path, fault: str | None, record: bool,
-         echo: bool, timeout: float, inspector_port: int | None) -> None:
+         echo: bool, timeout: float, inspector_port: int | None, key: Path | None) -> None:
     import rospy  # this process joins the robots' ROS graph as an observer
     from jason_msgs.srv import Mind
 
@@ -152,6 +159,7 @@ def _run(ros: RosHarness, result: RealResult, out_dir: Path, fault: str | None, 
         say(echo, f"{PREFIX} injected {fault} on Faulty: {reply.strip()}")
     agents: dict[str, Process] = {
         robot: ros.rosrun("rason", "agent", robot, str(agent_file(robot)), ns=f"/{robot}",
+                          params=keyed(key.resolve()) if key else None,
                           echo=f"{robot:>6} | " if echo else False)
         for robot in ("helper", "faulty")}
     say(echo, f"{PREFIX} started on this machine: the agents "
@@ -217,11 +225,25 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--timeout", type=float, default=300.0, help="seconds allowed")
     parser.add_argument("--robots-timeout", type=float, default=30.0,
                         help="seconds to wait for the robots' nodes")
+    parser.add_argument("--key", type=Path, default=None, metavar="FILE",
+                        help="the fleet's shared key file, the one the robots' decomposers run "
+                             "with (_auth_key_file:=); the agents then sign and check every "
+                             "action, feedback and message (default: none, all unsigned; "
+                             "docs/real-robot.md, 'Signed traffic')")
     add_watch_options(parser, "run")
     parser.add_argument("--quiet", action="store_true", help="do not stream the agents' console")
     args = parser.parse_args(argv)
+    if args.key is not None:
+        try:
+            load_key(args.key, warn=lambda text: print(f"{PREFIX} warning: {text}", flush=True))
+        except AuthKeyError as err:
+            parser.error(f"--key: {err}")
     out = args.out or Path("out") / f"real-{time.strftime('%Y%m%d-%H%M%S')}"
     print(f"{PREFIX} workstation side only; output in {out}", flush=True)
+    if args.key is None:
+        print(f"{PREFIX} no --key: the agents and the robots' decomposers talk unsigned (any "
+              "process on the network may command the robots); docs/real-robot.md, "
+              "'Signed traffic'", flush=True)
     signal.signal(signal.SIGTERM, interrupt)
 
     def show(result: RealResult) -> None:
@@ -231,7 +253,8 @@ def main(argv: list[str] | None = None) -> int:
     watch: Watch[RealResult] = Watch.of(args, show, "real")
     try:
         result = run_workstation(out, args.fault, args.record, not args.quiet, args.timeout,
-                                 args.robots_timeout, watch.port, hold=watch.hold_callback())
+                                 args.robots_timeout, watch.port, hold=watch.hold_callback(),
+                                 key=args.key)
     except KeyboardInterrupt:
         print(f"\n{PREFIX} interrupted: the agents were stopped (the robots' nodes run on)")
         return 130

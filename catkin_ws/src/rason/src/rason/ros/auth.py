@@ -30,6 +30,7 @@ import enum
 import hashlib
 import hmac
 import json
+import os
 import secrets
 import stat
 import threading
@@ -114,6 +115,17 @@ def load_key(path: str | Path, warn: Callable[[str], None] = print) -> bytes:
     if mode & (stat.S_IRWXG | stat.S_IRWXO):
         warn(f"the key file {path} can be read by other users (chmod 600 {path})")
     return key
+
+
+def write_new_key(path: str | Path) -> Path:
+    """Write a fresh random key (32 bytes of entropy, URL-safe text) to the new file `path`,
+    created readable and writable by its owner only (never wider, not even for a moment);
+    FileExistsError if `path` exists."""
+    path = Path(path)
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    with os.fdopen(fd, "w") as out:
+        out.write(secrets.token_urlsafe(32) + "\n")
+    return path
 
 
 def message_auth(key_file: str, window: float,
