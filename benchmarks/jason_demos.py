@@ -357,6 +357,12 @@ def defect_explains(defect: JasonDefect | None, jason_outputs: list[str], ours: 
     return same_lines(fixed, per_agent(ours))
 
 
+def select_projects(projects: list[Path], tree: Path, filters: list[str]) -> list[Path]:
+    """The projects whose path in the tree contains any of the filters (all without one)."""
+    return [m for m in projects
+            if not filters or any(f in str(m.relative_to(tree)) for f in filters)]
+
+
 def yes_no(flag: bool) -> str:
     return "yes" if flag else "no"
 
@@ -373,9 +379,10 @@ def main() -> int:
     ap.add_argument("--keep", type=Path, default=None,
                     help="keep every run's output: KEEP/PROJECT/RUN/all.txt and AGENT.txt")
     ap.add_argument("--jason-runs", type=int, default=3, help="runs of Jason per project")
-    ap.add_argument("-k", default="", help="only projects whose path contains this text")
+    ap.add_argument("-k", action="append", default=[],
+                    help="only projects whose path contains this text (repeat for several)")
     args = ap.parse_args()
-    projects = [m for m in find_projects(args.tree) if args.k in str(m.relative_to(args.tree))]
+    projects = select_projects(find_projects(args.tree), args.tree, args.k)
     if not projects:
         print(f"no project found under {args.tree}", file=sys.stderr)
         return 1

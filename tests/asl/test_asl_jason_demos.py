@@ -87,6 +87,28 @@ def test_a_goal_past_its_hard_deadline_fails_with_deadline_reached() -> None:
         "deadline_reached 4", "done1", "after_one", "done1", "after_two", "deadline_reached 9"]
 
 
+def test_fail_goal_of_the_first_goal_of_an_intention_runs_its_failure_plan() -> None:
+    src = ("!boss. !self_stop(5).\n"
+           "+!boss <- !!watch(1); !!patrol(2); .wait(500); .fail_goal(watch(_)); .print(watch_told); "
+           ".fail_goal(patrol(_)); .print(patrol_told); .wait(3000); .print(boss_done).\n"
+           "+!watch(N) <- .print(watching, N); .wait(2000); .print(watch_went_on).\n"
+           "-!watch(N) <- .print(watch_failed, N).\n"
+           "+!patrol(N) <- .print(patrolling, N); .wait(2000); .print(patrol_went_on).\n"
+           "+!self_stop(N) <- .fail_goal(self_stop(N)); .print(self_stop_went_on).\n"
+           "-!self_stop(N)[error(E)] <- .print(annotated, E).\n"
+           "-!self_stop(N) <- .print(self_stop_failed, N).\n")
+    shown = lines(run_source(src))
+    # a goal at the bottom of its intention (started by !!, or an initial goal) fails as any
+    # other: its -!g plan runs (the event carries no error annotation, as for any
+    # .fail_goal), without one the intention is dropped; the intention calling .fail_goal
+    # goes on. Jason 3.3 throws a NullPointerException in .fail_goal here instead.
+    assert sorted(shown) == sorted([
+        "watching1", "patrolling2", "self_stop_failed5", "watch_told", "watch_failed1",
+        "patrol_told", "boss_done", "No failure event was generated for +!patrol(2)[source(self)]"])
+    assert shown.index("watch_told") < shown.index("watch_failed1")
+    assert shown[-1] == "boss_done"
+
+
 def test_a_clone_has_the_beliefs_plans_and_waiting_work_not_the_running_intention() -> None:
     out = run_agents({"main": "!s.\n+!s <- +a(40); !!later; .clone(\"bob\"); .send(bob, tell, p(10)).\n"
                               "+!later <- .my_name(N); .print(later, \" \", N).\n"

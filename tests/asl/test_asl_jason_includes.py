@@ -99,3 +99,57 @@ def test_a_missing_jar_or_entry_is_not_found(tmp_path: Path) -> None:
     runner = LocalMas(clock=VirtualClock(), out=io.StringIO())
     with pytest.raises(AslSyntaxError, match=r"none\.asl' was not found"):
         runner.add_agent("main", (tmp_path / "main.asl").read_text(), str(tmp_path / "main.asl"))
+
+
+def test_jason_jar_paths_are_read_from_the_jar_or_tree_named_by_the_environment(
+        tmp_path: Path, monkeypatch) -> None:
+    # a file of the same name beside the agent: found by its name when no Jason is named
+    (tmp_path / "helper.asl").write_text("+!h <- .print(beside).\n")
+    (tmp_path / "main.asl").write_text(
+        '{ include("$jasonJar/test/jason/inc/helper.asl") }\n!h.\n')
+    jar = tmp_path / "jason.jar"
+    with zipfile.ZipFile(jar, "w") as z:
+        z.writestr("test/jason/inc/helper.asl",
+                   '+!h <- .print(in_jar); !more.\n{ include("$jasonJar/asl/more.asl") }\n')
+        z.writestr("asl/more.asl", "+!more <- .print(more_in_jar).\n")
+    tree = tmp_path / "jason-tree" / "jason-interpreter" / "src"
+    (tree / "test/jason/inc").mkdir(parents=True)
+    (tree / "main/resources/asl").mkdir(parents=True)
+    (tree / "test/jason/inc/helper.asl").write_text(
+        '+!h <- .print(in_tree); !more.\n{ include("$jasonJar/asl/more.asl") }\n')
+    (tree / "main/resources/asl/more.asl").write_text("+!more <- .print(more_in_tree).\n")
+
+    def shown() -> list[str]:
+        out = io.StringIO()
+        runner = LocalMas(clock=VirtualClock(), out=out)
+        runner.add_agent("main", (tmp_path / "main.asl").read_text(), str(tmp_path / "main.asl"))
+        runner.run(timeout=10.0)
+        return out.getvalue().splitlines()
+
+    monkeypatch.delenv("RASON_JASON_JAR", raising=False)
+    assert shown() == ["[main] beside"]
+    monkeypatch.setenv("RASON_JASON_JAR", str(jar))
+    assert shown() == ["[main] in_jar", "[main] more_in_jar"]
+    assert path_include_resolver([])("$jasonJar/asl/more.asl", "")[2] == f"jar:file:{jar}!/asl/more.asl"
+    monkeypatch.setenv("RASON_JASON_JAR", str(tmp_path / "jason-tree"))
+    assert shown() == ["[main] in_tree", "[main] more_in_tree"]
+    # what neither has is still looked up by its file name
+    with zipfile.ZipFile(jar, "w") as z:
+        z.writestr("other.asl", "a.\n")
+    monkeypatch.setenv("RASON_JASON_JAR", str(jar))
+    assert shown() == ["[main] beside"]
+
+
+def test_a_jason_jar_source_path_is_a_folder_of_the_named_jason_tree(
+        tmp_path: Path, monkeypatch) -> None:
+    inc = tmp_path / "tree" / "jason-interpreter" / "src" / "test" / "jason" / "inc"
+    inc.mkdir(parents=True)
+    (inc / "lib.asl").write_text("+!l <- .print(from_tree).\n")
+    (tmp_path / "a.asl").write_text('{ include("lib.asl") }\n!l.\n')
+    mas = tmp_path / "m.mas2j"
+    mas.write_text('MAS m { agents: a; aslSourcePath: "$jasonJar/test/jason/inc"; }\n')
+    monkeypatch.setenv("RASON_JASON_JAR", str(tmp_path / "tree"))
+    assert load_mas2j(str(mas)).source_path == [str(inc)]
+    assert _run(mas) == ["[a] from_tree"]
+    monkeypatch.delenv("RASON_JASON_JAR")
+    assert load_mas2j(str(mas)).source_path == []

@@ -105,3 +105,15 @@ def test_a_documented_jason_defect_is_named_only_when_it_explains_the_difference
     assert not demos.defect_explains(defect, [jason], ours + "[bob] g9\n")
     assert not demos.defect_explains(defect, [jason], "[bob] init\n[bob] end2\n")
     assert not demos.defect_explains(None, [jason], ours)
+
+
+def test_several_filters_select_the_projects_matching_any(tmp_path: Path) -> None:
+    for folder in ("demos/current-intention", "examples/st-claus", "demos/idle"):
+        (tmp_path / folder).mkdir(parents=True)
+        (tmp_path / folder / "p.mas2j").write_text("MAS p { agents: a; }")
+    found = demos.find_projects(tmp_path)
+    assert len(found) == 3
+    picked = demos.select_projects(found, tmp_path, ["current-intention", "st-claus"])
+    assert [p.parent.name for p in picked] == ["current-intention", "st-claus"]
+    assert demos.select_projects(found, tmp_path, []) == found
+    assert demos.select_projects(found, tmp_path, ["nowhere"]) == []

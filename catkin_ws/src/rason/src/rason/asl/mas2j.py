@@ -17,7 +17,7 @@ from typing import Any
 from lark import Lark, Transformer, v_args
 from lark.exceptions import LarkError, UnexpectedInput
 
-from .parser import LEXICON, AslSyntaxError, cached_lark, describe_syntax_error
+from .parser import LEXICON, AslSyntaxError, cached_lark, describe_syntax_error, jason_jar_places
 
 
 @dataclass
@@ -216,7 +216,9 @@ def parse_mas2j(text: str, path: str = "<mas2j>", source_path: list[str] | None 
             proj.notes.append("classpath ignored: no Java classes are loaded")
         elif kind == "sourcepath":
             for p in value:
-                if p.startswith("$"):   # inside Jason's jar: nothing of it here
+                if p.startswith("$"):   # inside Jason's jar: its folders in a Jason tree, if named
+                    proj.source_path.extend(d for d in jason_jar_places(p)
+                                            if os.path.isdir(d) and d not in proj.source_path)
                     continue
                 proj.source_path.extend(d for d in _fix_path(p, base_dir) if d not in proj.source_path)
         elif kind == "agents":

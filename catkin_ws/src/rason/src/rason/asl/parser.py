@@ -808,6 +808,28 @@ def _parse_items(text: str, filename: str, tr: _ToAst) -> Any:
 #: Resolves an ``include`` directive: (file as written, including file) -> (path, text, src name).
 IncludeResolver = Callable[[str, str], tuple[str, str, str]]
 
+#: environment variable naming a Jason jar or a Jason source tree, where ``$jasonJar/...`` is
+JASON_JAR_ENV = "RASON_JASON_JAR"
+#: the prefix of a path Jason resolves inside its own jar
+JASON_JAR_PREFIX = "$jasonJar/"
+
+
+def jason_jar_places(path: str) -> list[str]:
+    """Where ``$jasonJar/ENTRY`` may be, given :data:`JASON_JAR_ENV` (none without it): the
+    jar's entry (``jar:file:JAR!/ENTRY``) when it names a file; when it names a folder, the
+    folder's ``ENTRY``, then where Jason's build takes the jar's entries from in its source
+    tree (``jason-interpreter/src/ENTRY`` for the test includes,
+    ``jason-interpreter/src/main/resources/ENTRY`` for the rest)."""
+    home = os.environ.get(JASON_JAR_ENV, "")
+    if not home or not path.startswith(JASON_JAR_PREFIX):
+        return []
+    entry = path[len(JASON_JAR_PREFIX):]
+    if os.path.isfile(home):
+        return [f"jar:file:{os.path.abspath(home)}!/{entry}"]
+    src = os.path.join(home, "jason-interpreter", "src")
+    return [os.path.join(home, entry), os.path.join(src, entry),
+            os.path.join(src, "main", "resources", entry)]
+
 
 def path_include_resolver(search_path: list[str]) -> IncludeResolver:
     """Jason's include lookup (``SourcePath.fixPath``): the file as written (``file:`` before
@@ -815,13 +837,24 @@ def path_include_resolver(search_path: list[str]) -> IncludeResolver:
     path (``aslSourcePath``); ``jar:file:JAR!/ENTRY`` reads the entry of that jar (a zip), and a
     file included from a jar looks beside itself in it first. A path Jason resolves inside its
     own jar (``$jasonJar/...``) or any other path not found is then looked up by its file name
-    in the same folders. The src name (the plans' ``url``) is Jason's: ``file:`` and the path
-    found, relative to the current folder when it is inside it (a ``$`` path as written)."""
+    in the same folders, unless :data:`JASON_JAR_ENV` names a Jason jar or source tree that
+    has it (:func:`jason_jar_places`). The src name (the plans' ``url``) is Jason's: ``file:``
+    and the path found, relative to the current folder when it is inside it (a ``$`` path
+    found by file name: as written)."""
     def resolve_include(name: str, including: str) -> tuple[str, str, str]:
         name = name.replace("\\", "/")
         if name.startswith("jar:"):
             return name, _jar_entry(name), name
         plain = name[len("file:"):] if name.startswith("file:") else name
+        for place in jason_jar_places(plain):
+            if place.startswith("jar:"):
+                try:
+                    return place, _jar_entry(place), place
+                except OSError:
+                    continue
+            if os.path.isfile(place):
+                with open(place, encoding="utf-8") as f:
+                    return place, f.read(), "file:" + _url_path(place)
         folders = []
         if including.startswith("jar:") and "!/" in including:
             jar, entry = including.split("!/", 1)
