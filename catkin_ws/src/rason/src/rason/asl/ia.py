@@ -25,7 +25,9 @@ the agent.
 
 The standard library registers itself on the first look-up of an action or the first
 registration of a user's (so a user's action of the same name replaces the library's), never
-when the interpreter's modules are imported.
+when the interpreter's modules are imported. A look-up imports its most used module,
+:data:`LIBRARY_CORE` (``.print`` and the like), first and the rest only for a name that
+module does not register (an agent that only prints starts without them).
 """
 
 from __future__ import annotations
@@ -49,6 +51,8 @@ SUSPEND = object()
 
 #: the module of the standard library, imported on first need (see :func:`load_library`)
 LIBRARY = __name__.rsplit(".", 1)[0] + ".stdlib"
+#: its most used module, imported alone by the first look-up (see :func:`lookup`)
+LIBRARY_CORE = LIBRARY + ".core"
 
 
 class IAError(Exception):
@@ -99,23 +103,40 @@ class InternalAction:
 
 #: every internal action by name (``.print``, ``my.act``)
 IA_REGISTRY: dict[str, InternalAction] = {}
-#: the standard library's state: 0 not loaded, 1 loading or loaded
+#: the standard library's state: 0 not loaded, 1 its core module loading or loaded, 2 all of
+#: it loading or loaded
 _library_state: list[int] = [0]
 
 
+def _import_library(state: int, module: str) -> None:
+    """Import ``module`` of the standard library; its registrations (which call
+    :func:`load_library`) find the state already at ``state`` and load nothing more."""
+    previous = _library_state[0]
+    _library_state[0] = 2
+    try:
+        importlib.import_module(module)
+    finally:
+        _library_state[0] = max(previous, state)
+
+
 def load_library() -> None:
-    """Import the standard library (once), which registers its actions."""
-    if _library_state[0] == 0:
-        _library_state[0] = 1
-        importlib.import_module(LIBRARY)
+    """Import the whole standard library (once), which registers its actions."""
+    if _library_state[0] < 2:
+        for module in importlib.import_module(LIBRARY).MODULES:
+            _import_library(2, f"{LIBRARY}.{module}")
 
 
 def lookup(name: str) -> InternalAction | None:
-    """The internal action registered under ``name`` (None: there is none)."""
+    """The internal action registered under ``name`` (None: there is none); the first look-up
+    imports the library's core module, a name it lacks the rest of the library."""
     entry = IA_REGISTRY.get(name)
-    if entry is None and _library_state[0] == 0:
-        load_library()
-        entry = IA_REGISTRY.get(name)
+    if entry is None and _library_state[0] < 2:
+        if _library_state[0] == 0:
+            _import_library(1, LIBRARY_CORE)
+            entry = IA_REGISTRY.get(name)
+        if entry is None:
+            load_library()
+            entry = IA_REGISTRY.get(name)
     return entry
 
 
@@ -153,12 +174,12 @@ def internal_action(*names: str, arity: Arity = None) -> Callable:
 def load_modules(modules: Iterable[str]) -> list[str]:
     """Import the named Python modules (``my_package.my_actions``) so that their
     ``@internal_action`` functions register; the names they added, sorted."""
+    names = [name.strip() for name in modules if name.strip()]
+    if not names:
+        return []   # the library loads on its first look-up
     load_library()
     before = set(IA_REGISTRY)
-    for name in modules:
-        name = name.strip()
-        if not name:
-            continue
+    for name in names:
         try:
             importlib.import_module(name)
         except Exception as err:
