@@ -9,8 +9,7 @@ import sys
 
 from . import native
 from .agent import AgentOptions
-from .environment import EnvironmentLoadError
-from .hooks import HookLoadError
+from .classdef import ClassLoadError
 from .ia import ModuleLoadError, load_modules
 from .parser import AslSyntaxError
 from .runtime import run_file
@@ -52,7 +51,7 @@ def main(argv: list[str] | None = None) -> int:
         options = AgentOptions(tro=args.tro, max_intention_depth=args.max_intention_depth)
         _, ok = run_file(args.file, args.timeout, args.seed, options=options,
                          source_path=args.source_path)
-    except (AslSyntaxError, EnvironmentLoadError, HookLoadError) as e:
+    except (AslSyntaxError, ClassLoadError) as e:   # ClassLoadError: environment, agent classes
         print(str(e), file=sys.stderr)
         return 2
     except OSError as e:
