@@ -47,6 +47,12 @@ def test_the_unifier_and_the_interpreter_load_without_the_library() -> None:
         modules_after("from rason.asl.ia import internal_action, lookup\n" + first +
                       "@internal_action('.length')\ndef mine(ctx, args): return True\n"
                       "assert lookup('.length').fn is mine and lookup('.print') is not None")
+    # threads looking up at once each wait for the library the first one loads
+    modules_after("import threading\nfrom rason.asl.ia import lookup\nfound = []\n"
+                  "ts = [threading.Thread(target=lambda n=n: found.append(lookup(n)))\n"
+                  "      for n in ('.print', '.length', '.print', '.member') * 4]\n"
+                  "[t.start() for t in ts]\n[t.join() for t in ts]\n"
+                  "assert len(found) == 16 and None not in found, found")
     # no user's module to load: nothing of the library either
     assert "rason.asl.stdlib.core" not in modules_after("from rason.asl.ia import load_modules\n"
                                                         "assert load_modules(['']) == []")

@@ -26,13 +26,14 @@ the agent.
 The standard library registers itself on the first look-up of an action or the first
 registration of a user's (so a user's action of the same name replaces the library's), never
 when the interpreter's modules are imported. A look-up imports its most used module,
-:data:`LIBRARY_CORE` (``.print`` and the like), first and the rest only for a name that
+``core`` (``.print`` and the like), first and the rest only for a name that
 module does not register (an agent that only prints starts without them).
 """
 
 from __future__ import annotations
 
 import importlib
+import threading
 from collections.abc import Callable, Iterable, Iterator
 from typing import TYPE_CHECKING, Any
 
@@ -51,8 +52,6 @@ SUSPEND = object()
 
 #: the module of the standard library, imported on first need (see :func:`load_library`)
 LIBRARY = __name__.rsplit(".", 1)[0] + ".stdlib"
-#: its most used module, imported alone by the first look-up (see :func:`lookup`)
-LIBRARY_CORE = LIBRARY + ".core"
 
 
 class IAError(Exception):
@@ -103,27 +102,34 @@ class InternalAction:
 
 #: every internal action by name (``.print``, ``my.act``)
 IA_REGISTRY: dict[str, InternalAction] = {}
-#: the standard library's state: 0 not loaded, 1 its core module loading or loaded, 2 all of
-#: it loading or loaded
+#: the standard library's state: 0 not loaded, 1 its core module loaded, 2 all of it loaded
 _library_state: list[int] = [0]
+#: held while the library loads: another thread's look-up waits for it (re-entrant: the
+#: library's own registrations come back through :func:`load_library` in the loading thread)
+_library_lock = threading.RLock()
+#: True while the library's modules are being imported (their registrations load nothing)
+_library_loading: list[bool] = [False]
 
 
-def _import_library(state: int, module: str) -> None:
-    """Import ``module`` of the standard library; its registrations (which call
-    :func:`load_library`) find the state already at ``state`` and load nothing more."""
-    previous = _library_state[0]
-    _library_state[0] = 2
-    try:
-        importlib.import_module(module)
-    finally:
-        _library_state[0] = max(previous, state)
+def _import_library(state: int) -> None:
+    """Bring the library to ``state`` (1: its core module, 2: all of it), once."""
+    with _library_lock:
+        if _library_state[0] >= state or _library_loading[0]:
+            return
+        _library_loading[0] = True
+        try:
+            names = ("core",) if state == 1 else importlib.import_module(LIBRARY).MODULES
+            for name in names:
+                importlib.import_module(f"{LIBRARY}.{name}")
+            _library_state[0] = state
+        finally:
+            _library_loading[0] = False
 
 
 def load_library() -> None:
     """Import the whole standard library (once), which registers its actions."""
     if _library_state[0] < 2:
-        for module in importlib.import_module(LIBRARY).MODULES:
-            _import_library(2, f"{LIBRARY}.{module}")
+        _import_library(2)
 
 
 def lookup(name: str) -> InternalAction | None:
@@ -132,7 +138,7 @@ def lookup(name: str) -> InternalAction | None:
     entry = IA_REGISTRY.get(name)
     if entry is None and _library_state[0] < 2:
         if _library_state[0] == 0:
-            _import_library(1, LIBRARY_CORE)
+            _import_library(1)
             entry = IA_REGISTRY.get(name)
         if entry is None:
             load_library()
