@@ -36,8 +36,26 @@ def test_the_unifier_and_the_interpreter_load_without_the_library() -> None:
         loaded = modules_after(statement)
         assert "rason.asl.unify" in loaded
         assert not [m for m in loaded if m.startswith("rason.asl.stdlib")], (statement, loaded)
-    # the library comes with the first look-up of an action
-    assert "rason.asl.stdlib.core" in modules_after("from rason.asl.ia import lookup\nlookup('.print')")
+    # the library comes with the first look-up of an action: its core module for ``.print``,
+    # the rest for a name the core module does not register
+    printing = modules_after("from rason.asl.ia import lookup\nassert lookup('.print')")
+    assert "rason.asl.stdlib.core" in printing and "rason.asl.stdlib.lists" not in printing
+    listing = modules_after("from rason.asl.ia import lookup\nassert lookup('.length')")
+    assert {"rason.asl.stdlib.core", "rason.asl.stdlib.lists", "rason.asl.stdlib.goals"} <= set(listing)
+    # a user's action replaces the library's of its name, whichever module of it was loaded
+    for first in ("", "lookup('.print')\n"):
+        modules_after("from rason.asl.ia import internal_action, lookup\n" + first +
+                      "@internal_action('.length')\ndef mine(ctx, args): return True\n"
+                      "assert lookup('.length').fn is mine and lookup('.print') is not None")
+    # threads looking up at once each wait for the library the first one loads
+    modules_after("import threading\nfrom rason.asl.ia import lookup\nfound = []\n"
+                  "ts = [threading.Thread(target=lambda n=n: found.append(lookup(n)))\n"
+                  "      for n in ('.print', '.length', '.print', '.member') * 4]\n"
+                  "[t.start() for t in ts]\n[t.join() for t in ts]\n"
+                  "assert len(found) == 16 and None not in found, found")
+    # no user's module to load: nothing of the library either
+    assert "rason.asl.stdlib.core" not in modules_after("from rason.asl.ia import load_modules\n"
+                                                        "assert load_modules(['']) == []")
 
 
 def _module_level_imports(package: str) -> dict[str, set[str]]:
@@ -76,7 +94,7 @@ def _module_level_imports(package: str) -> dict[str, set[str]]:
 def test_the_interpreters_modules_form_no_import_circle() -> None:
     graph = _module_level_imports(os.path.dirname(rason.asl.__file__))
     graph[""] = set()   # the package's own __init__ is being imported when any of them is
-    assert "ia" in graph["logic"] and "stdlib.core" in graph["stdlib"]
+    assert "ia" in graph["logic"] and "stdlib.strings" in graph["stdlib.lists"]
     for start in graph:
         seen, todo = set(), list(graph[start])
         while todo:

@@ -9,6 +9,12 @@ import sys
 from typing import Any
 
 
+class ClassLoadError(Exception):
+    """A class a ``.mas2j`` names cannot be imported, built or initialised (the base of
+    :class:`.environment.EnvironmentLoadError` and :class:`.hooks.HookLoadError`, so that the
+    command line catches both without importing either module for a lone agent)."""
+
+
 def split_class_def(text: str) -> tuple[str, list[str]]:
     """``pkg.Cls(1, "a b", x)`` -> ``("pkg.Cls", ["1", "a b", "x"])`` (a ``.mas2j`` class
     definition; quotes removed from string arguments, as Jason's ``getParametersArray``)."""

@@ -4,20 +4,72 @@ build|status`` (the compiled modules, :mod:`.native`)."""
 
 from __future__ import annotations
 
-import argparse
 import sys
+from types import SimpleNamespace
+from typing import TYPE_CHECKING
 
 from . import native
 from .agent import AgentOptions
-from .environment import EnvironmentLoadError
-from .hooks import HookLoadError
+from .classdef import ClassLoadError
 from .ia import ModuleLoadError, load_modules
 from .parser import AslSyntaxError
 from .runtime import run_file
 
+if TYPE_CHECKING:  # pragma: no cover
+    from argparse import ArgumentParser
 
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="rason.asl", description="Jason-compatible AgentSpeak interpreter")
+#: the ``run`` options that take a value: name -> (attribute, conversion, repeatable)
+_RUN_VALUES: dict[str, tuple[str, type, bool]] = {
+    "--timeout": ("timeout", float, False), "--seed": ("seed", int, False),
+    "--max-intention-depth": ("max_intention_depth", int, False),
+    "--internal-actions": ("internal_actions", str, True), "--source-path": ("source_path", str, True)}
+
+
+def quick_run_args(argv: list[str]) -> SimpleNamespace | None:
+    """``run FILE [options]`` read as :func:`arg_parser` reads it, when every word is plain: an
+    option's exact name, a value that does not start with ``-`` and converts, one file. None
+    for anything else (help, an error, an abbreviation, ``native``): the parser reads it."""
+    if not argv or argv[0] != "run":
+        return None
+    args = SimpleNamespace(cmd="run", file=None, timeout=None, seed=None, tro=True,
+                           max_intention_depth=AgentOptions().max_intention_depth,
+                           internal_actions=[], source_path=[])
+    words = iter(argv[1:])
+    for word in words:
+        if word == "--no-tro":
+            args.tro = False
+        elif word.startswith("-"):
+            name, eq, value = word.partition("=")
+            spec = _RUN_VALUES.get(name)
+            if spec is None:
+                return None
+            if not eq:
+                value = next(words, "-")
+                if value.startswith("-"):
+                    return None
+            attr, convert, repeatable = spec
+            try:
+                converted = convert(value)
+            except ValueError:
+                return None
+            if repeatable:
+                getattr(args, attr).append(converted)
+            else:
+                setattr(args, attr, converted)
+        elif args.file is None:
+            args.file = word
+        else:
+            return None
+    return args if args.file is not None else None
+
+
+def arg_parser() -> ArgumentParser:
+    """The command line's parser (help, errors and every form :func:`quick_run_args` leaves)."""
+    # imported here: argparse, gettext, locale and shutil are 3 ms of an agent's 45 ms start,
+    # and a plain ``run FILE`` does without them
+    from argparse import ArgumentParser
+
+    ap = ArgumentParser(prog="rason.asl", description="Jason-compatible AgentSpeak interpreter")
     sub = ap.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("run", help="run a .mas2j project or a single .asl agent locally")
     r.add_argument("file")
@@ -39,7 +91,12 @@ def main(argv: list[str] | None = None) -> int:
     n.add_argument("action", choices=("build", "status"))
     n.add_argument("--force", action="store_true", help="build even if the current build exists")
     n.add_argument("--log", help="keep the compiler's output in this file")
-    args = ap.parse_args(argv)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    words = sys.argv[1:] if argv is None else argv
+    args = quick_run_args(words) or arg_parser().parse_args(words)
     if args.cmd == "native":
         return _native(args.action, args.force, args.log)
     try:
@@ -52,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
         options = AgentOptions(tro=args.tro, max_intention_depth=args.max_intention_depth)
         _, ok = run_file(args.file, args.timeout, args.seed, options=options,
                          source_path=args.source_path)
-    except (AslSyntaxError, EnvironmentLoadError, HookLoadError) as e:
+    except (AslSyntaxError, ClassLoadError) as e:   # ClassLoadError: environment, agent classes
         print(str(e), file=sys.stderr)
         return 2
     except OSError as e:

@@ -16,7 +16,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from .arch import Clock
-from .classdef import import_dotted, split_class_def
+from .classdef import ClassLoadError, import_dotted, split_class_def
 from .parser import parse_literal
 from .runtime import LocalArch
 from .terms import Literal
@@ -28,7 +28,7 @@ if TYPE_CHECKING:  # pragma: no cover
 PerceptLike = Literal | str
 
 
-class EnvironmentLoadError(Exception):
+class EnvironmentLoadError(ClassLoadError):
     """The project's environment class cannot be found, built or initialised."""
 
 

@@ -23,14 +23,14 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from .beliefs import BeliefBase
-from .classdef import import_dotted, split_class_def
+from .classdef import ClassLoadError, import_dotted, split_class_def
 from .jason_bb import JasonBeliefBaseError, jason_belief_base
 
 if TYPE_CHECKING:  # pragma: no cover
     from .mas2j import AgentSpec  # (the project reader imports lark: a lone agent does without)
 
 
-class HookLoadError(Exception):
+class HookLoadError(ClassLoadError):
     """A class of a ``.mas2j`` agent does not import, or is not what it must be."""
 
 

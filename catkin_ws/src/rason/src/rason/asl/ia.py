@@ -25,12 +25,15 @@ the agent.
 
 The standard library registers itself on the first look-up of an action or the first
 registration of a user's (so a user's action of the same name replaces the library's), never
-when the interpreter's modules are imported.
+when the interpreter's modules are imported. A look-up imports its most used module,
+``core`` (``.print`` and the like), first and the rest only for a name that
+module does not register (an agent that only prints starts without them).
 """
 
 from __future__ import annotations
 
 import importlib
+import threading
 from collections.abc import Callable, Iterable, Iterator
 from typing import TYPE_CHECKING, Any
 
@@ -99,23 +102,47 @@ class InternalAction:
 
 #: every internal action by name (``.print``, ``my.act``)
 IA_REGISTRY: dict[str, InternalAction] = {}
-#: the standard library's state: 0 not loaded, 1 loading or loaded
+#: the standard library's state: 0 not loaded, 1 its core module loaded, 2 all of it loaded
 _library_state: list[int] = [0]
+#: held while the library loads: another thread's look-up waits for it (re-entrant: the
+#: library's own registrations come back through :func:`load_library` in the loading thread)
+_library_lock = threading.RLock()
+#: True while the library's modules are being imported (their registrations load nothing)
+_library_loading: list[bool] = [False]
+
+
+def _import_library(state: int) -> None:
+    """Bring the library to ``state`` (1: its core module, 2: all of it), once."""
+    with _library_lock:
+        if _library_state[0] >= state or _library_loading[0]:
+            return
+        _library_loading[0] = True
+        try:
+            names = ("core",) if state == 1 else importlib.import_module(LIBRARY).MODULES
+            for name in names:
+                importlib.import_module(f"{LIBRARY}.{name}")
+            _library_state[0] = state
+        finally:
+            _library_loading[0] = False
 
 
 def load_library() -> None:
-    """Import the standard library (once), which registers its actions."""
-    if _library_state[0] == 0:
-        _library_state[0] = 1
-        importlib.import_module(LIBRARY)
+    """Import the whole standard library (once), which registers its actions."""
+    if _library_state[0] < 2:
+        _import_library(2)
 
 
 def lookup(name: str) -> InternalAction | None:
-    """The internal action registered under ``name`` (None: there is none)."""
+    """The internal action registered under ``name`` (None: there is none); the first look-up
+    imports the library's core module, a name it lacks the rest of the library."""
     entry = IA_REGISTRY.get(name)
-    if entry is None and _library_state[0] == 0:
-        load_library()
-        entry = IA_REGISTRY.get(name)
+    if entry is None and _library_state[0] < 2:
+        if _library_state[0] == 0:
+            _import_library(1)
+            entry = IA_REGISTRY.get(name)
+        if entry is None:
+            load_library()
+            entry = IA_REGISTRY.get(name)
     return entry
 
 
@@ -153,12 +180,12 @@ def internal_action(*names: str, arity: Arity = None) -> Callable:
 def load_modules(modules: Iterable[str]) -> list[str]:
     """Import the named Python modules (``my_package.my_actions``) so that their
     ``@internal_action`` functions register; the names they added, sorted."""
+    names = [name.strip() for name in modules if name.strip()]
+    if not names:
+        return []   # the library loads on its first look-up
     load_library()
     before = set(IA_REGISTRY)
-    for name in modules:
-        name = name.strip()
-        if not name:
-            continue
+    for name in names:
         try:
             importlib.import_module(name)
         except Exception as err:
