@@ -55,7 +55,8 @@
 #       --hold                      as for demo
 #   ./run.sh bench NAME [ARGS...]   a benchmark of benchmarks/ (./run.sh bench lists them)
 #   ./run.sh test [PYTEST_ARGS...]  the whole test suite (what CI runs), or a part: a file, -k NAME
-#                                   (RASON_TEST_WORKERS=2: on 2 workers; docs/layout.md)
+#                                   (on 2 workers; RASON_TEST_WORKERS=0: in one process;
+#                                   docs/layout.md)
 #   ./run.sh env                    a shell with ROS and the workspace ready (or: source env.sh)
 #   ./run.sh help                   this text (also -h, --help)
 # Each command's own --help gives its options with their defaults (./run.sh demo --help).
@@ -78,9 +79,9 @@ list_benchmarks() {
   done
 }
 
-#: pytest workers for ./run.sh test: 0 (the default, serially in one process), or N xdist workers
-#: (each with its own roscore; docs/layout.md: 2 of the last 5 full runs on 2 workers were green)
-TEST_WORKERS="${RASON_TEST_WORKERS:-0}"
+#: pytest workers for ./run.sh test: N xdist workers (2, the default: the two cores), each with
+#: its own roscore, or 0 for one process (docs/layout.md#the-suites-run)
+TEST_WORKERS="${RASON_TEST_WORKERS:-2}"
 
 test_workers() {
   # pytest-xdist options for ./run.sh test ARGS: TEST_WORKERS workers for the suite, each

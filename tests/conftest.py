@@ -9,8 +9,8 @@ ROS tests use real processes started by :class:`rason.process.harness.RosHarness
   per test so topics of different tests never meet.
 * ``fresh_ros``: a brand-new roscore for this test alone (no rospy in the test process).
 
-``./run.sh test`` runs the suite in one process; ``RASON_TEST_WORKERS=2 ./run.sh test`` on two
-pytest-xdist workers (``--dist loadgroup``), each with a roscore of its own. The end-to-end
+``./run.sh test`` runs the suite on two pytest-xdist workers (``RASON_TEST_WORKERS=0``: in one
+process) (``--dist loadgroup``), each with a roscore of its own. The end-to-end
 runs (a simulator and agents each, see :func:`is_end_to_end`) are then one group, so one
 worker runs them in turn while the other runs the rest: two of them at once would share two cores with two
 robots' simulators, agents and vision each.
@@ -94,7 +94,7 @@ class E2EScheduling(LoadGroupScheduling):
 
 @pytest.hookimpl(optionalhook=True)   # an xdist hook: absent with -p no:xdist
 def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> E2EScheduling | None:
-    """``--dist loadgroup`` (as ``RASON_TEST_WORKERS=2 ./run.sh test`` passes) schedules with
+    """``--dist loadgroup`` (as ``./run.sh test`` passes) schedules with
     :class:`E2EScheduling`."""
     return E2EScheduling(config, log) if config.getvalue("dist") == "loadgroup" else None
 

@@ -1,4 +1,4 @@
-"""The end-to-end group that ``RASON_TEST_WORKERS=2 ./run.sh test`` keeps on one xdist worker
+"""The end-to-end group that ``./run.sh test`` keeps on one xdist worker
 (tests/conftest.py)."""
 
 from __future__ import annotations
