@@ -84,6 +84,10 @@ def processes_left_by(parent_pid: int) -> list[str]:
     return [f"{pid}: {cmd[:120]}" for pid, cmd in found.items()]
 
 
+#: the signals :func:`interrupts_deferred` holds back
+DEFERRED_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
 @contextlib.contextmanager
 def interrupts_deferred() -> Iterator[None]:
     """Ctrl-C and SIGTERM that come during the block take effect when it ends.
@@ -91,24 +95,49 @@ def interrupts_deferred() -> Iterator[None]:
     Around a spawn and its bookkeeping: interrupted in between (Python's subprocess can raise
     after the fork, before the child's exec), the child would run on with nobody to stop it.
     Signal handlers belong to the main thread; elsewhere the block runs as it is.
+
+    Every handler swapped is put back, even when another signal's handler raises in the middle
+    of the swap (``signal.signal`` first runs the handlers of signals already pending): a
+    handler left swapped would swallow that signal for the rest of the process.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     caught: list[signal.Signals] = []
-    previous = {sig: signal.signal(sig, lambda sig, _frame: caught.append(signal.Signals(sig)))
-                for sig in (signal.SIGINT, signal.SIGTERM)}
+
+    def defer(signum: int, _frame: object) -> None:
+        caught.append(signal.Signals(signum))
+
+    previous: dict[signal.Signals, Any] = {}
     try:
+        for sig in DEFERRED_SIGNALS:
+            previous[sig] = signal.getsignal(sig)   # before the swap: known even if it raises
+            signal.signal(sig, defer)
         yield
     finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
+        _restore_handlers(previous)
         if caught:
             handler = previous[caught[0]]
             if callable(handler):
                 handler(caught[0], None)
             elif handler == signal.SIG_DFL:
                 signal.raise_signal(caught[0])
+
+
+def _restore_handlers(handlers: dict[signal.Signals, Any]) -> None:
+    """Put every handler of ``handlers`` back (None: one not set from Python, left as it is);
+    the first exception a handler raised on the way (a signal that came meanwhile, run by
+    ``signal.signal`` before or after the swap) is raised once all are back."""
+    raised: BaseException | None = None
+    for sig, handler in handlers.items():
+        while handler is not None:
+            try:
+                signal.signal(sig, handler)
+                break
+            except BaseException as exc:   # raised below, once every handler is back
+                raised = raised or exc
+    if raised is not None:
+        raise raised
 
 
 class HarnessError(RuntimeError):
