@@ -74,6 +74,11 @@ def _refuses_connections(uri: str, timeout: float = 0.5) -> bool:
         return False
 
 
+def _node_names(state: tuple[list, list, list]) -> set[str]:
+    """The nodes named in the master's system state (publishers, subscribers, services)."""
+    return {node for group in state for _, nodes in group for node in nodes}
+
+
 def processes_left_by(parent_pid: int) -> list[str]:
     """Processes still running that a harness in process ``parent_pid`` started ("pid: argv").
 
@@ -618,11 +623,7 @@ class RosHarness:
 
     def nodes(self) -> set[str]:
         """Names of the nodes the master knows."""
-        names: set[str] = set()
-        for group in self._system_state():
-            for _, providers in group:
-                names.update(providers)
-        return names
+        return _node_names(self._system_state())
 
     def forget_dead_nodes(self) -> list[str]:
         """Unregister from the master every node whose slave API refuses connections: one that
@@ -638,8 +639,7 @@ class RosHarness:
         publishers, subscribers, services = self._system_state()
         master = self._master()
         dead: dict[str, str] = {}
-        for name in sorted({n for group in (publishers, subscribers, services)
-                            for _, nodes in group for n in nodes}):
+        for name in sorted(_node_names((publishers, subscribers, services))):
             code, _, uri = master.lookupNode(HARNESS_CALLER, name)
             if code == 1 and _refuses_connections(uri):
                 dead[name] = uri
