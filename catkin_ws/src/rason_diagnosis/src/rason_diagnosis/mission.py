@@ -25,7 +25,11 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+import rospy
 import yaml
+from jason_msgs.msg import Action
+from jason_msgs.srv import Mind
+from nav_msgs.msg import Odometry
 
 from rason.process.harness import HarnessError, RosHarness
 from rason_diagnosis.hosts import interrupt
@@ -163,9 +167,6 @@ class GroundTruth:
     closest the two robots' centres came."""
 
     def __init__(self, robots: tuple[str, ...] = ROBOTS):
-        import rospy
-        from nav_msgs.msg import Odometry
-
         self._lock = threading.Lock()
         self.position: dict[str, tuple[float, float]] = {}
         self.min_distance: float | None = None
@@ -267,10 +268,6 @@ def _run(ros: RosHarness, result: MissionResult, waypoints: list[Waypoint], worl
          key: Path, recovery: bool, echo: bool, sim_timeout: float) -> None:
     """Start the mission's nodes (the agents and the decomposers keyed with `key`), inject the
     fault when due, follow the waypoints and fill `result` in."""
-    import rospy
-    from jason_msgs.msg import Action
-    from jason_msgs.srv import Mind
-
     starts = _start_poses(world, result.seed)
     sim = ros.rosrun("turtlebot_sim", "sim", params={"world": str(world), "seed": result.seed})
     ros.wait_for_topic("/clock", timeout=60, watch=[sim])

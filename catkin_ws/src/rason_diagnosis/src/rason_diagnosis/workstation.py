@@ -27,9 +27,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import rospy
+from jason_msgs.srv import Mind
+
 from rason.process.harness import HarnessError, Process, RosHarness
 from rason.ros.auth import AuthKeyError, load_key
 from rason_diagnosis.hosts import interrupt
+from rason_diagnosis.monitor import RunMonitor
 from rason_diagnosis.paths import agent_file
 from rason_diagnosis.scenario import (
     FAULTS,
@@ -141,11 +145,6 @@ def run_workstation(out_dir: Path, fault: str | None = None, record: bool = Fals
 
 def _run(ros: RosHarness, result: RealResult, out_dir: Path, fault: str | None, record: bool,
          echo: bool, timeout: float, inspector_port: int | None, key: Path | None) -> None:
-    import rospy  # this process joins the robots' ROS graph as an observer
-    from jason_msgs.srv import Mind
-
-    from rason_diagnosis.monitor import RunMonitor
-
     if inspector_port is not None:
         start_inspector(ros, inspector_port)
     ros.init_rospy("rason_workstation")
