@@ -18,7 +18,12 @@ items of each innermost ``[...]`` list sorted, then compared as before. A third 
 is ``p#``, in the lines and as the agent who printed them) and asks, for every agent and every
 line so loosened, that rason print it at least as often as the Jason run that printed it least
 and at most as often as the one that printed it most (a line every Jason run printed must be
-there, one no Jason run printed must not). The strict verdict stays the one counted first.
+there, one no Jason run printed must not). That test fails a run of Jason itself too, often,
+when a program is random (which goal's wait ends first): a fourth column ranks rason's run
+among Jason's, each run's lines outside the range of all the other runs counted alike, and
+gives how many of Jason's runs are at least as far off as rason's (0: rason's run is the least
+typical of all, as a run of Jason itself would be once in ``--jason-runs`` + 1). The strict
+verdict stays the one counted first.
 A project whose Jason runs all show a defect of Jason documented in KNOWN_JASON_DEFECTS (and
 docs/jason-compatibility.md), and whose rason output is Jason's plus exactly the lines the
 defect keeps Jason from printing, is still "no" in every column; the table names the defect.
@@ -34,7 +39,8 @@ time to its first line. ``--keep DIR`` keeps every run's output (``DIR/PROJECT/R
 one ``AGENT.txt`` per agent with its lines as printed).
 
 Prints a table: project | agents | Jason's runs agree? | same? | same up to numbers and list
-order? | within Jason's variation? | first difference (strict).
+order? | within Jason's variation? | Jason's runs as far off as rason's | first difference
+(strict).
 """
 
 from __future__ import annotations
@@ -122,6 +128,9 @@ class Outcome:
     start_up: StartUp = field(default_factory=lambda: StartUp([], []))
     #: the note of a documented Jason defect that explains every difference ("" if none)
     jason_defect: str = ""
+    #: :func:`as_atypical`: Jason's runs at least as far outside the others' variation as
+    #: rason's (all of them when rason printed the same as one, up to numbers and list order)
+    typical: int = 0
 
 
 def find_projects(tree: Path) -> list[Path]:
@@ -287,6 +296,29 @@ def within_variation(runs: list[dict[str, Counter]], ours: dict[str, Counter]) -
     return True
 
 
+def lines_outside(run: dict[str, Counter], others: list[dict[str, Counter]]) -> int:
+    """How many of ``run``'s lines fall outside the range ``others`` span: for every agent and
+    line, the count below the fewest or above the most of ``others`` (0: within their variation)."""
+    keys = {(a, line) for side in (*others, run) for a, c in side.items() for line in c}
+    outside = 0
+    for agent, line in keys:
+        counts = [o.get(agent, Counter())[line] for o in others]
+        n = run.get(agent, Counter())[line]
+        outside += max(0, min(counts) - n, n - max(counts))
+    return outside
+
+
+def as_atypical(runs: list[dict[str, Counter]], ours: dict[str, Counter]) -> int:
+    """How many of Jason's ``runs`` are at least as far outside the others' variation as rason's
+    run is (:func:`lines_outside`, each run scored against all the other runs, Jason's and
+    rason's alike). 0: rason's run is the least typical of all, which a run of Jason itself
+    would be once in ``len(runs) + 1`` (a rank test; each side already loosened and its
+    copies merged)."""
+    every = [*runs, ours]
+    scores = [lines_outside(r, every[:i] + every[i + 1:]) for i, r in enumerate(every)]
+    return sum(s >= scores[-1] for s in scores[:-1])
+
+
 def same_lines(a: dict[str, Counter], b: dict[str, Counter]) -> bool:
     """Did every agent print the same multiset of lines in both?"""
     return all(a.get(x, Counter()) == b.get(x, Counter()) for x in set(a) | set(b))
@@ -337,15 +369,18 @@ def compare(mas: Path, tree: Path, args: argparse.Namespace) -> Outcome:
     timing = StartUp(jason_start, [run.first_line] if run.first_line is not None else [])
     agree = all(same_lines(runs[0], r) for r in runs[1:])
     if any(same_lines(theirs, ours) for theirs in runs):
-        return Outcome(name, agents, True, "", True, agree, True, timing)
+        return Outcome(name, agents, True, "", True, agree, True, timing,
+                       typical=len(runs))
     loose = any(same_lines(loosen(theirs), loosen(ours)) for theirs in runs)
     families = copied_agents(mas.read_text(errors="replace"))
-    varied = loose or within_variation([merge_copies(loosen(r), families) for r in runs],
-                                       merge_copies(loosen(ours), families))
+    merged = [merge_copies(loosen(r), families) for r in runs]
+    merged_ours = merge_copies(loosen(ours), families)
+    varied = loose or within_variation(merged, merged_ours)
+    typical = len(runs) if loose else as_atypical(merged, merged_ours)
     defect = KNOWN_JASON_DEFECTS.get(name)
     note = defect.note if defect and defect_explains(defect, outputs, run.output) else ""
     return Outcome(name, agents, False, first_difference(runs[0], ours), loose, agree, varied,
-                   timing, note)
+                   timing, note, typical)
 
 
 def defect_explains(defect: JasonDefect | None, jason_outputs: list[str], ours: str) -> bool:
@@ -387,9 +422,10 @@ def main() -> int:
         print(f"no project found under {args.tree}", file=sys.stderr)
         return 1
     print("| project | agents | Jason's runs agree? | same? | same up to numbers and list order? "
-          "| within Jason's variation? | first difference (strict) |")
-    print("|---|---|---|---|---|---|---|")
-    same = loose = varied = varying = defects = 0
+          "| within Jason's variation? | Jason's runs as far off as rason's | first difference "
+          "(strict) |")
+    print("|---|---|---|---|---|---|---|---|")
+    same = loose = varied = typical = varying = defects = 0
     jason_starts: list[float] = []
     rason_starts: list[float] = []
     for mas in projects:
@@ -399,17 +435,19 @@ def main() -> int:
         same += o.same
         loose += o.same_loosely
         varied += o.within_variation
+        typical += o.typical > 0
         varying += not o.jason_agrees
         defects += bool(o.jason_defect)
         diff = o.difference.replace("|", "\\|")
         if o.jason_defect:
             diff = f"{diff} ({o.jason_defect})"
         print(f"| {o.project} | {o.agents} | {yes_no(o.jason_agrees)} | {yes_no(o.same)} | "
-              f"{yes_no(o.same_loosely)} | {yes_no(o.within_variation)} | {diff} |", flush=True)
+              f"{yes_no(o.same_loosely)} | {yes_no(o.within_variation)} | "
+              f"{o.typical} of {args.jason_runs} | {diff} |", flush=True)
     print(f"\n{same} of {len(projects)} projects print the same; {loose} of {len(projects)} the "
           f"same up to numbers and list order; {varied} of {len(projects)} within Jason's variation; "
-          f"Jason's own runs differed for {varying}; {defects} differ only by a documented "
-          f"Jason defect")
+          f"{typical} of {len(projects)} no further off than some Jason run; Jason's own runs "
+          f"differed for {varying}; {defects} differ only by a documented Jason defect")
     for side, starts in (("Jason", jason_starts), ("rason", rason_starts)):
         if starts:
             print(f"{side}'s first agent line came {statistics.median(starts):.2f} s after the "

@@ -66,6 +66,21 @@ def test_within_variation_takes_each_line_between_jasons_fewest_and_most() -> No
     assert not ours("[c] winner is p1 with 1\n[p1] I won\n[p2] I lost\n" + "[c] waiting\n" * 4)
 
 
+def test_a_run_is_ranked_among_jasons_by_the_lines_outside_the_others_range() -> None:
+    def waits(n: int, done: int = 1) -> dict[str, Counter]:
+        return demos.per_agent("[s] working\n" * done + "[s] waiting\n" * n)
+
+    # Jason's own runs of a random program: none lies within the range of all the others
+    jason = [waits(3), waits(5), waits(4, done=2), waits(6)]
+    assert demos.lines_outside(waits(3), jason[1:]) == 1        # one "waiting" below 4-6
+    assert demos.lines_outside(waits(9), jason) == 3            # three above 3-6
+    assert not demos.within_variation(jason, waits(7, done=2))  # the first test rejects it...
+    assert demos.as_atypical(jason, waits(7, done=2)) == 1      # ...though a run of 3 is as far off
+    # the least typical of all runs: no Jason run as far off, nor when it ties no one
+    assert demos.as_atypical(jason, waits(9)) == 0
+    assert demos.as_atypical(jason, waits(4)) == len(jason)
+
+
 def test_a_run_is_timed_from_its_first_agent_line(tmp_path: Path) -> None:
     # a slow start (as Jason's JVM) is not counted: the run goes on 0.8 s from its first line,
     # so both lines are there although the start alone took longer than 0.8 s
