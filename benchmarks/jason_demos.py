@@ -38,9 +38,9 @@ seconds goes on for ``--time`` seconds from then. The summary gives each side's 
 time to its first line. ``--keep DIR`` keeps every run's output (``DIR/PROJECT/RUN/all.txt``,
 one ``AGENT.txt`` per agent with its lines as printed).
 
-Prints a table: project | agents | Jason's runs agree? | same? | same up to numbers and list
-order? | within Jason's variation? | Jason's runs as far off as rason's | first difference
-(strict).
+Prints the Jason version the tree names (``jasonVersion`` of its ``gradle.properties``), then a
+table: project | agents | Jason's runs agree? | same? | same up to numbers and list order? |
+within Jason's variation? | Jason's runs as far off as rason's | first difference (strict).
 """
 
 from __future__ import annotations
@@ -69,6 +69,9 @@ NEEDS_JAVA = re.compile(r"(\benvironment\s*:|agentClass|agentArchClass|beliefBas
 COMMENT = re.compile(r"/\*.*?\*/|//[^\n]*", re.S)
 #: the console logging set-up of Jason (inside the source tree)
 LOG_CONF = "jason-interpreter/src/main/resources/templates/console-info-logging.properties"
+#: the file of a Jason source tree that names its version, and that line (``jasonVersion=3.2.2``)
+VERSION_FILE = "gradle.properties"
+VERSION_LINE = re.compile(r"^\s*jasonVersion\s*=\s*(\S+)", re.M)
 #: a line an agent printed (agent names are atoms: ``[TextPersistentBB]`` is a Java logger's)
 AGENT_LINE = re.compile(r"^\[([a-z][^\]\s]*)\] (.*)$")
 VAR_NUMBER = re.compile(r"\b_\d+")
@@ -392,6 +395,15 @@ def defect_explains(defect: JasonDefect | None, jason_outputs: list[str], ours: 
     return same_lines(fixed, per_agent(ours))
 
 
+def jason_version(tree: Path) -> str:
+    """The Jason version the source tree names (its ``gradle.properties``), else ``unknown``."""
+    try:
+        found = VERSION_LINE.search((tree / VERSION_FILE).read_text(errors="replace"))
+    except OSError:
+        return "unknown"
+    return found.group(1) if found else "unknown"
+
+
 def select_projects(projects: list[Path], tree: Path, filters: list[str]) -> list[Path]:
     """The projects whose path in the tree contains any of the filters (all without one)."""
     return [m for m in projects
@@ -421,6 +433,9 @@ def main() -> int:
     if not projects:
         print(f"no project found under {args.tree}", file=sys.stderr)
         return 1
+    version = jason_version(args.tree)
+    print(f"Jason {version} (the tree's {VERSION_FILE}; --classpath should be its build) "
+          f"against rason\n")
     print("| project | agents | Jason's runs agree? | same? | same up to numbers and list order? "
           "| within Jason's variation? | Jason's runs as far off as rason's | first difference "
           "(strict) |")
@@ -447,7 +462,8 @@ def main() -> int:
     print(f"\n{same} of {len(projects)} projects print the same; {loose} of {len(projects)} the "
           f"same up to numbers and list order; {varied} of {len(projects)} within Jason's variation; "
           f"{typical} of {len(projects)} no further off than some Jason run; Jason's own runs "
-          f"differed for {varying}; {defects} differ only by a documented Jason defect")
+          f"differed for {varying}; {defects} differ only by a documented Jason defect "
+          f"(Jason {version})")
     for side, starts in (("Jason", jason_starts), ("rason", rason_starts)):
         if starts:
             print(f"{side}'s first agent line came {statistics.median(starts):.2f} s after the "

@@ -132,3 +132,11 @@ def test_several_filters_select_the_projects_matching_any(tmp_path: Path) -> Non
     assert [p.parent.name for p in picked] == ["current-intention", "st-claus"]
     assert demos.select_projects(found, tmp_path, []) == found
     assert demos.select_projects(found, tmp_path, ["nowhere"]) == []
+
+
+def test_the_jason_version_is_read_from_the_trees_gradle_properties(tmp_path: Path) -> None:
+    assert demos.jason_version(tmp_path) == "unknown"   # no gradle.properties
+    (tmp_path / "gradle.properties").write_text("groupId=x\n  jasonVersion = 3.2.2\n")
+    assert demos.jason_version(tmp_path) == "3.2.2"
+    (tmp_path / "gradle.properties").write_text("groupId=x\nversion=1.0\n")
+    assert demos.jason_version(tmp_path) == "unknown"
