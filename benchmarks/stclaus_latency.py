@@ -12,7 +12,7 @@ back (the last member's line to ``Group G ... has finished``). It runs Jason and
 (alternately, ``--runs`` times each), then rason again with every message delayed by half the
 difference of the two sides' median rounds (a round is two hops; or by each ``--latency-ms``
 given), through an
-``agentArchClass`` of rason's (``latency_arch.delayed``) added to every agent of a copy of the
+``agentArchClass`` of rason's (``_latency_arch.delayed``) added to every agent of a copy of the
 project. Nothing in rason itself is slowed down.
 
     python benchmarks/stclaus_latency.py JASON_TREE --classpath CP [--runs 5] [--time 3]
@@ -122,8 +122,8 @@ def figures(side: str, run: Stamped) -> RunFigures:
 
 
 def with_latency(mas_text: str, ms: float) -> str:
-    """The project with ``agentArchClass latency_arch.delayed("ms")`` on every agent."""
-    return AGENT_DEF.sub(lambda m: f'{m.group(1)} agentArchClass latency_arch.delayed("{ms:.3f}")'
+    """The project with ``agentArchClass _latency_arch.delayed("ms")`` on every agent."""
+    return AGENT_DEF.sub(lambda m: f'{m.group(1)} agentArchClass _latency_arch.delayed("{ms:.3f}")'
                          f'{" " + m.group(2) if m.group(2) else ""};', mas_text)
 
 

@@ -1,7 +1,7 @@
 """An ``agentArchClass`` for ``python -m rason.asl run``: every message the agent sends reaches
 its receiver ``ms`` milliseconds later, as on an infrastructure slower than rason's.
 
-    elf worker.asl [beliefs="..."] agentArchClass latency_arch.delayed("3.2") #10;
+    elf worker.asl [beliefs="..."] agentArchClass _latency_arch.delayed("3.2") #10;
 
 (with this folder on ``PYTHONPATH``, or the module beside the ``.mas2j``). Used by
 ``stclaus_latency.py`` to give rason the per-message latency measured on Jason. The messages
