@@ -5,13 +5,29 @@ from __future__ import annotations
 import importlib.util
 import io
 import os
+import sys
 import threading
+from types import ModuleType
 from typing import Any
 
 from rason.asl import Agent, AgentArch, LocalMas, Message, VirtualClock
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CONFORMANCE = os.path.join(HERE, "conformance")
+BENCHMARKS = os.path.join(HERE, os.pardir, os.pardir, "benchmarks")
+
+
+def load_benchmark(name: str) -> ModuleType:
+    """``benchmarks/NAME.py`` as a module, with ``benchmarks/`` on the path (a benchmark
+    imports its neighbours, e.g. Jason's logging set-up from jason_demos)."""
+    if BENCHMARKS not in sys.path:
+        sys.path.insert(0, BENCHMARKS)
+    spec = importlib.util.spec_from_file_location(name, os.path.join(BENCHMARKS, f"{name}.py"))
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[name] = mod   # (a dataclass of the module looks the module up there)
+    spec.loader.exec_module(mod)
+    return mod
 
 
 def load_compare():

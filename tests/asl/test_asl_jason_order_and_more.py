@@ -240,3 +240,43 @@ def test_goal_states_through_waits_suspension_resumption_and_failure() -> None:
         "h executing has_failure_plan", "h_failed", "h achieved", "h finished",
         f"s waiting wait({ids['s']})[time(400)]", "g1_done", "g1 executing", "g1 achieved", "g1 finished",
         "s executing", "s achieved", "s finished"]
+
+
+# ------------------------------------------------------- intention numbers across the agents
+# One count numbers the intentions of every agent of a run, as Jason's does: which suspended
+# intention ``.resume`` takes first follows those numbers (the order of Jason's map of pending
+# intentions, keyed by them), and so does which waiting group a santa-like agent serves next.
+
+COUNTER = """\
+round(0).
++!group(G) : .desire(work(_)) <- .print("waiting ", G); .suspend; !!group(G).
+@lg[atomic] +!group(G) <- !!work(G).
++!work(G) : round(N) & N < 6 <- .print("working ", G); -+round(N+1); .wait(60); !!next.
++!work(_) <- .print(stop).
++!next <- .resume(group(_)).
+"""
+
+QUEUE = """\
+!go.
++!go <- .send(counter, achieve, group(a)); .send(counter, achieve, group(b));
+        .send(counter, achieve, group(c)); .send(counter, achieve, group(d)); .wait(20);
+        .send(counter, achieve, group(e)).
+"""
+
+
+def test_one_resume_serves_the_waiting_group_the_numbers_of_all_agents_put_first() -> None:
+    # each .resume(group(_)) binds its _ to the first suspended group it meets: one group a
+    # round, e c d b here as on Jason 3.3 (numbered without the queue's intentions, the
+    # counter's would be served d e b c)
+    out = run_agents({"counter": COUNTER, "queue": QUEUE})
+    assert lines(out, "counter") == [
+        "working a", "waiting b", "waiting c", "waiting d", "waiting e",
+        "working e", "working c", "working d", "working b"]
+
+
+def test_a_wait_is_kept_under_its_reason_so_intention_lists_them_in_that_order() -> None:
+    # Jason keys a waiting intention by the text of its reason (wait(2)[time(300)]): that
+    # key's hash puts 3 before 2 here, as on Jason 3.3 (a key of number and time would not)
+    out = run("!!w(300); !!w(600); .wait(50); .findall(I, .intention(I, waiting), L); .print(L)",
+              "+!w(T) <- .wait(T).")
+    assert out == ["[3,2]"]

@@ -4,19 +4,10 @@ inspection, and what is left is the round's cost."""
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import pytest
+from asl_helpers import load_benchmark
 
-BENCHMARKS = Path(__file__).resolve().parents[2] / "benchmarks"
-sys.path.insert(0, str(BENCHMARKS))     # (it takes Jason's logging set-up from jason_demos)
-_spec = importlib.util.spec_from_file_location("jason_round_times", BENCHMARKS / "jason_round_times.py")
-assert _spec is not None and _spec.loader is not None
-timer = importlib.util.module_from_spec(_spec)
-sys.modules[_spec.name] = timer   # (its dataclass looks itself up there)
-_spec.loader.exec_module(timer)
+timer = load_benchmark("jason_round_times")
 
 
 def _waiting(goal: str, ms: int) -> str:

@@ -281,9 +281,10 @@ class Circumstance:
     def suspend_timer(self, i: Intention, deadline: float | None, ms: float = 0.0) -> None:
         """``.wait(ms)``: ``i`` waits until ``deadline`` (None: for ever)."""
         self.suspend(i, Suspension.WAIT)
-        i.pi_key = f"{i.id}/time{int(ms)}"
         # whole milliseconds in the reason, as Jason (its wait time is a long)
         i.wait_reason = Literal("wait", (float(i.id),), (Literal("time", (float(int(ms)),)),))
+        # Jason's key in PI is the reason's text (``wait(3)[time(1000)]``): it orders PI
+        i.pi_key = term_str(i.wait_reason)
         if deadline is not None:
             self.push_timer(deadline, TimerKind.WAIT, i, data=i.wait_reason)
         self._goal_waiting(i, i.wait_reason)
@@ -292,9 +293,9 @@ class Circumstance:
                            deadline: float | None) -> None:
         """``.wait(E)`` / ``.wait(Condition)``: ``i`` waits for an event or a condition."""
         self.suspend(i, Suspension.EVENT_WAIT)
-        i.pi_key = f"{i.id}/{trig if trig is not None else term_str(cond)}"
         what = trig.literal if trig is not None else cond
         i.wait_reason = Literal("wait", (float(i.id),), (what,))
+        i.pi_key = term_str(i.wait_reason)
         self._goal_waiting(i, i.wait_reason)
         self.event_waits.append(EventWait(trig, cond, i, i.top()))
         if deadline is not None:

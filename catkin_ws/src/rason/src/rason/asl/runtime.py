@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import gc
+import itertools
 import os
 import sys
 import threading
@@ -126,6 +127,10 @@ class LocalMas:
         self.environment: Environment | None = None
         #: called once when the run ends (:meth:`stop`)
         self.at_stop: list[Callable[[], None]] = []
+        #: the intentions' ids, one count for all the agents of this MAS (Jason numbers the
+        #: intentions of all the agents of its run from one counter: ``.intention``'s ids,
+        #: ``wait(Id)`` reasons and the order ``.resume`` takes suspended intentions in)
+        self.intention_ids = itertools.count(1)
 
     # ------------------------------------------------------------ setup
     def console(self, agent_name: str, text: str) -> None:
@@ -189,6 +194,7 @@ class LocalMas:
         ag = Agent(name, source, self.make_arch(name), filename, seed=seed, src_name=src_name,
                    options=options if options is not None else self.options,
                    source_path=self.source_path, belief_base=belief_base)
+        ag.circ.intention_ids = self.intention_ids
         ag.runner.on_wake = self.notify
         self.agents[name] = ag
         self._roster = tuple(self.agents.values())
