@@ -270,7 +270,12 @@ class GoalOps:
             lit = ev.trigger.literal
             c.events[k] = Event(Trigger(DEL, ACHIEVE, lit.add_annots(annots) if annots else lit))
         for i, idx in list(self._goal_positions(pattern, s)):
-            reasoning.fail_goal_at(ag, i, idx, annots)
+            if idx == 0:
+                reasoning.fail_goal_at(ag, i, idx, annots)   # Jason 3.3 fails with an NPE
+                continue
+            s2 = dict(s)
+            unify(pattern, i.ims[idx].trigger.literal, s2, ag)
+            reasoning.fail_goal_above(ag, i, idx, resolve(pattern, s2), annots)
 
     # ---------------------------------------------------------------- hard deadlines
     def schedule_deadline(self, trig: Trigger, i: Intention | None, delay: float) -> None:
