@@ -102,3 +102,11 @@ def test_succeed_goal_of_a_goal_with_a_caller() -> None:
     assert lines(run_source(OWN.replace(".fail_goal", ".succeed_goal"))) == ["sub3", "job_resumes"]
     src = OTHER.replace(".fail_goal", ".succeed_goal")
     assert lines(run_source(src)) == ["fetching7", "carry_resumes", "boss_done"]
+
+
+def test_a_recursive_goal_is_failed_at_its_lowest_occurrence() -> None:
+    # fetch(7) pursued twice, one under the other: both means go, the caller resumes
+    src = OTHER.replace("+!fetch(N) <-", "+!fetch(N) : not twice <- +twice; !fetch(N); .print(outer_fetch).\n"
+                        "+!fetch(N) <-")
+    assert lines(run_source(src + "-!fetch(N) <- .print(gave_up, N).\n")) == [
+        "fetching7", "boss_done", "gave_up7", "carry_resumes"]
