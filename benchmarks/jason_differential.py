@@ -12,7 +12,7 @@ they share nothing) and one by one in rason.asl's ``LocalMas``; the lines of eac
 compared, fresh variable names aside.
 
     python benchmarks/jason_differential.py --jason-jar CLASSPATH [--seeds 1 2 3] [--programs 40]
-        [--kqml | --meta]
+        [--kqml | --meta] [--goals]
 
 Prints each program whose lines differ (with both outputs) and the count of equal ones; exits
 1 when any differs.
@@ -100,6 +100,25 @@ META_DEEDS = (
     "{.print(in_block); +x(2)}; .print(after_block)",
 )
 
+#: With ``--goals``: deeds of ``.fail_goal``/``.succeed_goal`` of goals that have a caller, from
+#: the goal's own intention (a subgoal's plan or the goal's own plan) and from another one,
+#: besides :data:`DEEDS`; their plans are :data:`GOAL_PLANS`.
+GOAL_DEEDS = ("!fg(V)", "!fs(V)", "!sg(V)", "!!fo(V)", ".fail_goal(fw(_))", ".succeed_goal(fw(_))")
+
+#: With ``--goals``: fg's subgoal fails fg (a failure plan runs), fs fails itself (no failure
+#: plan), sg's subgoal achieves sg; fo's subgoal fw is what other intentions fail or achieve.
+GOAL_PLANS = """
++!fg(N) <- !fgsub(N); .print(fg_after, N).
++!fgsub(N) <- .print(fgsub, N); .fail_goal(fg(N)); .print(fgsub_after, N).
+-!fg(N) <- .print(fg_failed, N).
++!fs(N) <- .print(fs, N); .fail_goal(fs(N)); .print(fs_after, N).
++!sg(N) <- !sgsub(N); .print(sg_after, N).
++!sgsub(N) <- .print(sgsub, N); .succeed_goal(sg(N)); .print(sgsub_after, N).
++!fo(N) <- !fw(N); .print(fo_after, N).
++!fw(N) <- .print(fw, N); .print(fw1, N); .print(fw2, N).
+-!fw(N) <- .print(fw_failed, N).
+"""
+
 #: With ``--meta``: read first (a function is one from its directive on, as Jason reads it).
 META_HEADER = """{ register_function("df.add", 2, "add3") }
 add3(X, Y, Z) :- Z = X + Y.
@@ -176,17 +195,22 @@ class Difference:
     rason: list[str]
 
 
-def random_program(rng: random.Random, meta: bool = False) -> str:
+def random_program(rng: random.Random, meta: bool = False, goals: bool = False) -> str:
     """One agent: 1-4 initial goals, each a plan of 1-6 deeds that print their place (with
-    ``meta``, from :data:`META_DEEDS` too, after :data:`META_HEADER`)."""
+    ``meta``, from :data:`META_DEEDS` too, after :data:`META_HEADER`; with ``goals``, from
+    :data:`GOAL_DEEDS` too)."""
     deeds = DEEDS + META_DEEDS if meta else DEEDS
+    if goals:
+        deeds += GOAL_DEEDS
     bodies = [[rng.choice(deeds) for _ in range(rng.randint(1, 6))] for _ in range(rng.randint(1, 4))]
     plans = [f"+!g{k} <- " + "; ".join(f'{d.replace("V", str(n))}; .print("g{k}.{n}")'
                                        for n, d in enumerate(body)) + "."
              for k, body in enumerate(bodies)]
-    goals = "".join(f"!g{k}. " for k in range(len(bodies)))
+    initial = "".join(f"!g{k}. " for k in range(len(bodies)))
     header = META_HEADER if meta else ""
-    return header + "y(0).\n" + goals + "\n" + "\n".join(plans) + "\n" + COMMON_PLANS
+    extra = GOAL_PLANS if goals else ""
+    return (header + "y(0).\n" + initial + "\n" + "\n".join(plans) + "\n" + COMMON_PLANS
+            + extra)
 
 
 def random_asker(rng: random.Random, answerer: str) -> str:
@@ -230,15 +254,15 @@ def run_rason(programs: dict[str, str]) -> str:
 
 
 def compare(seed: int, count: int, classpath: str, timeout: float,
-            kqml: bool = False, meta: bool = False) -> tuple[int, list[Difference]]:
+            kqml: bool = False, meta: bool = False, goals: bool = False) -> tuple[int, list[Difference]]:
     """``count`` programs of ``seed`` (lone agents, or with ``kqml`` askers and their answerers;
-    ``meta``: see :data:`META_DEEDS`)."""
+    ``meta``: see :data:`META_DEEDS`; ``goals``: see :data:`GOAL_DEEDS`)."""
     rng = random.Random(seed)
     if kqml:
         groups = [{f"s{seed}q{k}": random_asker(rng, f"s{seed}r{k}"), f"s{seed}r{k}": ANSWERER}
                   for k in range(count)]
     else:
-        groups = [{f"s{seed}a{k}": random_program(rng, meta)} for k in range(count)]
+        groups = [{f"s{seed}a{k}": random_program(rng, meta, goals)} for k in range(count)]
     everyone = {name: source for group in groups for name, source in group.items()}
     with tempfile.TemporaryDirectory() as tmp:
         jason_out = run_jason(everyone, classpath, Path(tmp), timeout)
@@ -266,11 +290,13 @@ def main() -> int:
     parser.add_argument("--meta", action="store_true",
                         help="lone agents with register_function, .intention's unifiers and "
                              "plan bodies in variables too")
+    parser.add_argument("--goals", action="store_true",
+                        help="lone agents failing and achieving goals that have a caller too")
     args = parser.parse_args()
     total = same = 0
     for seed in args.seeds:
         count, differences = compare(seed, args.programs, args.jason_jar, args.timeout, args.kqml,
-                                     args.meta)
+                                     args.meta, args.goals)
         for d in differences:
             print(f"=== {d.agent}\n{d.program}\njason: {d.jason}\nrason: {d.rason}\n")
         total += count

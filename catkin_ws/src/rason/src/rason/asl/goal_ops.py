@@ -270,7 +270,24 @@ class GoalOps:
             lit = ev.trigger.literal
             c.events[k] = Event(Trigger(DEL, ACHIEVE, lit.add_annots(annots) if annots else lit))
         for i, idx in list(self._goal_positions(pattern, s)):
-            reasoning.fail_goal_at(ag, i, idx, annots)
+            if idx == 0:
+                reasoning.fail_goal_at(ag, i, idx, annots)   # Jason 3.3 fails with an NPE
+                continue
+            s2 = dict(s)
+            unify(pattern, i.ims[idx].trigger.literal, s2, ag)
+            idx, s2 = self._lowest_occurrence(i, idx, pattern, s2)
+            reasoning.fail_goal_above(ag, i, idx, resolve(pattern, s2), annots)
+
+    def _lowest_occurrence(self, i: Intention, idx: int, pattern: Any, s: dict) -> tuple[int, dict]:
+        """Jason's ``Intention.dropGoal`` drops the goal again while a means further down
+        unifies with it under the bindings so far (a recursive goal): the lowest such means
+        with a caller, and the bindings."""
+        for j in range(idx - 1, 0, -1):
+            t = i.ims[j].trigger
+            s2 = dict(s)
+            if t.op == ADD and t.type == ACHIEVE and unify(pattern, t.literal, s2, self.ag):
+                idx, s = j, s2
+        return idx, s
 
     # ---------------------------------------------------------------- hard deadlines
     def schedule_deadline(self, trig: Trigger, i: Intention | None, delay: float) -> None:

@@ -570,10 +570,12 @@ def _no_plan(ag: Agent, trig: Trigger, i: Intention | None, what: str) -> bool:
     if i is not None:
         msg = f"Found a goal for which there is no {what} plan: {trig}"
         if trig.op == DEL:
-            # generateGoalDeletionFromEvent on a -!g event: the intention is given up
+            # generateGoalDeletionFromEvent on a -!g event: the intention is given up, unless
+            # it runs on (.fail_goal from its own intention left it in the running queue)
             ag.warn("Could not finish intention:\n" + i.dump())
             ag.warn(msg)
-            ag.circ.remove_intention(i)
+            if i.suspended is not None:
+                ag.circ.remove_intention(i)
             return True
         fail_intention(ag, i, "no_" + what, msg, code=trig.literal, from_event=trig)
     elif trig.is_goal:
@@ -664,6 +666,8 @@ def sel_int(ag: Agent) -> Intention | None:
 
 def exec_int(ag: Agent, i: Intention) -> None:
     """ExecInt: execute the next deed of the top intended means."""
+    if not i.ims:   # queued twice (a -!g of .fail_goal on a running intention) and finished
+        return
     im = i.ims[-1]
     stack = im.stack
     if not stack:  # a plan with an empty body: just ClrInt
@@ -1119,6 +1123,10 @@ def clr_int(ag: Agent, i: Intention) -> None:
             if i.reply is not None:
                 ag.comm.intention_finished(i, im)
             return
+        if im.fail_target == DROPPED_FIRST:
+            if _clr_after_dropped_goal(ag, i, im):
+                continue
+            return
         if im.fail_target is not None:
             i.truncate(im.fail_target)
             if not ims:
@@ -1136,6 +1144,52 @@ def clr_int(ag: Agent, i: Intention) -> None:
             d = caller.stack.pop()
             if d.kind in (K_ACHIEVE, K_TEST):
                 _answer_caller(ag, caller, d, im)
+
+
+#: ``fail_target`` of a ``-!g`` posted by ``.fail_goal`` from the goal's own intention: Jason
+#: has popped the goal's means already and the intention ran on, so when the failure plan ends
+#: its ClrInt looks for the goal in the stack (:func:`_clr_after_dropped_goal`)
+DROPPED_FIRST = -1
+
+
+def _achieves(ag: Agent, m: IntendedMeans, lit: Any) -> bool:
+    """Is the next deed of ``m`` a ``!g`` that unifies with ``lit`` (``m`` keeps the bindings)?"""
+    if not m.stack:
+        return False
+    d = m.stack[-1]
+    if d.kind != K_ACHIEVE or type(d.term) in (Var, AnnotVar):
+        return False
+    s2 = dict(m.u)
+    if unify(resolve(d.term, m.u, ag), lit, s2, ag):
+        m.u = s2
+        return True
+    return False
+
+
+def _clr_after_dropped_goal(ag: Agent, i: Intention, done: IntendedMeans) -> bool:
+    """Jason's ClrInt after a failure plan ``done`` (popped already) whose goal ``.fail_goal``
+    removed from its own intention: means are popped until one that is (or calls) the goal
+    has gone, then the caller goes on after its next deed. As the caller already went on past
+    the goal when ``.fail_goal`` returned, this gives up its means too, unless its next deed
+    posts the same goal again. Returns whether the intention has means left."""
+    lit = done.trigger.literal
+    ims = i.ims
+    m = ims[-1]
+    if not _achieves(ag, m, lit):
+        m = i.pop()
+    while ims and not (m.trigger.is_goal and unify(m.trigger.literal, lit, dict(m.u), ag)) \
+            and not _achieves(ag, m, lit):
+        m = i.pop()
+    if not ims:
+        if i.reply is not None:
+            ag.comm.intention_finished(i, done)
+        return False
+    caller = ims[-1]
+    if caller.stack:
+        d = caller.stack.pop()
+        if d.kind == K_ACHIEVE:
+            _answer_caller(ag, caller, d, done)
+    return True
 
 
 def _answer_caller(ag: Agent, caller: IntendedMeans, d: Deed, im: IntendedMeans) -> None:
@@ -1171,6 +1225,8 @@ def fail_intention(ag: Agent, i: Intention, kind: str | None = None, msg: str = 
         return
     idx = len(ims) - 1
     target = ims[idx].fail_target if from_event is None and idx >= 0 else None
+    if target == DROPPED_FIRST:
+        target = idx   # the goal's means is gone: the walk starts at the failure plan's caller
     if target is not None:
         if target == 0:
             # the goal has no caller: its failure plan is tried again
@@ -1256,6 +1312,49 @@ def _post_failure_of(ag: Agent, i: Intention, t: Trigger, annots: list, idx: int
     ag.circ.detach(i)
     i.suspended = Suspension.FAILURE
     ag.circ.events.append(Event(Trigger(DEL, t.type, lit), i, fail_target=idx))
+
+
+def fail_goal_above(ag: Agent, i: Intention, idx: int, lit: Any, annots: tuple = ()) -> None:
+    """``.fail_goal`` of the goal of ``i.ims[idx]`` with ``idx > 0`` (``lit``: the goal as the
+    action's argument, bound). As Jason's: the goal's means and those above go at once; then
+    ``-!g`` (no annotations but ``annots``) is posted for the goal, or for the first means below
+    with a failure plan. From another intention, that intention waits for the event (none:
+    it goes, silently). From the goal's own intention, the caller goes on after its ``!g``
+    meanwhile (see :func:`_clr_after_dropped_goal`)."""
+    c = ag.circ
+    own = i is c.current
+    t = i.ims[idx].trigger
+    if ag.pl.goal_state_plans:
+        c.goal_state(t, "failed")
+    i.truncate(idx)
+    ims = i.ims
+    ev_lit: Any = None
+    j = idx
+    if _has_fail_plan(ag, i, ACHIEVE, lit):
+        ev_lit = lit
+    else:
+        for j in range(idx - 1, -1, -1):
+            tj = ims[j].trigger
+            if _has_fail_plan(ag, i, tj.type, tj.literal):
+                if tj.op == ADD and tj.is_goal:
+                    ev_lit = tj.literal
+                break
+    if ev_lit is not None and annots and isinstance(ev_lit, Literal):
+        ev_lit = ev_lit.add_annots(annots)
+    if own:
+        top = ims[-1]
+        if top.stack:
+            top.stack.pop()   # Jason's ExecInt: the step of the means now on top is done
+        top.current = None
+        if ev_lit is not None:
+            c.events.append(Event(Trigger(DEL, ACHIEVE, ev_lit), i, fail_target=DROPPED_FIRST))
+        return
+    if ev_lit is None:
+        c.remove_intention(i)
+        return
+    c.detach(i)
+    i.suspended = Suspension.FAILURE
+    c.events.append(Event(Trigger(DEL, ACHIEVE, ev_lit), i, fail_target=j))
 
 
 def fail_goal_at(ag: Agent, i: Intention, idx: int, annots: tuple = ()) -> None:
