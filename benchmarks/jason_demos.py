@@ -156,6 +156,17 @@ class Run:
     output: str
     #: seconds from the launch to the first agent line (None: no agent line)
     first_line: float | None
+    #: each line printed (newline removed), with the seconds from the launch it arrived at
+    stamped: list[tuple[float, str]] = field(default_factory=list)
+
+    def agent_lines(self, seconds: float | None = None) -> list[tuple[float, str, str]]:
+        """The agent lines as (seconds from the first agent line, agent, text); with
+        ``seconds``, only those that came within that time of the first."""
+        found = [(t, m.group(1), m.group(2)) for t, line in self.stamped
+                 if (m := AGENT_LINE.match(line))]
+        first = found[0][0] if found else 0.0
+        return [(t - first, agent, text) for t, agent, text in found
+                if seconds is None or t - first <= seconds]
 
 
 def run_for(cmd: list[str], cwd: Path, seconds: float, start_limit: float,
@@ -166,16 +177,18 @@ def run_for(cmd: list[str], cwd: Path, seconds: float, start_limit: float,
     (stdout and stderr) and when its first agent line came."""
     start = time.monotonic()
     chunks: list[str] = []
+    stamped: list[tuple[float, str]] = []
     first: list[float] = []
     with subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           stdin=subprocess.DEVNULL, start_new_session=True, env=env) as proc:
         def read() -> None:
             assert proc.stdout is not None
             for raw in proc.stdout:
-                line = raw.decode(errors="replace")
+                now, line = time.monotonic(), raw.decode(errors="replace")
                 if not first and AGENT_LINE.match(line.rstrip()):
-                    first.append(time.monotonic())
+                    first.append(now)
                 chunks.append(line)
+                stamped.append((now - start, line.rstrip("\n")))
         reader = threading.Thread(target=read, daemon=True)
         reader.start()
         try:
@@ -200,7 +213,7 @@ def run_for(cmd: list[str], cwd: Path, seconds: float, start_limit: float,
         finally:   # this script stopped (Ctrl-C): the run must not outlive it
             if proc.poll() is None:
                 os.killpg(proc.pid, signal.SIGKILL)
-    return Run("".join(chunks), first[0] - start if first else None)
+    return Run("".join(chunks), first[0] - start if first else None, stamped)
 
 
 def keep_run(keep: Path | None, project: str, run: str, output: str) -> None:

@@ -24,20 +24,19 @@ import itertools
 import os
 import re
 import shutil
-import signal
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from jason_demos import LOG_CONF
+from jason_demos import LOG_CONF, run_for
 
 #: the demo's folder in a Jason source tree, and its project
 DEMO = Path("demos/current-intention")
 MAS2J = "current_intention.mas2j"
+#: seconds a run may take to print its first line
+START_LIMIT = 30.0
 #: the line a round starts with, and the line showing another goal's wait
 ROUND = re.compile(r"^\[sample_agent\] ([a-z])$")
 WAIT = re.compile(r"another goal is start\(([a-z])\)\[source\(self\)\] in state "
@@ -75,27 +74,11 @@ def rounds(stamped: list[tuple[float, str]], seconds: float) -> Rounds:
 
 def stamped_lines(cmd: list[str], cwd: Path, seconds: float,
                   env: dict[str, str] | None = None) -> list[tuple[float, str]]:
-    """The agent lines ``cmd`` prints, each with its time from the first one, until ``seconds``
-    after the first (or 30 s without any)."""
-    out: list[tuple[float, str]] = []
-    launched = time.monotonic()
-    first = None
-    with subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          stdin=subprocess.DEVNULL, start_new_session=True, text=True,
-                          env=env) as proc:
-        try:
-            assert proc.stdout is not None
-            for raw in proc.stdout:
-                now = time.monotonic()
-                line = raw.rstrip("\n")
-                if line.startswith("[sample_agent]"):
-                    first = now if first is None else first
-                    out.append((now - first, line))
-                if (first is not None and now - first > seconds) or now - launched > 30 + seconds:
-                    break
-        finally:
-            os.killpg(proc.pid, signal.SIGKILL)
-    return out
+    """The demo agent's lines ``cmd`` prints, each with its time from the first one, until
+    ``seconds`` after the first (or 30 s without any)."""
+    run = run_for(cmd, cwd, seconds, START_LIMIT, env)
+    return [(t, f"[{agent}] {text}") for t, agent, text in run.agent_lines(seconds)
+            if agent == "sample_agent"]
 
 
 def main() -> int:

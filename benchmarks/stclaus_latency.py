@@ -28,17 +28,13 @@ import argparse
 import os
 import re
 import shutil
-import signal
 import statistics
-import subprocess
 import sys
 import tempfile
-import threading
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from jason_demos import AGENT_LINE, LOG_CONF
+from jason_demos import LOG_CONF, run_for
 
 #: the example's folder in a Jason source tree, and its project
 EXAMPLE = Path("examples/st-claus")
@@ -71,32 +67,8 @@ class RunFigures:
 def run_stamped(cmd: list[str], cwd: Path, seconds: float, env: dict[str, str] | None = None,
                 start_limit: float = 30.0) -> Stamped:
     """Run ``cmd`` until it ends or ``seconds`` after its first agent line (``start_limit``
-    seconds without any), stamping each agent line as it arrives."""
-    start = time.monotonic()
-    got: list[tuple[float, str, str]] = []
-    with subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          stdin=subprocess.DEVNULL, start_new_session=True, env=env) as proc:
-        def read() -> None:
-            assert proc.stdout is not None
-            for raw in proc.stdout:
-                m = AGENT_LINE.match(raw.decode(errors="replace").rstrip())
-                if m:
-                    got.append((time.monotonic(), m.group(1), m.group(2)))
-        reader = threading.Thread(target=read, daemon=True)
-        reader.start()
-        try:
-            while proc.poll() is None:
-                now = time.monotonic()
-                anchor = got[0][0] if got else start + start_limit
-                if now >= anchor + seconds:
-                    break
-                time.sleep(0.02)
-        finally:
-            if proc.poll() is None:
-                os.killpg(proc.pid, signal.SIGKILL)
-            reader.join(timeout=10)
-    first = got[0][0] if got else start
-    return Stamped([(t - first, agent, text) for t, agent, text in got])
+    seconds without any), its agent lines stamped as they arrived."""
+    return Stamped(run_for(cmd, cwd, seconds, start_limit, env).agent_lines(seconds))
 
 
 def figures(side: str, run: Stamped) -> RunFigures:

@@ -89,6 +89,10 @@ def test_a_run_is_timed_from_its_first_agent_line(tmp_path: Path) -> None:
     run = demos.run_for([sys.executable, "-c", script], tmp_path, 0.8, start_limit=20.0)
     assert run.first_line is not None and run.first_line >= 1.0
     assert demos.per_agent(run.output)["a"] == Counter({"first": 1, "second": 1})
+    # each line keeps when it came: the agent lines counted from the first one
+    (t1, a1, x1), (t2, a2, x2) = run.agent_lines()
+    assert (t1, a1, x1, a2, x2) == (0.0, "a", "first", "a", "second") and t2 >= 0.3
+    assert run.agent_lines(seconds=0.2) == [(0.0, "a", "first")]
 
 
 def test_a_run_without_agent_lines_stops_after_the_start_limit(tmp_path: Path) -> None:
