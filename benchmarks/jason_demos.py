@@ -304,12 +304,7 @@ def merge_copies(agents: dict[str, Counter], families: list[str]) -> dict[str, C
 def within_variation(runs: list[dict[str, Counter]], ours: dict[str, Counter]) -> bool:
     """Does every agent print each line as often as between the fewest and the most times of
     Jason's ``runs``?  (Each side already loosened and its copies merged.)"""
-    keys = {(a, line) for side in (*runs, ours) for a, c in side.items() for line in c}
-    for agent, line in keys:
-        counts = [r.get(agent, Counter())[line] for r in runs]
-        if not min(counts) <= ours.get(agent, Counter())[line] <= max(counts):
-            return False
-    return True
+    return lines_outside(ours, runs) == 0
 
 
 def lines_outside(run: dict[str, Counter], others: list[dict[str, Counter]]) -> int:
