@@ -4,9 +4,11 @@
 Takes the path of a Jason source tree (a checkout of jason-lang/jason, kept outside this
 repository) and the class path of a Jason build. Every ``.mas2j`` project of ``demos/``,
 ``examples/`` and ``doc/tutorials/`` that needs no Java class of its own (no ``.java`` file in
-its folder, no ``environment:``, no agent, architecture or belief-base class, no CArtAgO or
-JADE) runs for a fixed time on Jason (``--jason-runs`` times: Jason's own scheduling varies
-from run to run) and once on rason (``python -m rason.asl run``), each in a copy of its folder.
+its folder, no ``environment:``, no agent, architecture or belief-base class, no CArtAgO)
+runs for a fixed time on Jason (``--jason-runs`` times: Jason's own scheduling varies from run
+to run) and once on rason (``python -m rason.asl run``), each in a copy of its folder. Both run
+every agent in one process: Jason's ``RunLocalMAS`` so runs a project written for JADE
+(``demos/distributed-jade/case1``), and rason notes the infrastructure and the hosts ignored.
 
 A project is the same (the strict verdict) when, for every agent, the lines it printed
 (``[agent] text``; variable numbers such as ``_32`` made alike) form the same multiset on rason
@@ -63,9 +65,10 @@ from pathlib import Path
 #: folders of the source tree whose projects are run
 PROJECT_FOLDERS = ("demos", "examples", "doc/tutorials")
 #: what in a ``.mas2j`` file (comments removed) names a Java class that is not Jason's own, or
-#: an infrastructure other than the local one
+#: CArtAgO. An infrastructure (``Jade(...)``, agents ``at "host"``) needs none: Jason's
+#: ``RunLocalMAS`` runs such a project in one JVM, as rason runs it in one process
 NEEDS_JAVA = re.compile(r"(\benvironment\s*:|agentClass|agentArchClass|beliefBaseClass)\s*(?![\s]|jason\.)"
-                        r"|infrastructure\s*:\s*(?![\s]|Local)|cartago", re.I)
+                        r"|cartago", re.I)
 COMMENT = re.compile(r"/\*.*?\*/|//[^\n]*", re.S)
 #: the console logging set-up of Jason (inside the source tree)
 LOG_CONF = "jason-interpreter/src/main/resources/templates/console-info-logging.properties"

@@ -126,6 +126,29 @@ def test_a_documented_jason_defect_is_named_only_when_it_explains_the_difference
     assert not demos.defect_explains(None, [jason], ours)
 
 
+def test_a_project_needing_java_is_left_out_and_one_written_for_jade_is_run(
+        tmp_path: Path) -> None:
+    projects = {
+        "demos/plain": "MAS p { agents: a; }",
+        "demos/jade": 'MAS p { infrastructure: Jade(main_container_host("localhost"))\n'
+                      '  agents: a at "c1"; b at "c2" #3; }',
+        "demos/env": "MAS p { environment: my.Env agents: a; }",
+        "demos/arch": "MAS p { agents: a agentArchClass my.Arch; }",
+        "demos/jasons-own": "MAS p { agents: a agentClass jason.asSemantics.Agent; }",
+        "demos/commented": "MAS p { // environment: my.Env\n agents: a; }",
+        "examples/cartago": "MAS p { workspace: w { artifact c: tools.Counter } agents: a; "
+                            "infrastructure: Cartago }",
+    }
+    for folder, text in projects.items():
+        (tmp_path / folder).mkdir(parents=True)
+        (tmp_path / folder / "p.mas2j").write_text(text)
+    (tmp_path / "demos/java").mkdir()
+    (tmp_path / "demos/java/p.mas2j").write_text("MAS p { agents: a; }")
+    (tmp_path / "demos/java/Helper.java").write_text("class Helper {}")
+    found = {p.parent.relative_to(tmp_path).as_posix() for p in demos.find_projects(tmp_path)}
+    assert found == {"demos/plain", "demos/jade", "demos/jasons-own", "demos/commented"}
+
+
 def test_several_filters_select_the_projects_matching_any(tmp_path: Path) -> None:
     for folder in ("demos/current-intention", "examples/st-claus", "demos/idle"):
         (tmp_path / folder).mkdir(parents=True)
