@@ -13,16 +13,16 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
 import time
 from pathlib import Path
 
 import yaml
 
+from rason.process.interrupts import latch_interrupts
 from rason_diagnosis import thesis, workstation
 from rason_diagnosis.drivers import SIM, WIRINGS, VisionPath, Wiring, wiring_for
-from rason_diagnosis.hosts import LinkCut, interrupt
+from rason_diagnosis.hosts import LinkCut
 from rason_diagnosis.paths import world_colours
 from rason_diagnosis.scenario import (
     FAULTS,
@@ -135,8 +135,9 @@ def main(argv: list[str] | None = None) -> int:
     out = args.out or Path("out") / f"demo-{fault}-{seed}"
     print(start_line(fault, seed, out, drawn=args.fault is None, drivers=args.drivers), flush=True)
     # SIGTERM (the campaign's timeout, a service manager) ends the run as Ctrl-C does: every
-    # node, roscore included, is stopped on the way out, also in the middle of the start
-    signal.signal(signal.SIGTERM, interrupt)
+    # node, roscore included, is stopped on the way out, also in the middle of the start; and
+    # neither is lost to code that swallows its KeyboardInterrupt (rason.process.interrupts)
+    latch_interrupts()
     watch: Watch[RunResult] = Watch.of(args, lambda r: _print_result(r, args, out, wiring),
                                        "demo")
     try:

@@ -30,6 +30,7 @@ from dataclasses import asdict, dataclass
 
 from rason.process import netns
 from rason.process.harness import echo_line
+from rason.process.interrupts import interrupt
 
 #: The hosts of the case study, in address order: world = .1, helper = .2, faulty = .3.
 HOSTS = ("world", "helper", "faulty")
@@ -222,11 +223,6 @@ class CaseStudyLan:
                     signal.signal(signal.SIGTERM, self._sigterm)
         else:
             self.lan.remove()
-
-
-def interrupt(signum: int, _frame: object) -> None:
-    """A signal handler that ends the run as Ctrl-C does (KeyboardInterrupt)."""
-    raise KeyboardInterrupt(f"signal {signum}")
 
 
 class LinkCutter(threading.Thread):

@@ -16,7 +16,6 @@ import json
 import math
 import random
 import re
-import signal
 import sys
 import threading
 import time
@@ -32,7 +31,7 @@ from jason_msgs.srv import Mind
 from nav_msgs.msg import Odometry
 
 from rason.process.harness import HarnessError, RosHarness
-from rason_diagnosis.hosts import interrupt
+from rason.process.interrupts import latch_interrupts
 from rason_diagnosis.paths import agents_dir, world_file
 from rason_diagnosis.scenario import (
     FAULTS,
@@ -388,7 +387,7 @@ def main(argv: list[str] | None = None) -> int:
     out = args.out or Path("out") / f"mission-{fault}-{seed}"
     print(f"[mission] fault {fault} at {at_s:g} s (seed {seed}), {len(waypoints)} waypoints, "
           f"recovery {'off' if args.no_recovery else 'on'}; output in {out}", flush=True)
-    signal.signal(signal.SIGTERM, interrupt)
+    latch_interrupts()
     watch: Watch[MissionResult] = Watch.of(args, lambda r: _print_result(r, args.json),
                                            "mission")
     try:

@@ -26,6 +26,7 @@ import rospy
 
 from rason.inspector.main import InspectorParams
 from rason.process.harness import HarnessError, Process, RosHarness, echo_line
+from rason.process.interrupts import forget_interrupt, raise_if_interrupted
 from rason.ros.auth import write_new_key
 from rason_diagnosis.drivers import SIM, Wiring
 from rason_diagnosis.hosts import CaseStudyLan, LinkCut, LinkCutter, presence_events
@@ -362,6 +363,7 @@ def hold_until_interrupted(run: str = "demo") -> None:
         while True:
             time.sleep(3600)
     except KeyboardInterrupt:
+        forget_interrupt()             # acted on: the teardown that follows is no new start
         print(f"[{run}] hold ended", flush=True)
 
 
@@ -440,6 +442,7 @@ def wait_for_diagnosis(mind, processes: dict[str, Process], timeout: float,
     seconds of ROS time; each look first checks that none of ``processes`` has died
     (:func:`raise_if_dead`, ``what`` names them in the error)."""
     def diagnosed() -> str | None:
+        raise_if_interrupted()
         raise_if_dead(processes, what)
         return read_diagnosis(mind)
     return poll(diagnosed, timeout, RUN_POLL, clock=rospy.get_time)

@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import os
 import re
-import signal
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -31,8 +30,8 @@ import rospy
 from jason_msgs.srv import Mind
 
 from rason.process.harness import HarnessError, Process, RosHarness
+from rason.process.interrupts import latch_interrupts
 from rason.ros.auth import AuthKeyError, load_key
-from rason_diagnosis.hosts import interrupt
 from rason_diagnosis.monitor import RunMonitor
 from rason_diagnosis.paths import agent_file
 from rason_diagnosis.scenario import (
@@ -243,7 +242,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{PREFIX} no --key: the agents and the robots' decomposers talk unsigned (any "
               "process on the network may command the robots); docs/real-robot.md, "
               "'Signed traffic'", flush=True)
-    signal.signal(signal.SIGTERM, interrupt)
+    latch_interrupts()
 
     def show(result: RealResult) -> None:
         print_result(result)

@@ -39,6 +39,7 @@ from typing import Any
 
 import rospy  # for init_rospy: the observing process's own node
 
+from rason.process.interrupts import raise_if_interrupted
 from rason.process.netns import Host
 from rason.process.reaper import HARNESS_ID, HARNESS_PARENT, STOP_SIGNALS, processes_carrying
 from rosnode_kit.polling import Deadline, poll, watching
@@ -463,6 +464,7 @@ class RosHarness:
         roscore = self.roscore
 
         def running() -> None:
+            raise_if_interrupted()
             if not roscore.alive():
                 raise HarnessError(f"{what} exited:\n{roscore.output()}")
         if not poll(self._master_up, timeout, 0.05, check=running):
@@ -563,6 +565,7 @@ class RosHarness:
         """Start any command against this master (e.g. ``rosbag play``), managed like a node;
         on ``host`` it runs in that host's namespace with the host's ``ROS_IP`` (``piped``: see
         :class:`Process`)."""
+        raise_if_interrupted()         # nothing more starts once the run was interrupted
         label = label or Path(argv[0]).name
         host = host or self.master_host
         if host is not None:
@@ -675,7 +678,12 @@ class RosHarness:
 
     def _wait(self, what: str, ready: Callable[[], bool], timeout: float,
               watch: Iterable[Process] = ()) -> None:
-        if not poll(ready, timeout, 0.05, check=watching(watch, what, HarnessError)):
+        watcher = watching(watch, what, HarnessError)
+
+        def check() -> None:
+            raise_if_interrupted()     # a start step: an interrupt swallowed meanwhile ends it
+            watcher()
+        if not poll(ready, timeout, 0.05, check=check):
             raise HarnessError(f"{what} did not appear within {timeout} s")
 
     def wait_for_topic(self, topic: str, timeout: float = 20.0,
