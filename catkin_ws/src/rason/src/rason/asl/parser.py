@@ -306,7 +306,7 @@ class AgentSource:
         if other.__class__ is not self.__class__:
             return NotImplemented
         return ((self.beliefs, self.goals, self.plans, self.filename)
-                == (other.beliefs, other.goals, other.plans, other.filename))  # type: ignore[attr-defined]
+                == (other.beliefs, other.goals, other.plans, other.filename))
 
     __hash__ = None  # type: ignore[assignment]  # mutable and compared by value
 
