@@ -8,8 +8,7 @@ import os
 import sys
 import threading
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 from . import reasoning
 from .arch import AgentArch, JavaRandom, Message
@@ -42,8 +41,7 @@ from .terms import (
 from .unify import unify
 
 
-@dataclass(frozen=True)
-class AgentOptions:
+class AgentOptions(NamedTuple):
     """Per-agent settings (Jason's agent options in ``.mas2j``).
 
     ``tro``: tail-recursion optimisation (Jason's ``tro``, on by default): a goal whose plan

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from .terms import Literal, java_map_order
 
@@ -23,16 +23,14 @@ from .terms import Literal, java_map_order
 DF_NAME = "df"
 
 
-@dataclass(frozen=True)
-class Registration:
+class Registration(NamedTuple):
     """Agent ``agent`` provides ``service``."""
 
     agent: str
     service: str
 
 
-@dataclass(frozen=True)
-class ProviderNotice:
+class ProviderNotice(NamedTuple):
     """``subscriber`` is to be told that ``provider`` provides ``service``."""
 
     subscriber: str

@@ -4,7 +4,6 @@ and the records of what a suspended intention waits for."""
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, NamedTuple
 
@@ -82,27 +81,51 @@ class IntendedMeans:
         return f"{self.trigger} <- ... {rest} / {{{unif}}}"
 
 
-@dataclass
 class Fork:
     """One ``.fork(and|or, ...)``: its branch intentions and how many must still reach the
-    ``.join`` (``and``: all of them; ``or``: the first one goes on, the others are dropped)."""
+    ``.join`` (``and``: all of them; ``or``: the first one goes on, the others are dropped).
 
-    is_and: bool
-    branches: list = field(default_factory=list)
-    to_finish: int = 0
+    This module's mutable records are plain classes with the methods ``@dataclass`` would
+    make: every agent imports it at start-up, where ``dataclasses`` costs ~3.5 ms."""
+
+    def __init__(self, is_and: bool, branches: list | None = None, to_finish: int = 0) -> None:
+        self.is_and = is_and
+        self.branches: list = branches if branches is not None else []
+        self.to_finish = to_finish
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Fork):
+            return NotImplemented
+        return (self.is_and, self.branches, self.to_finish) == (other.is_and, other.branches,
+                                                                  other.to_finish)
+
+    __hash__ = None  # type: ignore[assignment]  # mutable and compared by value
+
+    def __repr__(self) -> str:
+        return f"Fork(is_and={self.is_and!r}, branches={self.branches!r}, to_finish={self.to_finish!r})"
 
     def __str__(self) -> str:
         ids = " ".join(str(i.id) for i in self.branches)
         return f"fork({'and' if self.is_and else 'or'}, [{ids}], waiting for {self.to_finish})"
 
 
-@dataclass
 class ForkBranch:
     """What a branch intention knows of its fork: the fork and the depth of its stack when
     forked (a failure handled at or below that depth ends the fork)."""
 
-    fork: Fork
-    point: int
+    def __init__(self, fork: Fork, point: int) -> None:
+        self.fork = fork
+        self.point = point
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, ForkBranch):
+            return NotImplemented
+        return self.fork == other.fork and self.point == other.point
+
+    __hash__ = None  # type: ignore[assignment]  # mutable and compared by value
+
+    def __repr__(self) -> str:
+        return f"ForkBranch(fork={self.fork!r}, point={self.point!r})"
 
 
 class Suspension(Enum):
@@ -230,15 +253,32 @@ class EventWait(NamedTuple):
     means: IntendedMeans | None
 
 
-@dataclass
 class AskWait:
     """An intention waiting for the answer(s) to an ask message."""
 
-    intention: Intention
-    answer: Any                  # the ``.send``'s fourth argument
-    performative: str            # askOne / askAll
-    receivers: int | None        # how many receivers when they were given as a list
-    answers: list = field(default_factory=list)   # the answers so far (list of receivers)
+    def __init__(self, intention: Intention, answer: Any, performative: str,
+                 receivers: int | None, answers: list | None = None) -> None:
+        self.intention = intention
+        self.answer = answer                # the ``.send``'s fourth argument
+        self.performative = performative    # askOne / askAll
+        self.receivers = receivers          # how many receivers when they were given as a list
+        #: the answers so far (list of receivers)
+        self.answers: list = answers if answers is not None else []
+
+    def _fields(self) -> tuple:
+        return (self.intention, self.answer, self.performative, self.receivers, self.answers)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, AskWait):
+            return NotImplemented
+        return self._fields() == other._fields()
+
+    __hash__ = None  # type: ignore[assignment]  # mutable and compared by value
+
+    def __repr__(self) -> str:
+        return (f"AskWait(intention={self.intention!r}, answer={self.answer!r}, "
+                f"performative={self.performative!r}, receivers={self.receivers!r}, "
+                f"answers={self.answers!r})")
 
 
 class PendingAction(NamedTuple):
@@ -257,8 +297,7 @@ class PendingEvent(NamedTuple):
     event: Event
 
 
-@dataclass(frozen=True)
-class ActionResult:
+class ActionResult(NamedTuple):
     """The environment's feedback on an action."""
 
     action_id: int

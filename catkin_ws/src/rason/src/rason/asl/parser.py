@@ -13,8 +13,7 @@ import posixpath
 import sys
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 from . import asl_tables
 from .containers import from_wire
@@ -292,14 +291,28 @@ def _unescape(raw: str, exact: bool = False) -> str:
     return "".join(out)
 
 
-@dataclass
 class AgentSource:
-    """The parsed content of one ``.asl`` file."""
+    """The parsed content of one ``.asl`` file (a plain class: see :class:`.arch.Message`)."""
 
-    beliefs: list[Literal | Rule] = field(default_factory=list)
-    goals: list[Literal] = field(default_factory=list)
-    plans: list[Plan] = field(default_factory=list)
-    filename: str = "<string>"
+    def __init__(self, beliefs: list[Literal | Rule] | None = None,
+                 goals: list[Literal] | None = None, plans: list[Plan] | None = None,
+                 filename: str = "<string>") -> None:
+        self.beliefs: list[Literal | Rule] = beliefs if beliefs is not None else []
+        self.goals: list[Literal] = goals if goals is not None else []
+        self.plans: list[Plan] = plans if plans is not None else []
+        self.filename = filename
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return ((self.beliefs, self.goals, self.plans, self.filename)
+                == (other.beliefs, other.goals, other.plans, other.filename))
+
+    __hash__ = None  # type: ignore[assignment]  # mutable and compared by value
+
+    def __repr__(self) -> str:
+        return (f"AgentSource(beliefs={self.beliefs!r}, goals={self.goals!r}, "
+                f"plans={self.plans!r}, filename={self.filename!r})")
 
 
 class _Anon:
@@ -307,8 +320,7 @@ class _Anon:
         self.counter = itertools.count(1)
 
 
-@dataclass(frozen=True)
-class _Meta:
+class _Meta(NamedTuple):
     """Where a grammar rule's text starts (its first token's line and column; 0 if unknown)."""
 
     line: int = 0

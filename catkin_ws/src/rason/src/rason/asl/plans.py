@@ -5,7 +5,6 @@ from __future__ import annotations
 import copy
 import itertools
 from collections.abc import Iterator
-from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from .terms import (
@@ -340,40 +339,57 @@ def _remake_plan(made_from: dict) -> Plan:
     return Plan(**made_from)
 
 
-@dataclass(eq=False)
 class Plan:
-    """``@label trigger : context <- body.``"""
+    """``@label trigger : context <- body.`` (compared by identity).
 
-    label: Literal | Var | None     # a variable in a plan term that unifies part by part
-    trigger: Trigger
-    context: Any
-    body: tuple
-    line: int = 0
-    src: str = ""
-    atomic: bool = False
-    # body stored reversed, ready to be used as an intention stack
-    rev_body: tuple = field(default=(), repr=False)
-    #: the context prepared on first use (see reasoning.sel_appl), when it has a common shape
-    compiled_context: BeliefContext | None = field(default=None, repr=False)
-    context_checked: bool = field(default=False, repr=False)
-    #: a plan of a source file (its label gets ``url(File)``), not one made from a plan term
-    in_file: bool = True
-    #: ``+!g : c <: gc <- b`` (Jason 3's goal condition): once gc holds the goal is achieved,
-    #: whether the body is done or not; a body done before waits for it
-    goal_condition: Any = None
-    #: the trigger literal's arguments when only they decide whether it unifies with an event
-    #: of its key (no annotations, no tail), else None
-    trigger_args: tuple | None = field(default=None, repr=False)
-    #: ``+!g <- b. { +!s <- c. }`` (Jason 3.3's sub-plans): plans relevant only for the
-    #: events of an intention that runs this plan or one of them, seeing the variables this
-    #: plan had when it was chosen; held in ``scope_library`` once the plan is in a library
-    sub_plans: tuple = ()
-    #: the library of the sub-plans (made by :meth:`PlanLibrary.add`; None without sub-plans)
-    sub_library: PlanLibrary | None = field(default=None, repr=False)
-    #: for a sub-plan: the library that holds it (None for a plan of the agent's own library)
-    scope: PlanLibrary | None = field(default=None, repr=False)
+    A plain class with the ``__init__`` and ``__repr__`` ``@dataclass(eq=False)`` would make:
+    every agent imports this module at start-up, where ``dataclasses`` costs ~3.5 ms."""
 
-    def __post_init__(self) -> None:
+    def __init__(self, label: Literal | Var | None, trigger: Trigger, context: Any, body: tuple,
+                 line: int = 0, src: str = "", atomic: bool = False, rev_body: tuple = (),
+                 compiled_context: BeliefContext | None = None, context_checked: bool = False,
+                 in_file: bool = True, goal_condition: Any = None,
+                 trigger_args: tuple | None = None, sub_plans: tuple = (),
+                 sub_library: PlanLibrary | None = None, scope: PlanLibrary | None = None) -> None:
+        #: a variable in a plan term that unifies part by part
+        self.label: Literal | Var | None = label
+        self.trigger = trigger
+        self.context: Any = context
+        self.body = body
+        self.line = line
+        self.src = src
+        self.atomic = atomic
+        #: body stored reversed, ready to be used as an intention stack
+        self.rev_body = rev_body
+        #: the context prepared on first use (see reasoning.sel_appl), when it has a common shape
+        self.compiled_context: BeliefContext | None = compiled_context
+        self.context_checked = context_checked
+        #: a plan of a source file (its label gets ``url(File)``), not one made from a plan term
+        self.in_file = in_file
+        #: ``+!g : c <: gc <- b`` (Jason 3's goal condition): once gc holds the goal is
+        #: achieved, whether the body is done or not; a body done before waits for it
+        self.goal_condition: Any = goal_condition
+        #: the trigger literal's arguments when only they decide whether it unifies with an
+        #: event of its key (no annotations, no tail), else None
+        self.trigger_args: tuple | None = trigger_args
+        #: ``+!g <- b. { +!s <- c. }`` (Jason 3.3's sub-plans): plans relevant only for the
+        #: events of an intention that runs this plan or one of them, seeing the variables
+        #: this plan had when it was chosen; held in ``scope_library`` once in a library
+        self.sub_plans = sub_plans
+        #: the library of the sub-plans (made by :meth:`PlanLibrary.add`; None without them)
+        self.sub_library: PlanLibrary | None = sub_library
+        #: for a sub-plan: the library that holds it (None for a plan of the agent's own library)
+        self.scope: PlanLibrary | None = scope
+        self._derive()
+
+    def __repr__(self) -> str:
+        return (f"Plan(label={self.label!r}, trigger={self.trigger!r}, context={self.context!r}, "
+                f"body={self.body!r}, line={self.line!r}, src={self.src!r}, "
+                f"atomic={self.atomic!r}, in_file={self.in_file!r}, "
+                f"goal_condition={self.goal_condition!r}, sub_plans={self.sub_plans!r})")
+
+    def _derive(self) -> None:
+        """What the plan's fields imply (its reversed body, trigger arguments, atomicity)."""
         if type(self.context) is Literal and self.context.functor == "true" and not self.context.args:
             self.context = None   # as Jason's Plan.setContext: a 'true' context is no context
         self.rev_body = tuple(reversed(self.body))
@@ -384,7 +400,7 @@ class Plan:
             self.atomic = any(isinstance(a, Literal) and a.functor == "atomic" for a in self.label.annots)
 
     def __reduce__(self) -> tuple:
-        """Pickled as what it is made from (what ``__post_init__`` derives, and the context
+        """Pickled as what it is made from (what ``_derive`` derives, and the context
         prepared on use, are made anew)."""
         return (_remake_plan, ({name: getattr(self, name) for name in _PLAN_MADE_FROM},))
 
