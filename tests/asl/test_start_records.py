@@ -76,5 +76,6 @@ def test_plans_compare_by_identity_and_survive_pickling() -> None:
     assert plan.context is None   # a ``true`` context is no context
     assert plan.rev_body == tuple(reversed(plan.body))
     copied = pickle.loads(pickle.dumps(plan))
-    assert str(copied) == str(plan) and copied.rev_body == copied.rev_body
+    assert str(copied) == str(plan) and len(copied.body) == len(plan.body) == 2
+    assert copied.rev_body == tuple(reversed(copied.body))   # derived anew when unpickled
     assert repr(plan).startswith("Plan(label=")
