@@ -16,6 +16,7 @@ import re
 import signal
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import pytest
@@ -154,6 +155,9 @@ def test_an_interrupted_demo_leaves_no_process_behind(tmp_path, sig: int, starte
     assert demo.returncode == 130, f"{out[-3000:]}\nthe demo's signals when sent: {signals}"
     assert "interrupted: every node of the run was stopped" in out
     assert processes_left_by(demo.pid) == []
+    swallowed = [line for line in out.splitlines() if "was swallowed after it was raised" in line]
+    if swallowed:   # the latch ended the run anyway; say where, for the cause still unknown
+        warnings.warn(f"the demo's interrupt was swallowed: {swallowed[0]}", stacklevel=1)
 
 
 @pytest.mark.skipif(os.geteuid() != 0, reason="./run.sh runs setup.sh before each command as "
