@@ -10,7 +10,6 @@ from collections.abc import Iterator
 
 import pytest
 
-from rason.process import interrupts
 from rason.process.harness import interrupts_deferred
 from rason.process.interrupts import (
     forget_interrupt,
@@ -98,7 +97,7 @@ def test_a_sigint_inherited_as_ignored_stays_ignored():
         signal.signal(signal.SIGINT, signal.SIG_IGN)
         latch_interrupts()
         assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
-        assert signal.getsignal(signal.SIGTERM) is interrupts.interrupt
+        assert signal.getsignal(signal.SIGTERM) is interrupt
     finally:
         for sig, handler in before.items():
             signal.signal(sig, handler)
