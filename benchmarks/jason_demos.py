@@ -25,13 +25,17 @@ when a program is random (which goal's wait ends first): a fourth column ranks r
 among Jason's, each run's lines outside the range of all the other runs counted alike, and
 gives how many of Jason's runs are at least as far off as rason's (0: rason's run is the least
 typical of all, as a run of Jason itself would be once in ``--jason-runs`` + 1). The strict
-verdict stays the one counted first.
+verdict stays the one counted first. With ``--rason-runs N`` rason runs N times (the verdicts
+are the first run's) and a further column gives the p-value of an exact permutation test of
+"rason's runs are drawn as Jason's are" (:func:`permutation_p`, on the loosened lines with
+copies merged): a p below ``SIGNIFICANCE`` tells the two sides apart, beyond Jason's own
+variation. It needs enough runs to say so (:func:`smallest_p`: 1/126 for 5 and 5).
 A project whose Jason runs all show a defect of Jason documented in KNOWN_JASON_DEFECTS (and
 docs/jason-compatibility.md), and whose rason output is Jason's plus exactly the lines the
 defect keeps Jason from printing, is still "no" in every column; the table names the defect.
 
-    python benchmarks/jason_demos.py JASON_TREE --classpath CP [--time S] [--jason-runs N] [-k NAME]
-        [--keep DIR] [--start-limit S]
+    python benchmarks/jason_demos.py JASON_TREE --classpath CP [--time S] [--jason-runs N]
+        [--rason-runs N] [-k NAME] [--keep DIR] [--start-limit S]
 
 The time base: each run goes on for ``--time`` seconds from the first line an agent prints,
 so that neither side's start-up counts (Jason's JVM and MAS take about a second before the
@@ -42,12 +46,14 @@ one ``AGENT.txt`` per agent with its lines as printed).
 
 Prints the Jason version the tree names (``jasonVersion`` of its ``gradle.properties``), then a
 table: project | agents | Jason's runs agree? | same? | same up to numbers and list order? |
-within Jason's variation? | Jason's runs as far off as rason's | first difference (strict).
+within Jason's variation? | Jason's runs as far off as rason's | p, rason's runs drawn as
+Jason's | first difference (strict).
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import re
 import shutil
@@ -60,6 +66,7 @@ import threading
 import time
 from collections import Counter
 from dataclasses import dataclass, field
+from itertools import combinations
 from pathlib import Path
 
 #: folders of the source tree whose projects are run
@@ -82,6 +89,8 @@ VAR_NUMBER = re.compile(r"\b_\d+")
 NUMBER = re.compile(r"(?<![\w.])-?\d+(\.\d+)?([eE][-+]?\d+)?(?![\w.])")
 #: an innermost list in a printed line: ``[a,b,c]`` holding no other list
 INNER_LIST = re.compile(r"\[([^\[\]]*)\]")
+#: the permutation test's level: p below it tells rason's runs apart from Jason's
+SIGNIFICANCE = 0.05
 #: an agent line of a ``.mas2j`` (one ``;``-separated item) that makes copies: ``p #3``
 COPIES = re.compile(r"\b([a-z]\w*)\b[^#:]*#\s*(\d+)\s*$")
 
@@ -137,6 +146,8 @@ class Outcome:
     #: :func:`as_atypical`: Jason's runs at least as far outside the others' variation as
     #: rason's (all of them when rason printed the same as one, up to numbers and list order)
     typical: int = 0
+    #: :func:`permutation_p` of all rason's runs against Jason's (1.0 with one run of each)
+    p_value: float = 1.0
 
 
 def find_projects(tree: Path) -> list[Path]:
@@ -333,6 +344,48 @@ def as_atypical(runs: list[dict[str, Counter]], ours: dict[str, Counter]) -> int
     return sum(s >= scores[-1] for s in scores[:-1])
 
 
+def distance(a: dict[str, Counter], b: dict[str, Counter]) -> int:
+    """How many line printings separate two runs: for every agent and line, the difference of
+    the times each run printed it."""
+    total = 0
+    for agent in set(a) | set(b):
+        x, y = a.get(agent, Counter()), b.get(agent, Counter())
+        total += sum(abs(x[line] - y[line]) for line in set(x) | set(y))
+    return total
+
+
+def permutation_p(jason: list[dict[str, Counter]], rason: list[dict[str, Counter]]) -> float:
+    """The p-value of an exact permutation test of "rason's runs are drawn as Jason's are".
+
+    The statistic is the energy distance of the two groups of runs (:func:`distance`): twice
+    the mean distance between a run of one and a run of the other, less the mean distance
+    within each group. Under the hypothesis every split of the pooled runs into groups of these
+    sizes is as likely, so p is the share of the splits whose statistic is at least the
+    observed one, at least :func:`smallest_p`; a project Jason and rason print alike gets 1.0."""
+    runs = [*jason, *rason]
+    far = [[distance(a, b) for b in runs] for a in runs]
+
+    def mean(pairs: list[tuple[int, int]]) -> float:
+        return sum(far[i][j] for i, j in pairs) / len(pairs) if pairs else 0.0
+
+    def energy(group: tuple[int, ...]) -> float:
+        chosen = set(group)
+        other = [k for k in range(len(runs)) if k not in chosen]
+        return (2 * mean([(i, j) for i in group for j in other])
+                - mean(list(combinations(group, 2))) - mean(list(combinations(other, 2))))
+
+    observed = energy(tuple(range(len(jason), len(runs))))
+    splits = [energy(group) for group in combinations(range(len(runs)), len(rason))]
+    return sum(e >= observed - 1e-9 for e in splits) / len(splits)
+
+
+def smallest_p(jason_runs: int, rason_runs: int) -> float:
+    """The smallest p :func:`permutation_p` can give: the observed split alone, with its mirror
+    image when both groups have the same size (the statistic is symmetric in them)."""
+    mirrored = 2 if jason_runs == rason_runs else 1
+    return mirrored / math.comb(jason_runs + rason_runs, rason_runs)
+
+
 def same_lines(a: dict[str, Counter], b: dict[str, Counter]) -> bool:
     """Did every agent print the same multiset of lines in both?"""
     return all(a.get(x, Counter()) == b.get(x, Counter()) for x in set(a) | set(b))
@@ -373,28 +426,33 @@ def compare(mas: Path, tree: Path, args: argparse.Namespace) -> Outcome:
             starts.append(run.first_line)
             outputs.append(run.output)
             runs.append(per_agent(run.output))
-        work = Path(tmp) / "rason"
-        shutil.copytree(mas.parent, work)
-        run = run_for(rason, work, args.time, args.start_limit, unbuffered)
-        keep_run(args.keep, name, work.name, run.output)
-        ours = per_agent(run.output)
+        ours_all: list[Run] = []
+        for k in range(args.rason_runs):
+            work = Path(tmp) / ("rason" if k == 0 else f"rason{k}")
+            shutil.copytree(mas.parent, work)
+            ours_all.append(run_for(rason, work, args.time, args.start_limit, unbuffered))
+            keep_run(args.keep, name, work.name, ours_all[-1].output)
+    run = ours_all[0]        # the verdicts' run; the others count in the permutation test
+    ours = per_agent(run.output)
     agents = len(set().union(*runs, ours))
     jason_start = [t for t in starts if t is not None]
-    timing = StartUp(jason_start, [run.first_line] if run.first_line is not None else [])
+    timing = StartUp(jason_start, [r.first_line for r in ours_all if r.first_line is not None])
     agree = all(same_lines(runs[0], r) for r in runs[1:])
-    if any(same_lines(theirs, ours) for theirs in runs):
-        return Outcome(name, agents, True, "", True, agree, True, timing,
-                       typical=len(runs))
-    loose = any(same_lines(loosen(theirs), loosen(ours)) for theirs in runs)
     families = copied_agents(mas.read_text(errors="replace"))
     merged = [merge_copies(loosen(r), families) for r in runs]
+    p_value = permutation_p(merged, [merge_copies(loosen(per_agent(r.output)), families)
+                                     for r in ours_all])
+    if any(same_lines(theirs, ours) for theirs in runs):
+        return Outcome(name, agents, True, "", True, agree, True, timing,
+                       typical=len(runs), p_value=p_value)
+    loose = any(same_lines(loosen(theirs), loosen(ours)) for theirs in runs)
     merged_ours = merge_copies(loosen(ours), families)
     varied = loose or within_variation(merged, merged_ours)
     typical = len(runs) if loose else as_atypical(merged, merged_ours)
     defect = KNOWN_JASON_DEFECTS.get(name)
     note = defect.note if defect and defect_explains(defect, outputs, run.output) else ""
     return Outcome(name, agents, False, first_difference(runs[0], ours), loose, agree, varied,
-                   timing, note, typical)
+                   timing, note, typical, p_value)
 
 
 def defect_explains(defect: JasonDefect | None, jason_outputs: list[str], ours: str) -> bool:
@@ -437,6 +495,9 @@ def main() -> int:
     ap.add_argument("--keep", type=Path, default=None,
                     help="keep every run's output: KEEP/PROJECT/RUN/all.txt and AGENT.txt")
     ap.add_argument("--jason-runs", type=int, default=3, help="runs of Jason per project")
+    ap.add_argument("--rason-runs", type=int, default=1,
+                    help="runs of rason per project: the first gives the verdicts, all of them "
+                         "the permutation test's p")
     ap.add_argument("-k", action="append", default=[],
                     help="only projects whose path contains this text (repeat for several)")
     args = ap.parse_args()
@@ -448,10 +509,10 @@ def main() -> int:
     print(f"Jason {version} (the tree's {VERSION_FILE}; --classpath should be its build) "
           f"against rason\n")
     print("| project | agents | Jason's runs agree? | same? | same up to numbers and list order? "
-          "| within Jason's variation? | Jason's runs as far off as rason's | first difference "
-          "(strict) |")
-    print("|---|---|---|---|---|---|---|---|")
-    same = loose = varied = typical = varying = defects = 0
+          "| within Jason's variation? | Jason's runs as far off as rason's | p, rason's runs "
+          "drawn as Jason's | first difference (strict) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    same = loose = varied = typical = varying = defects = alike = 0
     jason_starts: list[float] = []
     rason_starts: list[float] = []
     for mas in projects:
@@ -462,6 +523,7 @@ def main() -> int:
         loose += o.same_loosely
         varied += o.within_variation
         typical += o.typical > 0
+        alike += o.p_value >= SIGNIFICANCE
         varying += not o.jason_agrees
         defects += bool(o.jason_defect)
         diff = o.difference.replace("|", "\\|")
@@ -469,12 +531,20 @@ def main() -> int:
             diff = f"{diff} ({o.jason_defect})"
         print(f"| {o.project} | {o.agents} | {yes_no(o.jason_agrees)} | {yes_no(o.same)} | "
               f"{yes_no(o.same_loosely)} | {yes_no(o.within_variation)} | "
-              f"{o.typical} of {args.jason_runs} | {diff} |", flush=True)
+              f"{o.typical} of {args.jason_runs} | {o.p_value:.3f} | {diff} |", flush=True)
     print(f"\n{same} of {len(projects)} projects print the same; {loose} of {len(projects)} the "
           f"same up to numbers and list order; {varied} of {len(projects)} within Jason's variation; "
           f"{typical} of {len(projects)} no further off than some Jason run; Jason's own runs "
           f"differed for {varying}; {defects} differ only by a documented Jason defect "
           f"(Jason {version})")
+    smallest = smallest_p(args.jason_runs, args.rason_runs)
+    if smallest < SIGNIFICANCE:
+        print(f"{alike} of {len(projects)} with p >= {SIGNIFICANCE}: rason's {args.rason_runs} "
+              f"runs not told apart from Jason's {args.jason_runs} (exact permutation test, "
+              f"smallest p {smallest:.4f})")
+    else:
+        print(f"(the permutation test cannot reach p < {SIGNIFICANCE} with {args.rason_runs} "
+              f"and {args.jason_runs} runs: its smallest p is {smallest:.3f})")
     for side, starts in (("Jason", jason_starts), ("rason", rason_starts)):
         if starts:
             print(f"{side}'s first agent line came {statistics.median(starts):.2f} s after the "

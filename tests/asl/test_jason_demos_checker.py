@@ -167,3 +167,22 @@ def test_the_jason_version_is_read_from_the_trees_gradle_properties(tmp_path: Pa
     assert demos.jason_version(tmp_path) == "3.2.2"
     (tmp_path / "gradle.properties").write_text("groupId=x\nversion=1.0\n")
     assert demos.jason_version(tmp_path) == "unknown"
+
+
+def test_the_permutation_test_tells_a_shifted_count_from_jasons_own_spread() -> None:
+    def waits(n: int) -> dict[str, Counter]:
+        return demos.per_agent("[s] working\n" + "[s] waiting\n" * n)
+
+    assert demos.distance(waits(3), waits(7)) == 4
+    assert demos.distance(waits(3), demos.per_agent("[t] done\n")) == 5
+    jason = [waits(n) for n in (6, 9, 12, 8, 11)]
+    # fewer "waiting" lines in every rason run: only the observed split (and its mirror image)
+    # is as far apart
+    assert demos.permutation_p(jason, [waits(n) for n in (4, 4, 5, 4, 5)]) == 2 / 252
+    assert demos.smallest_p(5, 5) == 2 / 252
+    # drawn from the same spread: many splits are as far apart as the observed one
+    assert demos.permutation_p(jason, [waits(n) for n in (7, 12, 9, 10, 8)]) > 0.3
+    # alike on both sides: every split ties
+    assert demos.permutation_p([waits(2)] * 3, [waits(2)] * 2) == 1.0
+    # one rason run can be at best the most extreme of six
+    assert demos.permutation_p(jason, [waits(0)]) == 1 / 6 == demos.smallest_p(5, 1)
