@@ -19,7 +19,9 @@ project. Nothing in rason itself is slowed down.
         [--latency-ms MS ...]
 
 Prints one row per run (side, santa's ``waiting`` lines, its ``Working with`` lines, median
-round and hop in ms) and a summary per side: ``waiting`` lines (min-max, median), round, hop.
+round and hop in ms) and a summary per side: ``waiting`` lines (min-max, median), round, hop,
+and the p-value of the demos checker's permutation test of that side's runs against Jason's
+(every agent's lines, loosened and copies merged as the checker's third verdict counts them).
 """
 
 from __future__ import annotations
@@ -31,10 +33,11 @@ import shutil
 import statistics
 import sys
 import tempfile
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from jason_demos import LOG_CONF, run_for
+from jason_demos import LOG_CONF, copied_agents, loosen, merge_copies, per_agent, permutation_p, run_for
 
 #: the example's folder in a Jason source tree, and its project
 EXAMPLE = Path("examples/st-claus")
@@ -62,6 +65,9 @@ class RunFigures:
     working: int
     round_ms: list[float] = field(default_factory=list)
     hop_ms: list[float] = field(default_factory=list)
+    #: every agent's lines as the demos checker's third verdict counts them (loosened, the
+    #: copies of an agent as one), for the permutation test against Jason's runs
+    lines: dict[str, Counter] = field(default_factory=dict)
 
 
 def run_stamped(cmd: list[str], cwd: Path, seconds: float, env: dict[str, str] | None = None,
@@ -71,11 +77,14 @@ def run_stamped(cmd: list[str], cwd: Path, seconds: float, env: dict[str, str] |
     return Stamped(run_for(cmd, cwd, seconds, start_limit, env).agent_lines(seconds))
 
 
-def figures(side: str, run: Stamped) -> RunFigures:
-    """Santa's ``waiting`` and ``Working with`` lines, and per round its length and hops."""
+def figures(side: str, run: Stamped, families: list[str]) -> RunFigures:
+    """Santa's ``waiting`` and ``Working with`` lines, per round its length and hops, and every
+    agent's lines (``families``: the agents the project copies with ``#N``)."""
     santa = [(t, text) for t, agent, text in run.lines if agent == "santa"]
+    printed = "".join(f"[{agent}] {text}\n" for _, agent, text in run.lines)
     out = RunFigures(side, sum(1 for _, text in santa if text.startswith("waiting to proceed")),
-                     sum(1 for _, text in santa if WORKING.match(text)))
+                     sum(1 for _, text in santa if WORKING.match(text)),
+                     lines=merge_copies(loosen(per_agent(printed)), families))
     began: dict[str, float] = {}
     for t, text in santa:
         m = WORKING.match(text)
@@ -108,12 +117,13 @@ def row(f: RunFigures, label: str) -> str:
             f"{med(f.hop_ms):.2f} |")
 
 
-def summary(label: str, runs: list[RunFigures]) -> str:
+def summary(label: str, runs: list[RunFigures], jason: list[RunFigures]) -> str:
     waits = [f.waiting for f in runs]
     rounds = [r for f in runs for r in f.round_ms]
     hops = [h for f in runs for h in f.hop_ms]
+    p = "" if runs is jason else f"{permutation_p([f.lines for f in jason], [f.lines for f in runs]):.3f}"
     return (f"| {label} | {len(runs)} | {min(waits)}-{max(waits)} | {med(waits):g} | "
-            f"{med(rounds):.2f} | {med(hops):.2f} |")
+            f"{med(rounds):.2f} | {med(hops):.2f} | {p} |")
 
 
 def main() -> int:
@@ -140,13 +150,14 @@ def main() -> int:
         work = Path(tmp) / "st-claus"
         shutil.copytree(folder, work)
         original = (work / MAS2J).read_text()
+        families = copied_agents(original)
         print("| run | santa's `waiting` lines | `Working with` lines | median round (ms) | "
               "median hop (ms) |")
         print("|---|---|---|---|---|")
         for n in range(args.runs):
-            jason_runs.append(figures("jason", run_stamped(java, work, args.time)))
+            jason_runs.append(figures("jason", run_stamped(java, work, args.time), families))
             print(row(jason_runs[-1], f"jason {n}"), flush=True)
-            plain_runs.append(figures("rason", run_stamped(rason, work, args.time, env)))
+            plain_runs.append(figures("rason", run_stamped(rason, work, args.time, env), families))
             print(row(plain_runs[-1], f"rason {n}"), flush=True)
         # a round is two hops (proceed out, done back): half the rounds' difference a message
         measured = max(0.0, (med([r for f in jason_runs for r in f.round_ms])
@@ -156,15 +167,16 @@ def main() -> int:
             (work / MAS2J).write_text(with_latency(original, ms))
             delayed_runs[ms] = []
             for n in range(args.runs):
-                delayed_runs[ms].append(figures("rason", run_stamped(rason, work, args.time, env)))
+                delayed_runs[ms].append(figures("rason", run_stamped(rason, work, args.time, env), families))
                 print(row(delayed_runs[ms][-1], f"rason +{ms:.2f} ms {n}"), flush=True)
     print(f"\nmeasured: half of Jason's median round minus rason's = {measured:.2f} ms a message")
-    print("\n| side | runs | santa's `waiting` lines | median | median round (ms) | median hop (ms) |")
-    print("|---|---|---|---|---|---|")
-    print(summary("Jason", jason_runs))
-    print(summary("rason", plain_runs))
+    print("\n| side | runs | santa's `waiting` lines | median | median round (ms) | median hop (ms) "
+          "| p, its runs drawn as Jason's |")
+    print("|---|---|---|---|---|---|---|")
+    print(summary("Jason", jason_runs, jason_runs))
+    print(summary("rason", plain_runs, jason_runs))
     for ms, runs in delayed_runs.items():
-        print(summary(f"rason, messages +{ms:.2f} ms", runs))
+        print(summary(f"rason, messages +{ms:.2f} ms", runs, jason_runs))
     return 0
 
 

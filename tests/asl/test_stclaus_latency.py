@@ -5,6 +5,7 @@ architecture (benchmarks/_latency_arch.py) on a real local MAS."""
 from __future__ import annotations
 
 import io
+from collections import Counter
 
 import pytest
 from asl_helpers import load_benchmark
@@ -26,10 +27,13 @@ def test_a_round_runs_from_working_to_finished_and_its_hops_end_at_the_members_l
         (0.006, "santa", "Working with elfs: [e3,e4] (1)"),
         (0.007, "santa", "waiting to proceed with [e1,e2]"),
     ])
-    seen = bench.figures("rason", run)
+    seen = bench.figures("rason", run, ["e"])
     assert (seen.waiting, seen.working) == (2, 2)
     assert seen.round_ms == [pytest.approx(5.0)]            # the second round never finished
     assert seen.hop_ms == [pytest.approx(2.0), pytest.approx(2.0)]
+    # the lines the permutation test compares: numbers made #, the copies e1..e4 one agent
+    assert seen.lines["e#"] == Counter({"Ho!": 3})
+    assert seen.lines["santa"]["waiting to proceed with [e#,e#]"] == 2
 
 
 def test_every_agent_of_the_project_gets_the_delaying_architecture() -> None:
