@@ -501,6 +501,8 @@ def main() -> int:
     ap.add_argument("-k", action="append", default=[],
                     help="only projects whose path contains this text (repeat for several)")
     args = ap.parse_args()
+    if args.jason_runs < 1 or args.rason_runs < 1:
+        ap.error("--jason-runs and --rason-runs need at least one run each")
     projects = select_projects(find_projects(args.tree), args.tree, args.k)
     if not projects:
         print(f"no project found under {args.tree}", file=sys.stderr)
