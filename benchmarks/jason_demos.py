@@ -315,6 +315,12 @@ def merge_copies(agents: dict[str, Counter], families: list[str]) -> dict[str, C
     return out
 
 
+def counted_as_varying(output: str, families: list[str]) -> dict[str, Counter]:
+    """What a run printed as the third verdict and the permutation test count it: each agent's
+    lines loosened, the copies ``#N`` makes of an agent (``families``) as one."""
+    return merge_copies(loosen(per_agent(output)), families)
+
+
 def within_variation(runs: list[dict[str, Counter]], ours: dict[str, Counter]) -> bool:
     """Does every agent print each line as often as between the fewest and the most times of
     Jason's ``runs``?  (Each side already loosened and its copies merged.)"""
@@ -439,14 +445,13 @@ def compare(mas: Path, tree: Path, args: argparse.Namespace) -> Outcome:
     timing = StartUp(jason_start, [r.first_line for r in ours_all if r.first_line is not None])
     agree = all(same_lines(runs[0], r) for r in runs[1:])
     families = copied_agents(mas.read_text(errors="replace"))
-    merged = [merge_copies(loosen(r), families) for r in runs]
-    p_value = permutation_p(merged, [merge_copies(loosen(per_agent(r.output)), families)
-                                     for r in ours_all])
+    merged = [counted_as_varying(out, families) for out in outputs]
+    p_value = permutation_p(merged, [counted_as_varying(r.output, families) for r in ours_all])
     if any(same_lines(theirs, ours) for theirs in runs):
         return Outcome(name, agents, True, "", True, agree, True, timing,
                        typical=len(runs), p_value=p_value)
     loose = any(same_lines(loosen(theirs), loosen(ours)) for theirs in runs)
-    merged_ours = merge_copies(loosen(ours), families)
+    merged_ours = counted_as_varying(run.output, families)
     varied = loose or within_variation(merged, merged_ours)
     typical = len(runs) if loose else as_atypical(merged, merged_ours)
     defect = KNOWN_JASON_DEFECTS.get(name)

@@ -37,7 +37,7 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from jason_demos import LOG_CONF, copied_agents, loosen, merge_copies, per_agent, permutation_p, run_for
+from jason_demos import LOG_CONF, copied_agents, counted_as_varying, permutation_p, run_for
 
 #: the example's folder in a Jason source tree, and its project
 EXAMPLE = Path("examples/st-claus")
@@ -84,7 +84,7 @@ def figures(side: str, run: Stamped, families: list[str]) -> RunFigures:
     printed = "".join(f"[{agent}] {text}\n" for _, agent, text in run.lines)
     out = RunFigures(side, sum(1 for _, text in santa if text.startswith("waiting to proceed")),
                      sum(1 for _, text in santa if WORKING.match(text)),
-                     lines=merge_copies(loosen(per_agent(printed)), families))
+                     lines=counted_as_varying(printed, families))
     began: dict[str, float] = {}
     for t, text in santa:
         m = WORKING.match(text)
@@ -117,11 +117,12 @@ def row(f: RunFigures, label: str) -> str:
             f"{med(f.hop_ms):.2f} |")
 
 
-def summary(label: str, runs: list[RunFigures], jason: list[RunFigures]) -> str:
+def summary(label: str, runs: list[RunFigures], jason: list[RunFigures] | None = None) -> str:
+    """A side's row; with ``jason``, the permutation test's p of ``runs`` against those."""
     waits = [f.waiting for f in runs]
     rounds = [r for f in runs for r in f.round_ms]
     hops = [h for f in runs for h in f.hop_ms]
-    p = "" if runs is jason else f"{permutation_p([f.lines for f in jason], [f.lines for f in runs]):.3f}"
+    p = "" if jason is None else f"{permutation_p([f.lines for f in jason], [f.lines for f in runs]):.3f}"
     return (f"| {label} | {len(runs)} | {min(waits)}-{max(waits)} | {med(waits):g} | "
             f"{med(rounds):.2f} | {med(hops):.2f} | {p} |")
 
@@ -173,7 +174,7 @@ def main() -> int:
     print("\n| side | runs | santa's `waiting` lines | median | median round (ms) | median hop (ms) "
           "| p, its runs drawn as Jason's |")
     print("|---|---|---|---|---|---|---|")
-    print(summary("Jason", jason_runs, jason_runs))
+    print(summary("Jason", jason_runs))
     print(summary("rason", plain_runs, jason_runs))
     for ms, runs in delayed_runs.items():
         print(summary(f"rason, messages +{ms:.2f} ms", runs, jason_runs))
