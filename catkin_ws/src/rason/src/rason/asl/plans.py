@@ -346,11 +346,8 @@ class Plan:
     every agent imports this module at start-up, where ``dataclasses`` costs ~3.5 ms."""
 
     def __init__(self, label: Literal | Var | None, trigger: Trigger, context: Any, body: tuple,
-                 line: int = 0, src: str = "", atomic: bool = False, rev_body: tuple = (),
-                 compiled_context: BeliefContext | None = None, context_checked: bool = False,
-                 in_file: bool = True, goal_condition: Any = None,
-                 trigger_args: tuple | None = None, sub_plans: tuple = (),
-                 sub_library: PlanLibrary | None = None, scope: PlanLibrary | None = None) -> None:
+                 line: int = 0, src: str = "", atomic: bool = False, in_file: bool = True,
+                 goal_condition: Any = None, sub_plans: tuple = ()) -> None:
         #: a variable in a plan term that unifies part by part
         self.label: Literal | Var | None = label
         self.trigger = trigger
@@ -359,27 +356,27 @@ class Plan:
         self.line = line
         self.src = src
         self.atomic = atomic
-        #: body stored reversed, ready to be used as an intention stack
-        self.rev_body = rev_body
+        #: body stored reversed, ready to be used as an intention stack (set by _derive)
+        self.rev_body: tuple = ()
         #: the context prepared on first use (see reasoning.sel_appl), when it has a common shape
-        self.compiled_context: BeliefContext | None = compiled_context
-        self.context_checked = context_checked
+        self.compiled_context: BeliefContext | None = None
+        self.context_checked = False
         #: a plan of a source file (its label gets ``url(File)``), not one made from a plan term
         self.in_file = in_file
         #: ``+!g : c <: gc <- b`` (Jason 3's goal condition): once gc holds the goal is
         #: achieved, whether the body is done or not; a body done before waits for it
         self.goal_condition: Any = goal_condition
         #: the trigger literal's arguments when only they decide whether it unifies with an
-        #: event of its key (no annotations, no tail), else None
-        self.trigger_args: tuple | None = trigger_args
+        #: event of its key (no annotations, no tail), else None (set by _derive)
+        self.trigger_args: tuple | None = None
         #: ``+!g <- b. { +!s <- c. }`` (Jason 3.3's sub-plans): plans relevant only for the
         #: events of an intention that runs this plan or one of them, seeing the variables
         #: this plan had when it was chosen; held in ``scope_library`` once in a library
         self.sub_plans = sub_plans
         #: the library of the sub-plans (made by :meth:`PlanLibrary.add`; None without them)
-        self.sub_library: PlanLibrary | None = sub_library
+        self.sub_library: PlanLibrary | None = None
         #: for a sub-plan: the library that holds it (None for a plan of the agent's own library)
-        self.scope: PlanLibrary | None = scope
+        self.scope: PlanLibrary | None = None
         self._derive()
 
     def __repr__(self) -> str:
